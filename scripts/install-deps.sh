@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Installs the Debian packages rockwatch needs to build, test and run its demo.
+# Only missing packages are installed; `apt-get update` runs at most once; sudo is used when not root.
+set -euo pipefail
+
+PACKAGES=(
+  build-essential cmake ninja-build pkg-config git
+  libeigen3-dev          # fixed-size matrices (core, firmware)
+  libcpputest-dev        # unit tests (found through pkg-config)
+  libbenchmark-dev       # Google Benchmark (tests/bench)
+  libcli11-dev           # command-line parsing (host_tools)
+  nlohmann-json3-dev     # JSON output and reference-value tests
+  liblcm-dev liblcm-bin libglib2.0-dev   # LCM transport (firmware); lcm.pc needs glib-2.0
+  python3-matplotlib     # PNG plots (host_tools)
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed'; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#PACKAGES[@]} packages present"
+  exit 0
+fi
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then
+  command -v sudo >/dev/null || { echo "install-deps: need root or sudo to install: ${missing[*]}" >&2; exit 1; }
+  SUDO="sudo"
+fi
+echo "install-deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -q
+$SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"

@@ -1,0 +1,95 @@
+// Double-precision response analysis of a wall to a ground motion: the verified engine every tool uses.
+// Runs core::RockingStepper over a record (sub-stepped to max_step), then decides the outcome after the
+// record by energy (SPEC §4.3), and summarises the response.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "rockwatch/core/model.hpp"
+#include "rockwatch/core/restitution.hpp"
+#include "rockwatch/core/wall.hpp"
+
+namespace rockwatch::sim {
+
+// Ground acceleration sampled at a constant interval; linear between samples (SPEC §4).
+struct GroundMotion {
+  double dt_s = 0.0;                    // sample interval [s]
+  std::vector<double> ug_mps2;          // horizontal out-of-plane ü [m/s²]; ü > 0 pushes the wall towards x < 0
+  std::vector<double> vg_mps2;          // vertical v̈ [m/s², up +]; empty = none; else same length as ug
+  double duration_s() const { return ug_mps2.empty() ? 0.0 : dt_s * double(ug_mps2.size() - 1); }
+};
+
+struct AnalysisOptions {
+  core::ModelKind model = core::ModelKind::linear;
+  core::Restitution restitution{};      // default r_exp
+  double kappa = 2.0;                   // collapse at κ·x_inst [-], ≥ 1
+  double max_step_s = 0.005;            // records with a larger dt are sub-stepped [s]
+  std::optional<double> t_end_s;        // integrate the input to this time (zero input past the record) [s]
+  double free_motion_limit_s = 600.0;   // longest free motion after t_end before giving up [s]
+  bool keep_history = false;            // fill AnalysisResult::history (one row per integration step)
+  std::size_t max_impacts_kept = 32;    // impacts listed in AnalysisResult::impacts
+};
+
+struct HistoryRow {
+  double t_s, ug_mps2, vg_mps2;         // time [s], inputs [m/s²]
+  double x_m, xd_mps, xdd_mps2;         // mid-height displacement and its derivatives
+  double alpha1_rad, alpha2_rad;        // block rotations α1 = −x/h1, α2 = x/h2 [rad]
+  int side;                             // +1 / −1
+};
+
+struct ImpactEvent {
+  double t_s;                           // time of the impact [s]
+  double v_before_mps, v_after_mps;     // ẋ⁻, ẋ⁺ [m/s]
+};
+
+struct AnalysisResult {
+  double max_abs_x_m = 0.0;             // max |x| over the analysis [m]
+  double t_max_abs_x_s = 0.0;           // when (t_collapse if collapsed) [s]
+  bool collapsed = false;               // |x| reached κ·x_inst by t_end
+  bool collapse_after_end = false;      // not collapsed by t_end, but free motion after it collapses
+  std::optional<double> t_collapse_s;   // time |x| reached κ·x_inst (during or after the record) [s]
+  std::optional<double> t_exceed_s;     // first time |x| reached x_inst [s]
+  std::optional<double> t_first_motion_s;
+  int n_impacts = 0;                    // impacts with |ẋ⁻| ≥ 1 mm/s
+  int n_impacts_total = 0;              // every impact (depends on the rest threshold)
+  bool free_motion_undecided = false;   // free motion hit free_motion_limit_s without a verdict
+  double x_inst_m = 0.0;                // smaller side [m]
+  double threshold_mps2 = 0.0;          // smaller side, with v̈ = 0 [m/s²]
+  double r = 0.0;                       // energy ratio used [-]
+  double pga_mps2 = 0.0;                // peak |ü| of the input as run [m/s²]
+  double dt_s = 0.0;                    // integration step [s]
+  double duration_s = 0.0;              // record duration [s]
+  double t_end_s = 0.0;                 // end of the forced phase [s]
+  double t_final_s = 0.0;               // where integration stopped [s]
+  std::vector<ImpactEvent> impacts;     // the first max_impacts_kept impacts
+  std::vector<HistoryRow> history;      // when keep_history
+  bool verdict_collapse() const { return collapsed || collapse_after_end; }
+};
+
+class AnalysisError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Throws AnalysisError for an invalid wall, option or input (G = g + v̈ ≤ 0, non-finite samples, …).
+AnalysisResult analyse(const core::WallParameters& wall, const GroundMotion& motion, const AnalysisOptions& options);
+
+// Analytic/sampled input on a step grid, for tests and synthetic pulses: ü(t) sampled at dt from t = 0 to t_end.
+template <typename Fn>
+GroundMotion sample_motion(Fn&& ug_of_t, double dt_s, double t_end_s) {
+  GroundMotion m;
+  m.dt_s = dt_s;
+  const auto n = static_cast<std::size_t>(t_end_s / dt_s + 0.5);
+  m.ug_mps2.reserve(n + 1);
+  for (std::size_t k = 0; k <= n; ++k) m.ug_mps2.push_back(ug_of_t(double(k) * dt_s));
+  return m;
+}
+
+// Peak absolute value [same unit as input].
+double peak_abs(const std::vector<double>& v);
+
+}  // namespace rockwatch::sim
