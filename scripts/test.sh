@@ -1,0 +1,11 @@
+#!/usr/bin/env bash
+# Builds and runs every test suite twice: the release build, then the debug build under
+# AddressSanitizer + UndefinedBehaviorSanitizer. Exits non-zero on any failure.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+for preset in release debug; do
+  echo "== $preset: build"
+  ./scripts/build.sh "$preset"
+  echo "== $preset: test"
+  ctest --preset "$preset" -j "$(nproc)"
+done
