@@ -236,3 +236,38 @@ TEST(RockingStepper, FullModelFreeRockingStaysCloseToLinear) {
     CHECK(std::fabs(a[i].v_before - b[i].v_before) > 0.0);
   }
 }
+
+TEST(RockingStepper, AsymmetricWallUsesEachSidesThresholdAndInstability) {
+  // The reference's general wall (Fp, a ≠ a', h1 ≠ h2): thresholds and x_inst differ per side. A slow ramp
+  // towards each side must start rocking exactly at that side's threshold and collapse at that side's κ·x_inst.
+  WallParameters w;
+  w.b_m = 0.2;
+  w.h1_m = 2.0;
+  w.h2_m = 1.3;
+  w.rho_kgpm3 = 1900.0;
+  w.fp_npm = 8000.0;
+  w.a = 0.3;
+  w.a_prime = 0.6;
+  const ModelConstants<double> c = model_constants(w, ModelKind::linear);
+  for (Side side : {Side::positive, Side::negative}) {
+    const double thr = threshold_mps2(c, side, 9.81);
+    const double rate = 2.0;  // |ü| grows 2 m/s² per second, towards driving the wall to `side`
+    const double dir = side == Side::positive ? -1.0 : 1.0;  // ü < 0 drives x > 0
+    StepperOptions o;
+    o.dt_s = 0.005;
+    RockingStepper<double> s;
+    s.init(make_stepper_setup(w, ModelKind::linear, r_exp(w), o));
+    double t_start = -1.0;
+    bool collapsed = false;
+    for (int n = 0; n < 4000 && !collapsed; ++n) {
+      const StepReport<double> rep = s.step(dir * rate * (n + 1) * 0.005, 0.0);
+      if (rep.started) t_start = (n + rep.start_fraction) * 0.005;
+      collapsed = rep.collapsed;
+    }
+    DOUBLES_EQUAL(thr / rate, t_start, 1e-12);
+    CHECK_TRUE(collapsed);
+    CHECK_TRUE(s.side() == side);
+    DOUBLES_EQUAL(2.0 * x_inst_m(c, side, 9.81), std::fabs(s.state().x_m), 1e-14);
+  }
+  CHECK(std::fabs(threshold_mps2(c, Side::positive, 9.81) - threshold_mps2(c, Side::negative, 9.81)) > 0.5);
+}
