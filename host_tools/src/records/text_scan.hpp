@@ -1,0 +1,203 @@
+// Private helpers shared by the record readers: whole-file reading, line splitting and strict number parsing.
+// Header-only so the library's source list stays as declared in host_tools/CMakeLists.txt.
+#pragma once
+
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <string>
+#include <string_view>
+#include <system_error>
+#include <vector>
+
+#include "rockwatch/records/record.hpp"
+#include "rockwatch/records/record_error.hpp"
+
+namespace rockwatch::records::detail {
+
+// Real records are a few MB; the cap keeps a wrong path (a disk image, a log) from exhausting memory and keeps
+// line numbers within int.
+inline constexpr std::uintmax_t kMaxRecordFileBytes = std::uintmax_t{512} * 1024U * 1024U;
+
+inline bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
+
+inline std::string_view trim(std::string_view text) {
+  while (!text.empty() && (is_blank(text.front()) || text.front() == '\n')) text.remove_prefix(1);
+  while (!text.empty() && (is_blank(text.back()) || text.back() == '\n')) text.remove_suffix(1);
+  return text;
+}
+
+inline std::string to_upper(std::string_view text) {
+  std::string upper(text);
+  for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return upper;
+}
+
+inline std::string file_name_of(const std::string& path) { return std::filesystem::path(path).filename().string(); }
+
+// A token as it may appear in a message: printable, bounded, so a binary file cannot garble the terminal.
+inline std::string shown(std::string_view token) {
+  constexpr std::size_t kMaxShown = 40;
+  std::string shown = "'";
+  for (std::size_t i = 0; i < token.size() && i < kMaxShown; ++i) {
+    const auto c = static_cast<unsigned char>(token[i]);
+    shown += (c >= 0x20 && c < 0x7F) ? static_cast<char>(c) : '?';
+  }
+  if (token.size() > kMaxShown) shown += "...";
+  shown += "'";
+  return shown;
+}
+
+// A number for messages: 12 significant digits, so a step computed as 0.03 - 0.01 shows as "0.02", not as
+// "0.019999999999999997", while still telling 0.0100001 from 0.01.
+inline std::string number_text(double value) {
+  char buffer[64];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::general, 12);
+  if (result.ec != std::errc{}) return "?";
+  return std::string(buffer, result.ptr);
+}
+
+inline int line_number(std::size_t index) { return static_cast<int>(index) + 1; }
+
+inline std::string read_whole_file(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (ec || !fs::exists(status)) {
+    throw RecordError(path, 0, "cannot open the file: it does not exist (expected a readable record file)");
+  }
+  if (fs::is_directory(status)) throw RecordError(path, 0, "is a directory, expected a record file");
+  // A FIFO or device would block or never end; records are ordinary files.
+  if (!fs::is_regular_file(status)) throw RecordError(path, 0, "is not a regular file, expected a record file");
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (ec) throw RecordError(path, 0, "cannot read the file size: " + ec.message());
+  if (size > kMaxRecordFileBytes) {
+    throw RecordError(path, 0,
+                      "file is " + std::to_string(size) + " bytes, expected a record file of at most " +
+                          std::to_string(kMaxRecordFileBytes) + " bytes");
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw RecordError(path, 0, "cannot open the file for reading (expected a readable record file)");
+  std::string content;
+  content.reserve(static_cast<std::size_t>(size));
+  char chunk[65536];
+  while (in.read(chunk, sizeof chunk) || in.gcount() > 0) {
+    content.append(chunk, static_cast<std::size_t>(in.gcount()));
+    if (content.size() > kMaxRecordFileBytes) {
+      throw RecordError(path, 0, "file grew while being read; expected a record file that is not being written");
+    }
+  }
+  if (in.bad()) throw RecordError(path, 0, "read error (expected a readable record file)");
+  return content;
+}
+
+// Lines without their terminators; "\r\n" files (several PEER downloads) read like "\n" files.
+// A UTF-8 byte-order mark (spreadsheet exports write one) is not part of the first line.
+inline std::vector<std::string_view> split_lines(std::string_view content) {
+  std::vector<std::string_view> lines;
+  constexpr std::string_view kByteOrderMark = "\xEF\xBB\xBF";
+  std::size_t start = content.substr(0, kByteOrderMark.size()) == kByteOrderMark ? kByteOrderMark.size() : 0;
+  while (start < content.size()) {
+    std::size_t end = content.find('\n', start);
+    if (end == std::string_view::npos) end = content.size();
+    std::string_view line = content.substr(start, end - start);
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    lines.push_back(line);
+    start = end + 1;
+  }
+  return lines;
+}
+
+inline bool all_blank(const std::vector<std::string_view>& lines) {
+  for (const std::string_view line : lines) {
+    if (!trim(line).empty()) return false;
+  }
+  return true;
+}
+
+inline std::vector<std::string_view> split_blanks(std::string_view text) {
+  std::vector<std::string_view> tokens;
+  std::size_t i = 0;
+  while (i < text.size()) {
+    while (i < text.size() && is_blank(text[i])) ++i;
+    const std::size_t start = i;
+    while (i < text.size() && !is_blank(text[i])) ++i;
+    if (i > start) tokens.push_back(text.substr(start, i - start));
+  }
+  return tokens;
+}
+
+enum class NumberStatus { ok, invalid, not_finite, out_of_range };
+
+// The whole token must be one decimal number; "1.5x", "-.12345E-" (cut) and "1,5" are invalid, never 1.5 or -0.12345.
+inline NumberStatus parse_number(std::string_view token, double& value) {
+  std::string_view body = token;
+  // from_chars rejects a leading '+', which spreadsheets and printf("%+e") write.
+  if (!body.empty() && body.front() == '+') {
+    body.remove_prefix(1);
+    if (body.empty() || body.front() == '+' || body.front() == '-') return NumberStatus::invalid;
+  }
+  if (body.empty()) return NumberStatus::invalid;
+  const char* const first = body.data();
+  const char* const last = first + body.size();
+  double parsed = 0.0;
+  const auto result = std::from_chars(first, last, parsed, std::chars_format::general);
+  if (result.ec == std::errc::invalid_argument || result.ptr != last) return NumberStatus::invalid;
+  if (result.ec == std::errc::result_out_of_range) {
+    // Underflow (1e-400) is zero to any accelerometer; overflow (1e999) has no value we could use.
+    const std::size_t exponent_at = body.find_first_of("eE");
+    const bool negative_exponent =
+        exponent_at != std::string_view::npos && exponent_at + 1 < body.size() && body[exponent_at + 1] == '-';
+    if (!negative_exponent) return NumberStatus::out_of_range;
+    parsed = body.front() == '-' ? -0.0 : 0.0;
+  }
+  // from_chars accepts "nan", "inf" and "infinity"; a record value must be a measurement.
+  if (!std::isfinite(parsed)) return NumberStatus::not_finite;
+  value = parsed;
+  return NumberStatus::ok;
+}
+
+inline std::string number_problem(NumberStatus status, std::string_view token) {
+  switch (status) {
+    case NumberStatus::ok:
+      break;
+    case NumberStatus::invalid:
+      return "expected a decimal number, found " + shown(token);
+    case NumberStatus::not_finite:
+      return "expected a finite number, found " + shown(token) + " (NaN and Inf are not measurements)";
+    case NumberStatus::out_of_range:
+      return "expected a finite number, found " + shown(token) + " (out of the range of double)";
+  }
+  return "expected a decimal number, found " + shown(token);
+}
+
+inline void check_options(const std::string& path, const ReadOptions& options) {
+  if (!std::isfinite(options.g_mps2) || options.g_mps2 <= 0.0) {
+    throw RecordError(path, 0, "gravity g_mps2 = " + number_text(options.g_mps2) + ": expected a positive value");
+  }
+  if (options.dt_s && (!std::isfinite(*options.dt_s) || *options.dt_s <= 0.0)) {
+    throw RecordError(
+        path, 0, "sample interval --dt " + number_text(*options.dt_s) + " s: expected a positive number of seconds");
+  }
+}
+
+// Multiplies in place; a huge value times g can overflow, which must not pass as a number.
+inline void scale_to_mps2(const std::string& path, std::vector<double>& values, const std::vector<int>& lines,
+                          double factor) {
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const double scaled = values[i] * factor;
+    if (!std::isfinite(scaled)) {
+      throw RecordError(
+          path, i < lines.size() ? lines[i] : 0,
+          "value " + number_text(values[i]) + " overflows when converted to m/s²: expected a finite acceleration");
+    }
+    values[i] = scaled;
+  }
+}
+
+}  // namespace rockwatch::records::detail
