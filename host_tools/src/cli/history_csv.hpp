@@ -1,0 +1,18 @@
+// The time history as CSV: one row per integration step, every number exact (shortest round-trip text), so a
+// plot or a regression script sees what the engine computed.
+#pragma once
+
+#include <ostream>
+#include <vector>
+
+#include "rockwatch/sim/analysis.hpp"
+
+namespace rockwatch::cli {
+
+inline constexpr const char* kHistoryCsvHeader =
+    "t_s,ug_mps2,vg_mps2,x_m,xd_mps,xdd_mps2,alpha1_rad,alpha2_rad,side";
+
+// Writes the header and the rows; the caller checks the stream.
+void write_history_csv(std::ostream& out, const std::vector<sim::HistoryRow>& history);
+
+}  // namespace rockwatch::cli

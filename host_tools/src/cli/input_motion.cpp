@@ -1,0 +1,116 @@
+#include "input_motion.hpp"
+
+#include <cmath>
+#include <cstddef>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "align.hpp"
+#include "option_values.hpp"
+#include "rockwatch/records/record.hpp"
+#include "usage_error.hpp"
+
+namespace rockwatch::cli {
+
+namespace {
+
+RecordInfo info_of(const records::Record& r, const std::vector<double>& values) {
+  RecordInfo info;
+  info.path = r.path;
+  info.format = r.format;
+  info.description = r.description;
+  info.units = std::string(records::accel_unit_name(r.units_in_file));
+  info.dt_s = r.dt_s;
+  info.t0_s = r.t0_s;
+  info.samples = values.size();
+  info.peak_as_read_mps2 = sim::peak_abs(values);
+  return info;
+}
+
+void take_notes(std::vector<std::string>& notes, const records::Record& r) {
+  notes.insert(notes.end(), r.notes.begin(), r.notes.end());
+}
+
+std::vector<double> vertical_from_file(const SimulateRequest& q, const records::Record& horizontal, InputMotion& in) {
+  records::Record v = records::read_record(*q.vertical_path, q.read_options);
+  take_notes(in.notes, v);
+  if (!v.vertical_mps2.empty()) {
+    throw UsageError("--vertical " + *q.vertical_path +
+                     " has three columns (time, horizontal, vertical): expected one acceleration component; extract "
+                     "the vertical column, or pass the file as --record alone");
+  }
+  in.vertical = info_of(v, v.horizontal_mps2);
+  const TimeGrid source{v.t0_s, v.dt_s, v.horizontal_mps2.size()};
+  const TimeGrid target{horizontal.t0_s, horizontal.dt_s, horizontal.horizontal_mps2.size()};
+  if (source.dt_s != target.dt_s || source.t0_s != target.t0_s) {
+    in.notes.push_back("vertical record " + *q.vertical_path + " (dt " + number_text(source.dt_s) + " s, t0 " +
+                       number_text(source.t0_s) + " s) resampled by linear interpolation onto the horizontal grid (dt " +
+                       number_text(target.dt_s) + " s, t0 " + number_text(target.t0_s) + " s)");
+  }
+  const double v_end_s = source.t0_s + source.dt_s * (static_cast<double>(source.count) - 1.0);
+  const double h_end_s = target.t0_s + target.dt_s * (static_cast<double>(target.count) - 1.0);
+  if (source.t0_s > target.t0_s || v_end_s < h_end_s) {
+    in.notes.push_back("vertical record " + *q.vertical_path + " spans t = " + number_text(source.t0_s) + " to " +
+                       number_text(v_end_s) + " s, the horizontal " + number_text(target.t0_s) + " to " +
+                       number_text(h_end_s) + " s: v'' = 0 where it has no samples");
+  }
+  return resample_linear(v.horizontal_mps2, source, target);
+}
+
+void scale_to_pga(const SimulateRequest& q, InputMotion& in) {
+  const double peak = in.horizontal.peak_as_read_mps2;
+  if (!(peak > 0.0)) {
+    throw UsageError("--scale-pga: the horizontal record " + q.record_path +
+                     " has peak |u''| = 0, so no factor can scale it to " + number_text(*q.scale_pga_g) + " g");
+  }
+  in.scale_factor = *q.scale_pga_g * q.wall.g_mps2 / peak;
+  for (double& u : in.motion.ug_mps2) u *= in.scale_factor;
+  for (double& v : in.motion.vg_mps2) v *= in.scale_factor;
+}
+
+// G = g + v'' <= 0 means the wall leaves the ground: outside the model (SPEC §1). Checked here, after scaling, to
+// name the file and the time; the analysis would also refuse it, by sample index.
+void check_no_lift_off(const SimulateRequest& q, const InputMotion& in) {
+  const std::vector<double>& v = in.motion.vg_mps2;
+  for (std::size_t k = 0; k < v.size(); ++k) {
+    const double big_g = q.wall.g_mps2 + v[k];
+    if (big_g > 0.0) continue;
+    const std::string source = in.vertical_from_third_column ? "the third column of " + q.record_path
+                                                             : "--vertical " + in.vertical->path;
+    std::string message = source + ": v'' = " + number_text(v[k]) + " m/s2 at t = " +
+                           number_text(static_cast<double>(k) * in.motion.dt_s) + " s";
+    if (in.scale_factor != 1.0) message += " (after --scale-pga, factor " + number_text(in.scale_factor) + ")";
+    message += " gives G = g + v'' = " + number_text(big_g) +
+               " m/s2 <= 0: the wall lifts off the ground, which is outside the model";
+    throw UsageError(message);
+  }
+}
+
+}  // namespace
+
+InputMotion prepare_input(const SimulateRequest& q) {
+  InputMotion in;
+  records::Record h = records::read_record(q.record_path, q.read_options);
+  take_notes(in.notes, h);
+  in.horizontal = info_of(h, h.horizontal_mps2);
+
+  if (!h.vertical_mps2.empty()) {
+    if (q.vertical_path) {
+      throw UsageError("ambiguous vertical input: " + q.record_path + " has a third (vertical) column and --vertical " +
+                       *q.vertical_path + " was given too; drop --vertical or remove the column");
+    }
+    in.vertical_from_third_column = true;
+    in.motion.vg_mps2 = std::move(h.vertical_mps2);
+  } else if (q.vertical_path) {
+    in.motion.vg_mps2 = vertical_from_file(q, h, in);
+  }
+  in.motion.dt_s = h.dt_s;
+  in.motion.ug_mps2 = std::move(h.horizontal_mps2);
+
+  if (q.scale_pga_g) scale_to_pga(q, in);
+  check_no_lift_off(q, in);
+  return in;
+}
+
+}  // namespace rockwatch::cli

@@ -1,0 +1,40 @@
+// The ground motion as the analysis runs it: the horizontal record, the vertical one (a third column or a second
+// file put on the horizontal time grid), both scaled by one factor when --scale-pga asks for a PGA.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rockwatch/sim/analysis.hpp"
+#include "simulate_request.hpp"
+
+namespace rockwatch::cli {
+
+// What the reports say about a file; the samples themselves live in the GroundMotion.
+struct RecordInfo {
+  std::string path;
+  std::string format;       // "peer-at2" | "plain"
+  std::string description;  // header text, may be empty
+  std::string units;        // units the values were converted from
+  double dt_s = 0.0;
+  double t0_s = 0.0;
+  std::size_t samples = 0;
+  double peak_as_read_mps2 = 0.0;  // before --scale-pga
+};
+
+struct InputMotion {
+  sim::GroundMotion motion;            // as run: aligned and scaled
+  RecordInfo horizontal;
+  std::optional<RecordInfo> vertical;  // set when the vertical comes from a file of its own (--vertical)
+  bool vertical_from_third_column = false;
+  double scale_factor = 1.0;           // applied to both components
+  std::vector<std::string> notes;      // readers' notes and ours, for stderr
+};
+
+// Reads the files and prepares the input. Throws records::RecordError for file defects and UsageError for
+// combinations the analysis cannot take (ambiguous vertical, a record with zero peak to scale, lift-off).
+InputMotion prepare_input(const SimulateRequest& request);
+
+}  // namespace rockwatch::cli

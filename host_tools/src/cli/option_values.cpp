@@ -1,0 +1,90 @@
+#include "option_values.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <system_error>
+
+#include "usage_error.hpp"
+
+namespace rockwatch::cli {
+
+namespace {
+
+// from_chars rejects a leading '+', which people type ("--scale-pga +0.3"); it accepts "nan"/"inf", which we do not.
+std::optional<double> strict_number(const std::string& text) {
+  const char* first = text.data();
+  const char* const last = text.data() + text.size();
+  if (first != last && *first == '+') ++first;
+  if (first == last || *first == '+') return std::nullopt;
+  double value = 0.0;
+  const auto result = std::from_chars(first, last, value, std::chars_format::general);
+  if (result.ec != std::errc{} || result.ptr != last || !std::isfinite(value)) return std::nullopt;
+  return value;
+}
+
+}  // namespace
+
+std::string quoted(const std::string& text) {
+  constexpr std::size_t kMaxShown = 40;
+  std::string out = "'";
+  for (std::size_t i = 0; i < text.size() && i < kMaxShown; ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    out += (c >= 0x20 && c < 0x7F) ? static_cast<char>(c) : '?';
+  }
+  if (text.size() > kMaxShown) out += "...";
+  return out + "'";
+}
+
+std::string number_text(double value) {
+  char buffer[64];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  if (result.ec != std::errc{}) return "?";
+  return std::string(buffer, result.ptr);
+}
+
+double parse_finite_number(const std::string& option, const std::string& text) {
+  const std::optional<double> value = strict_number(text);
+  if (!value) throw UsageError(option + " expects a finite number (got " + quoted(text) + ")");
+  return *value;
+}
+
+core::Restitution parse_restitution(const std::string& option, const std::string& text) {
+  core::Restitution r;
+  if (text == "ana") {
+    r.kind = core::RestitutionKind::ana;
+  } else if (text == "exp") {
+    r.kind = core::RestitutionKind::exp;
+  } else if (text == "impulse") {
+    r.kind = core::RestitutionKind::impulse;
+  } else {
+    const std::optional<double> value = strict_number(text);
+    if (!value || *value < 0.0 || *value > 1.0) {
+      throw UsageError(option + " must be ana, exp, impulse or an energy ratio in [0, 1] (got " + quoted(text) + ")");
+    }
+    r.kind = core::RestitutionKind::value;
+    r.value = *value;
+  }
+  return r;
+}
+
+core::ModelKind parse_model(const std::string& option, const std::string& text) {
+  if (text == "linear") return core::ModelKind::linear;
+  if (text == "full") return core::ModelKind::full;
+  throw UsageError(option + " must be linear or full (got " + quoted(text) + ")");
+}
+
+const char* model_name(core::ModelKind kind) { return kind == core::ModelKind::full ? "full" : "linear"; }
+
+records::AccelUnit parse_units(const std::string& option, const std::string& text) {
+  const std::optional<records::AccelUnit> unit = records::parse_accel_unit(text);
+  if (!unit) {
+    throw UsageError(option + " must be g, mps2, cmps2 or mmps2 (also m/s2, cm/s2, gal, mm/s2) (got " + quoted(text) +
+                     ")");
+  }
+  return *unit;
+}
+
+}  // namespace rockwatch::cli

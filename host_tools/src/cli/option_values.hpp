@@ -1,0 +1,32 @@
+// Strict conversion of option texts to values. Every message names the option and quotes what was given, so a
+// user running a batch of analyses can see which argument of which line is wrong.
+#pragma once
+
+#include <string>
+
+#include "rockwatch/core/model.hpp"
+#include "rockwatch/core/restitution.hpp"
+#include "rockwatch/records/record.hpp"
+
+namespace rockwatch::cli {
+
+// The whole text must be one finite decimal number; "1.5x", "nan" and "inf" are rejected. Throws UsageError.
+double parse_finite_number(const std::string& option, const std::string& text);
+
+// ana | exp | impulse | a number in [0, 1]. Throws UsageError naming `option` and what is accepted.
+core::Restitution parse_restitution(const std::string& option, const std::string& text);
+
+// linear | full.
+core::ModelKind parse_model(const std::string& option, const std::string& text);
+const char* model_name(core::ModelKind kind);
+
+// g | mps2 | cmps2 | mmps2 and the spellings records::parse_accel_unit knows.
+records::AccelUnit parse_units(const std::string& option, const std::string& text);
+
+// Quotes user text for a message: printable and bounded, so a stray binary argument cannot garble the terminal.
+std::string quoted(const std::string& text);
+
+// Shortest text that reads back as the same double ("0.05", not "0.050000000000000003").
+std::string number_text(double value);
+
+}  // namespace rockwatch::cli

@@ -1,0 +1,38 @@
+// What `rockwatch simulate` was asked to do, parsed and validated from its command line.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rockwatch/core/wall.hpp"
+#include "rockwatch/records/record.hpp"
+#include "rockwatch/sim/analysis.hpp"
+
+namespace rockwatch::cli {
+
+struct SimulateRequest {
+  std::string record_path;
+  std::optional<std::string> vertical_path;
+  records::ReadOptions read_options;   // --units, --dt, --g: the same for both files
+  std::optional<double> scale_pga_g;   // target peak |ü| in units of g (the --g value)
+  std::string wall_name = "paper";     // the base wall the --b … --a-prime options modify
+  core::WallParameters wall = core::paper_wall();
+  std::vector<std::string> wall_options_given;  // e.g. {"--b", "--h1"}, for the report
+  sim::AnalysisOptions analysis;       // model, restitution, kappa, max step, t_end
+  std::optional<std::string> out_csv_path;
+  bool json = false;
+};
+
+// Outcome of reading the command line: either a request to run, or text to print and an exit status
+// (--help: the help on stdout, status 0).
+struct SimulateParse {
+  std::optional<SimulateRequest> request;
+  std::string help_text;
+};
+
+// Parses `rockwatch simulate` arguments (argv[0] is the command name). Throws UsageError with a message that
+// names the option at fault, for CLI11 parse errors as well as for invalid values.
+SimulateParse parse_simulate_arguments(int argc, const char* const* argv);
+
+}  // namespace rockwatch::cli
