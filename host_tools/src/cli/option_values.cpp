@@ -7,36 +7,23 @@
 #include <string>
 #include <system_error>
 
+#include "rockwatch/records/text_format.hpp"
 #include "usage_error.hpp"
 
 namespace rockwatch::cli {
 
 namespace {
 
-// from_chars rejects a leading '+', which people type ("--scale-pga +0.3"); it accepts "nan"/"inf", which we do not.
+// The readers' strict parser: whole token, leading '+' allowed, NaN/Inf and overflow refused.
 std::optional<double> strict_number(const std::string& text) {
-  const char* first = text.data();
-  const char* const last = text.data() + text.size();
-  if (first != last && *first == '+') ++first;
-  if (first == last || *first == '+') return std::nullopt;
   double value = 0.0;
-  const auto result = std::from_chars(first, last, value, std::chars_format::general);
-  if (result.ec != std::errc{} || result.ptr != last || !std::isfinite(value)) return std::nullopt;
+  if (text::parse_number(text, value) != text::NumberStatus::ok) return std::nullopt;
   return value;
 }
 
 }  // namespace
 
-std::string quoted(const std::string& text) {
-  constexpr std::size_t kMaxShown = 40;
-  std::string out = "'";
-  for (std::size_t i = 0; i < text.size() && i < kMaxShown; ++i) {
-    const auto c = static_cast<unsigned char>(text[i]);
-    out += (c >= 0x20 && c < 0x7F) ? static_cast<char>(c) : '?';
-  }
-  if (text.size() > kMaxShown) out += "...";
-  return out + "'";
-}
+std::string quoted(const std::string& text) { return text::shown(text); }
 
 std::string number_text(double value) {
   char buffer[64];

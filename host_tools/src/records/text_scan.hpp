@@ -17,8 +17,14 @@
 
 #include "rockwatch/records/record.hpp"
 #include "rockwatch/records/record_error.hpp"
+#include "rockwatch/records/text_format.hpp"
 
 namespace rockwatch::records::detail {
+
+using text::NumberStatus;
+using text::number_text;
+using text::parse_number;
+using text::shown;
 
 // Real records are a few MB; the cap keeps a wrong path (a disk image, a log) from exhausting memory and keeps
 // line numbers within int.
@@ -39,28 +45,6 @@ inline std::string to_upper(std::string_view text) {
 }
 
 inline std::string file_name_of(const std::string& path) { return std::filesystem::path(path).filename().string(); }
-
-// A token as it may appear in a message: printable, bounded, so a binary file cannot garble the terminal.
-inline std::string shown(std::string_view token) {
-  constexpr std::size_t kMaxShown = 40;
-  std::string shown = "'";
-  for (std::size_t i = 0; i < token.size() && i < kMaxShown; ++i) {
-    const auto c = static_cast<unsigned char>(token[i]);
-    shown += (c >= 0x20 && c < 0x7F) ? static_cast<char>(c) : '?';
-  }
-  if (token.size() > kMaxShown) shown += "...";
-  shown += "'";
-  return shown;
-}
-
-// A number for messages: 12 significant digits, so a step computed as 0.03 - 0.01 shows as "0.02", not as
-// "0.019999999999999997", while still telling 0.0100001 from 0.01.
-inline std::string number_text(double value) {
-  char buffer[64];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::general, 12);
-  if (result.ec != std::errc{}) return "?";
-  return std::string(buffer, result.ptr);
-}
 
 inline int line_number(std::size_t index) { return static_cast<int>(index) + 1; }
 
@@ -130,36 +114,6 @@ inline std::vector<std::string_view> split_blanks(std::string_view text) {
     if (i > start) tokens.push_back(text.substr(start, i - start));
   }
   return tokens;
-}
-
-enum class NumberStatus { ok, invalid, not_finite, out_of_range };
-
-// The whole token must be one decimal number; "1.5x", "-.12345E-" (cut) and "1,5" are invalid, never 1.5 or -0.12345.
-inline NumberStatus parse_number(std::string_view token, double& value) {
-  std::string_view body = token;
-  // from_chars rejects a leading '+', which spreadsheets and printf("%+e") write.
-  if (!body.empty() && body.front() == '+') {
-    body.remove_prefix(1);
-    if (body.empty() || body.front() == '+' || body.front() == '-') return NumberStatus::invalid;
-  }
-  if (body.empty()) return NumberStatus::invalid;
-  const char* const first = body.data();
-  const char* const last = first + body.size();
-  double parsed = 0.0;
-  const auto result = std::from_chars(first, last, parsed, std::chars_format::general);
-  if (result.ec == std::errc::invalid_argument || result.ptr != last) return NumberStatus::invalid;
-  if (result.ec == std::errc::result_out_of_range) {
-    // Underflow (1e-400) is zero to any accelerometer; overflow (1e999) has no value we could use.
-    const std::size_t exponent_at = body.find_first_of("eE");
-    const bool negative_exponent =
-        exponent_at != std::string_view::npos && exponent_at + 1 < body.size() && body[exponent_at + 1] == '-';
-    if (!negative_exponent) return NumberStatus::out_of_range;
-    parsed = body.front() == '-' ? -0.0 : 0.0;
-  }
-  // from_chars accepts "nan", "inf" and "infinity"; a record value must be a measurement.
-  if (!std::isfinite(parsed)) return NumberStatus::not_finite;
-  value = parsed;
-  return NumberStatus::ok;
 }
 
 inline std::string number_problem(NumberStatus status, std::string_view token) {
