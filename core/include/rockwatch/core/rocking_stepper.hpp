@@ -179,9 +179,12 @@ class RockingStepper {
   }
 
   // s·p6(s) at x = 0 along the step: > 0 means the ground drives the wall out towards side s (SPEC §2).
+  // Only p6 is needed, so it is formed directly rather than through evaluate(): this runs every step at rest.
   Scalar driving_force(Side side, Scalar theta) const {
-    const Scalar p6 = coefficients_at(side, theta).p6;
-    return side == Side::positive ? p6 : -p6;
+    const ModelConstants<Scalar>& c = setup_.model;
+    const Scalar restoring = c.c6_fp[side_index(side)] + c.c6_g * (setup_.g_mps2 + vg_at(theta));
+    const Scalar push = c.c6_u * ug_at(theta);
+    return side == Side::positive ? -restoring - push : -restoring + push;
   }
 
   // At rest from `theta`: if the input crosses a threshold before the step end, start rocking at the
