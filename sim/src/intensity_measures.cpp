@@ -1,5 +1,7 @@
 #include "rockwatch/sim/intensity_measures.hpp"
 
+#include "rockwatch/sim/analysis.hpp"
+
 #include <cmath>
 #include <cstddef>
 #include <cstdio>
@@ -7,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "rockwatch/sim/analysis.hpp"
 #include "rockwatch/sim/measure_error.hpp"
 
 namespace rockwatch::sim {
@@ -35,12 +38,6 @@ void check_gravity(double g_mps2) {
   if (!(std::isfinite(g_mps2) && g_mps2 > 0.0)) {
     throw MeasureError("intensity measures: g must be a finite value > 0 m/s2 (got " + number(g_mps2) + ")");
   }
-}
-
-double peak_of(const std::vector<double>& v) {
-  double peak = 0.0;
-  for (const double x : v) peak = std::fmax(peak, std::fabs(x));
-  return peak;
 }
 
 // Cumulative trapezoidal integral from 0 at the first sample.
@@ -134,10 +131,10 @@ IntensityMeasures intensity_measures(const std::vector<double>& ag_mps2, double 
   check_samples("intensity measures", ag_mps2, dt_s);
   check_gravity(g_mps2);
   IntensityMeasures im;
-  im.pga_mps2 = peak_of(ag_mps2);
+  im.pga_mps2 = peak_abs(ag_mps2);
   const BaselineCorrectedMotion corrected = baseline_corrected_motion(ag_mps2, dt_s);
-  im.pgv_mps = peak_of(corrected.vel_mps);
-  im.pgd_m = peak_of(corrected.disp_m);
+  im.pgv_mps = peak_abs(corrected.vel_mps);
+  im.pgd_m = peak_abs(corrected.disp_m);
   im.arias_mps = arias_intensity_mps(ag_mps2, dt_s, g_mps2);
   const std::vector<double> husid = husid_curve(ag_mps2, dt_s);
   im.t5_s = husid_time_s(husid, dt_s, 0.05);

@@ -15,19 +15,6 @@ namespace rockwatch::cli {
 
 namespace {
 
-RecordInfo info_of(const records::Record& r, const std::vector<double>& values) {
-  RecordInfo info;
-  info.path = r.path;
-  info.format = r.format;
-  info.description = r.description;
-  info.units = std::string(records::accel_unit_name(r.units_in_file));
-  info.dt_s = r.dt_s;
-  info.t0_s = r.t0_s;
-  info.samples = values.size();
-  info.peak_as_read_mps2 = sim::peak_abs(values);
-  return info;
-}
-
 void take_notes(std::vector<std::string>& notes, const records::Record& r) {
   notes.insert(notes.end(), r.notes.begin(), r.notes.end());
 }
@@ -40,7 +27,7 @@ std::vector<double> vertical_from_file(const SimulateRequest& q, const records::
                      " has three columns (time, horizontal, vertical): expected one acceleration component; extract "
                      "the vertical column, or pass the file as --record alone");
   }
-  in.vertical = info_of(v, v.horizontal_mps2);
+  in.vertical = record_info(v, v.horizontal_mps2);
   const TimeGrid source{v.t0_s, v.dt_s, v.horizontal_mps2.size()};
   const TimeGrid target{horizontal.t0_s, horizontal.dt_s, horizontal.horizontal_mps2.size()};
   if (source.dt_s != target.dt_s || source.t0_s != target.t0_s) {
@@ -89,11 +76,24 @@ void check_no_lift_off(const SimulateRequest& q, const InputMotion& in) {
 
 }  // namespace
 
+RecordInfo record_info(const records::Record& r, const std::vector<double>& values) {
+  RecordInfo info;
+  info.path = r.path;
+  info.format = r.format;
+  info.description = r.description;
+  info.units = std::string(records::accel_unit_name(r.units_in_file));
+  info.dt_s = r.dt_s;
+  info.t0_s = r.t0_s;
+  info.samples = values.size();
+  info.peak_as_read_mps2 = sim::peak_abs(values);
+  return info;
+}
+
 InputMotion prepare_input(const SimulateRequest& q) {
   InputMotion in;
   records::Record h = records::read_record(q.record_path, q.read_options);
   take_notes(in.notes, h);
-  in.horizontal = info_of(h, h.horizontal_mps2);
+  in.horizontal = record_info(h, h.horizontal_mps2);
 
   if (!h.vertical_mps2.empty()) {
     if (q.vertical_path) {

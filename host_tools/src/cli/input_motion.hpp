@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "rockwatch/records/record.hpp"
 #include "rockwatch/sim/analysis.hpp"
 #include "simulate_request.hpp"
 
@@ -23,6 +24,9 @@ struct RecordInfo {
   std::size_t samples = 0;
   double peak_as_read_mps2 = 0.0;  // before --scale-pga
 };
+
+// The RecordInfo of a record read from a file, with `values` (one of its components, in m/s2) as the samples.
+RecordInfo record_info(const records::Record& record, const std::vector<double>& values);
 
 struct InputMotion {
   sim::GroundMotion motion;            // as run: aligned and scaled

@@ -38,6 +38,12 @@ double parse_finite_number(const std::string& option, const std::string& text) {
   return *value;
 }
 
+double parse_positive_number(const std::string& option, const std::string& text, const char* unit) {
+  const double value = parse_finite_number(option, text);
+  if (!(value > 0.0)) throw UsageError(option + " must be > 0" + unit + " (got " + number_text(value) + ")");
+  return value;
+}
+
 core::Restitution parse_restitution(const std::string& option, const std::string& text) {
   core::Restitution r;
   if (text == "ana") {

@@ -13,6 +13,9 @@ namespace rockwatch::cli {
 // The whole text must be one finite decimal number; "1.5x", "nan" and "inf" are rejected. Throws UsageError.
 double parse_finite_number(const std::string& option, const std::string& text);
 
+// A finite number > 0; the message says "OPTION must be > 0UNIT (got VALUE)", e.g. unit " s".
+double parse_positive_number(const std::string& option, const std::string& text, const char* unit);
+
 // ana | exp | impulse | a number in [0, 1]. Throws UsageError naming `option` and what is accepted.
 core::Restitution parse_restitution(const std::string& option, const std::string& text);
 

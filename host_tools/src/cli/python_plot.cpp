@@ -167,13 +167,14 @@ std::string embedded_names() {
   return names.empty() ? std::string("none") : names;
 }
 
-// A private directory for the script and its stderr, removed with its contents whatever happens.
+// A private directory (mkdtemp: only this process can use it, whatever else runs in the temporary directory),
+// removed with its contents whatever happens.
 class ScratchDirectory {
  public:
-  ScratchDirectory() {
+  explicit ScratchDirectory(const std::string& prefix) {
     std::error_code ec;
     const std::filesystem::path base = std::filesystem::temp_directory_path(ec);
-    std::string pattern = ((ec ? std::filesystem::path("/tmp") : base) / "rockwatch_plot.XXXXXX").string();
+    const std::string pattern = ((ec ? std::filesystem::path("/tmp") : base) / (prefix + ".XXXXXX")).string();
     std::vector<char> buffer(pattern.begin(), pattern.end());
     buffer.push_back('\0');
     if (mkdtemp(buffer.data()) == nullptr) {
@@ -224,7 +225,7 @@ PlotOutcome run_plot_script(const std::string& script_name, const std::vector<st
                        "); install python3-matplotlib or set ROCKWATCH_PYTHON to a Python that has it"};
   }
 
-  const ScratchDirectory scratch;
+  const ScratchDirectory scratch("rockwatch_plot");
   if (!scratch.ok()) return {false, scratch.error()};
   const std::string script_path = scratch.file(script_name + ".py");
   const std::string stderr_path = scratch.file("stderr.txt");
@@ -247,6 +248,23 @@ PlotOutcome run_plot_script(const std::string& script_name, const std::vector<st
   const std::string tail = read_tail(stderr_path);
   if (!tail.empty()) message += ":\n" + tail;
   return {false, message};
+}
+
+PlotOutcome run_plot_script_with_data(const std::string& script_name, const std::string& data_file_name,
+                                      const std::function<void(std::ostream&)>& write_data,
+                                      const std::vector<std::string>& args) {
+  const ScratchDirectory scratch("rockwatch_" + script_name);
+  if (!scratch.ok()) return {false, scratch.error()};
+  const std::string data_path = scratch.file(data_file_name);
+  {
+    std::ofstream data(data_path, std::ios::binary);
+    write_data(data);
+    data.close();
+    if (!data) return {false, "cannot write the plot data to " + data_path};
+  }
+  std::vector<std::string> script_args{data_path};
+  script_args.insert(script_args.end(), args.begin(), args.end());
+  return run_plot_script(script_name, script_args);
 }
 
 }  // namespace rockwatch::cli

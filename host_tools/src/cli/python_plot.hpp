@@ -3,7 +3,9 @@
 // PATH may not be Debian's, so the interpreter is searched for.
 #pragma once
 
+#include <functional>
 #include <optional>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -19,5 +21,11 @@ struct PlotOutcome {
 
 // Runs the embedded script `script_name` (e.g. "static_sweep") with `args`; no shell is involved.
 PlotOutcome run_plot_script(const std::string& script_name, const std::vector<std::string>& args);
+
+// Writes the plot's data with `write_data` to a private temporary file `data_file_name`, runs `script_name` with
+// that file's path followed by `args`, and removes the file whatever happens.
+PlotOutcome run_plot_script_with_data(const std::string& script_name, const std::string& data_file_name,
+                                      const std::function<void(std::ostream&)>& write_data,
+                                      const std::vector<std::string>& args);
 
 }  // namespace rockwatch::cli

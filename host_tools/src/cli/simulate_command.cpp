@@ -1,22 +1,18 @@
 // `rockwatch simulate`: one record (pair) through sim::analyse, the engine every tool shares. This file only wires
 // the parts together and maps every failure to a one-line message and exit status 2; the CLI adds no physics.
-#include <cerrno>
 #include <cmath>
-#include <cstdio>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
-#include <new>
 #include <optional>
 #include <string>
 #include <system_error>
 
+#include "command_runner.hpp"
 #include "commands.hpp"
 #include "history_csv.hpp"
 #include "input_motion.hpp"
 #include "option_values.hpp"
-#include "rockwatch/records/record_error.hpp"
+#include "output_file.hpp"
 #include "rockwatch/sim/analysis.hpp"
 #include "simulate_report.hpp"
 #include "simulate_request.hpp"
@@ -26,7 +22,7 @@ namespace rockwatch::cli {
 
 namespace {
 
-constexpr const char* kPrefix = "rockwatch simulate: error: ";
+constexpr CommandErrors kErrors{"rockwatch simulate: error: ", "out of memory (a very long record or --out history?)"};
 
 // Bounds on the work one run may ask for: a typo such as --max-step 1e-9 or --t-end 1e9 should be an error message,
 // not hours of computing or an exhausted machine. A 10-minute record at 0.5 ms is 1.2e6 steps.
@@ -49,62 +45,25 @@ void check_work_size(const SimulateRequest& q, const InputMotion& in) {
   }
 }
 
-std::string system_reason() {
-  const int code = errno;
-  return code != 0 ? std::string(": ") + std::strerror(code) : std::string();
+void check_out_path(const SimulateRequest& q) {
+  if (!q.out_csv_path) return;
+  const std::string& path = *q.out_csv_path;
+  std::error_code ec;
+  if (std::filesystem::equivalent(path, q.record_path, ec) ||
+      (q.vertical_path && std::filesystem::equivalent(path, *q.vertical_path, ec))) {
+    throw UsageError("--out " + path + " is an input record: choose another file name");
+  }
 }
-
-// The CSV file is opened before the analysis, so a wrong directory is reported at once, not after a long run.
-class CsvOutput {
- public:
-  explicit CsvOutput(const SimulateRequest& q) {
-    if (!q.out_csv_path) return;
-    path_ = *q.out_csv_path;
-    std::error_code ec;
-    if (std::filesystem::equivalent(path_, q.record_path, ec) ||
-        (q.vertical_path && std::filesystem::equivalent(path_, *q.vertical_path, ec))) {
-      throw UsageError("--out " + path_ + " is an input record: choose another file name");
-    }
-    errno = 0;
-    file_.open(path_, std::ios::out | std::ios::trunc | std::ios::binary);
-    if (!file_) throw UsageError("--out " + path_ + ": cannot open the file for writing" + system_reason());
-    opened_ = true;
-  }
-  CsvOutput(const CsvOutput&) = delete;
-  CsvOutput& operator=(const CsvOutput&) = delete;
-
-  // A failed run must not leave a truncated or empty file that looks like a result.
-  ~CsvOutput() {
-    if (opened_ && !complete_) {
-      file_.close();
-      std::remove(path_.c_str());
-    }
-  }
-
-  void write(const sim::AnalysisResult& result) {
-    if (!opened_) return;
-    errno = 0;
-    write_history_csv(file_, result.history);
-    file_.close();
-    if (file_.fail()) throw UsageError("--out " + path_ + ": writing the time history failed" + system_reason());
-    complete_ = true;
-  }
-
- private:
-  std::string path_;
-  std::ofstream file_;
-  bool opened_ = false;
-  bool complete_ = false;
-};
 
 int run(const SimulateRequest& q) {
   const InputMotion input = prepare_input(q);
   for (const std::string& note : input.notes) std::cerr << "note: " << note << '\n';
   check_work_size(q, input);
-  CsvOutput csv(q);
+  check_out_path(q);
+  PendingOutputFile csv(q.out_csv_path);  // opened now, so a wrong directory is reported before a long run
 
   const sim::AnalysisResult result = sim::analyse(q.wall, input.motion, q.analysis);
-  csv.write(result);
+  csv.write("the time history", [&result](std::ostream& out) { write_history_csv(out, result.history); });
 
   if (q.json) {
     if (result.free_motion_undecided) {
@@ -115,40 +74,17 @@ int run(const SimulateRequest& q) {
   } else {
     std::cout << summary_text(q, input, result);
   }
-  std::cout.flush();
-  if (!std::cout) {
-    std::cerr << kPrefix << "cannot write the result to standard output\n";
-    return kExitUsageError;
-  }
-  return kExitOk;
-}
-
-int fail(const std::string& message, int status) {
-  std::cerr << kPrefix << message << '\n';
-  return status;
+  return finish_stdout(kErrors);
 }
 
 }  // namespace
 
 int simulate_main(int argc, const char* const* argv) {
-  try {
+  return run_command(kErrors, [&] {
     const SimulateParse parsed = parse_simulate_arguments(argc, argv);
-    if (!parsed.request) {
-      std::cout << parsed.help_text;
-      return kExitOk;
-    }
+    if (!parsed.request) return print_help(parsed.help_text);
     return run(*parsed.request);
-  } catch (const UsageError& e) {
-    return fail(e.what(), kExitUsageError);
-  } catch (const records::RecordError& e) {
-    return fail(e.what(), kExitUsageError);
-  } catch (const sim::AnalysisError& e) {
-    return fail(std::string("analysis refused the input: ") + e.what(), kExitUsageError);
-  } catch (const std::bad_alloc&) {
-    return fail("out of memory (a very long record or --out history?)", kExitInternalError);
-  } catch (const std::exception& e) {
-    return fail(std::string("internal error: ") + e.what(), kExitInternalError);
-  }
+  });
 }
 
 }  // namespace rockwatch::cli

@@ -1,7 +1,6 @@
 #include "simulate_report.hpp"
 
 #include <cmath>
-#include <cstdarg>
 #include <cstddef>
 #include <cstdio>
 #include <optional>
@@ -11,61 +10,11 @@
 #include "rockwatch/core/model.hpp"
 #include "rockwatch/core/restitution.hpp"
 #include "rockwatch/core/wall.hpp"
+#include "text_report.hpp"
 
 namespace rockwatch::cli {
 
 namespace {
-
-#if defined(__GNUC__)
-__attribute__((format(printf, 1, 2)))
-#endif
-std::string format(const char* fmt, ...) {
-  va_list args;
-  va_start(args, fmt);
-  va_list again;
-  va_copy(again, args);
-  const int n = std::vsnprintf(nullptr, 0, fmt, args);
-  va_end(args);
-  std::string text;
-  if (n > 0) {
-    text.resize(static_cast<std::size_t>(n) + 1);
-    std::vsnprintf(text.data(), text.size(), fmt, again);
-    text.resize(static_cast<std::size_t>(n));
-  }
-  va_end(again);
-  return text;
-}
-
-nlohmann::ordered_json time_or_null(const std::optional<double>& t_s) {
-  return t_s ? nlohmann::ordered_json(*t_s) : nlohmann::ordered_json(nullptr);
-}
-
-std::string file_name(const std::string& path) {
-  const auto slash = path.find_last_of('/');
-  return slash == std::string::npos ? path : path.substr(slash + 1);
-}
-
-std::string format_name(const std::string& format_id) {
-  if (format_id == "peer-at2") return "PEER AT2";
-  if (format_id == "plain") return "plain columns";
-  return format_id;
-}
-
-// Header text comes from the file: control characters must not reach the terminal.
-std::string printable(std::string text) {
-  for (char& c : text) {
-    const auto u = static_cast<unsigned char>(c);
-    if (u < 0x20 || u == 0x7F) c = '?';
-  }
-  return text;
-}
-
-// One "Label  text" line; labels share a column so the eye can run down them.
-void line(std::string& out, const char* label, const std::string& text) { out += format("  %-24s %s\n", label, text.c_str()); }
-
-std::string time_text(const std::optional<double>& t_s, const char* when_absent) {
-  return t_s ? format("t = %.4f s", *t_s) : std::string(when_absent);
-}
 
 std::string restitution_text(const SimulateRequest& q, const sim::AnalysisResult& r) {
   const core::RestitutionKind kind = q.analysis.restitution.kind;
@@ -139,11 +88,11 @@ nlohmann::ordered_json result_json(const SimulateRequest& q, const sim::Analysis
   // A wall that never moved has no time of maximum.
   j["t_max_abs_x_s"] = r.max_abs_x_m > 0.0 ? nlohmann::ordered_json(r.t_max_abs_x_s) : nlohmann::ordered_json(nullptr);
   j["collapsed"] = r.collapsed;
-  j["t_collapse_s"] = time_or_null(r.t_collapse_s);
-  j["t_exceed_s"] = time_or_null(r.t_exceed_s);
+  j["t_collapse_s"] = number_or_null(r.t_collapse_s);
+  j["t_exceed_s"] = number_or_null(r.t_exceed_s);
   j["collapse_after_end"] = r.collapse_after_end;
   j["n_impacts"] = r.n_impacts;
-  j["t_first_motion_s"] = time_or_null(r.t_first_motion_s);
+  j["t_first_motion_s"] = number_or_null(r.t_first_motion_s);
   j["x_inst_m"] = r.x_inst_m;
   j["threshold_mps2"] = r.threshold_mps2;
   j["r"] = r.r;

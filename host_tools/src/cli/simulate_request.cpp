@@ -1,11 +1,14 @@
 #include "simulate_request.hpp"
 
 #include <cmath>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 
+#include "command_line.hpp"
 #include "option_values.hpp"
 #include "rockwatch/core/model.hpp"
 #include "rockwatch/core/restitution.hpp"
@@ -75,20 +78,6 @@ void add_options(CLI::App& app, RawOptions& raw) {
   app.footer(kFooter);
 }
 
-// CLI11's messages already name the option; these make the common ones read like the rest of the tool's.
-std::string parse_error_message(const CLI::App& app, const CLI::ParseError& e) {
-  const std::string hint = " (see rockwatch simulate --help)";
-  if (dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr) {
-    const std::vector<std::string> extras = app.remaining();
-    if (!extras.empty()) {
-      const std::string& first = extras.front();
-      const bool is_option = first.size() > 1 && first.front() == '-';
-      return std::string(is_option ? "unknown option " : "unexpected argument ") + quoted(first) + hint;
-    }
-  }
-  return e.what() + hint;
-}
-
 struct WallField {
   const char* field;   // core::validate_wall's name
   const char* option;  // the option that sets it
@@ -106,8 +95,6 @@ constexpr WallField kWallFields[] = {
     {"a_prime", "--a-prime", &core::WallParameters::a_prime, &RawOptions::a_prime},
     {"g", "--g", &core::WallParameters::g_mps2, &RawOptions::g},
 };
-
-bool given(const CLI::App& app, const char* option) { return app.count(option) > 0; }
 
 // Names the option at fault, and says when its value was the base wall's rather than the user's.
 [[noreturn]] void report_invalid_wall(const CLI::App& app, const core::WallParameters& wall,
@@ -160,12 +147,6 @@ void check_computable(const core::WallParameters& wall, const sim::AnalysisOptio
   }
 }
 
-double positive(const std::string& option, const std::string& text, const char* unit) {
-  const double value = parse_finite_number(option, text);
-  if (!(value > 0.0)) throw UsageError(option + " must be > 0" + unit + " (got " + number_text(value) + ")");
-  return value;
-}
-
 }  // namespace
 
 SimulateParse parse_simulate_arguments(int argc, const char* const* argv) {
@@ -174,11 +155,8 @@ SimulateParse parse_simulate_arguments(int argc, const char* const* argv) {
                "rockwatch simulate"};
   RawOptions raw;
   add_options(app, raw);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    if (e.get_exit_code() == 0) return SimulateParse{std::nullopt, app.help()};  // --help
-    throw UsageError(parse_error_message(app, e));
+  if (std::optional<std::string> help = parse_command_line(app, argc, argv, "simulate")) {
+    return SimulateParse{std::nullopt, std::move(*help)};
   }
 
   SimulateRequest q;
@@ -192,8 +170,8 @@ SimulateParse parse_simulate_arguments(int argc, const char* const* argv) {
   q.wall_name = raw.wall;
   q.read_options.g_mps2 = q.wall.g_mps2;
   if (given(app, "--units")) q.read_options.units = parse_units("--units", raw.units);
-  if (given(app, "--dt")) q.read_options.dt_s = positive("--dt", raw.dt, " s");
-  if (given(app, "--scale-pga")) q.scale_pga_g = positive("--scale-pga", raw.scale_pga, " (a multiple of g)");
+  if (given(app, "--dt")) q.read_options.dt_s = parse_positive_number("--dt", raw.dt, " s");
+  if (given(app, "--scale-pga")) q.scale_pga_g = parse_positive_number("--scale-pga", raw.scale_pga, " (a multiple of g)");
 
   q.analysis.restitution = parse_restitution("--r", raw.r);
   q.analysis.model = parse_model("--model", raw.model);
@@ -205,7 +183,7 @@ SimulateParse parse_simulate_arguments(int argc, const char* const* argv) {
                        ")");
     }
   }
-  if (given(app, "--max-step")) q.analysis.max_step_s = positive("--max-step", raw.max_step, " s");
+  if (given(app, "--max-step")) q.analysis.max_step_s = parse_positive_number("--max-step", raw.max_step, " s");
   if (given(app, "--t-end")) {
     const double t_end_s = parse_finite_number("--t-end", raw.t_end);
     if (!(t_end_s >= 0.0)) throw UsageError("--t-end must be >= 0 s (got " + number_text(t_end_s) + ")");

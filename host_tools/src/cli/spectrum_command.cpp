@@ -1,29 +1,24 @@
 // `rockwatch spectrum`: one record through sim::response_spectrum and sim::intensity_measures. This file only wires
 // the parts together and maps every failure to a one-line message; the CLI adds no physics.
-#include <cerrno>
 #include <cmath>
 #include <cstddef>
-#include <cstdio>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <iterator>
-#include <new>
 #include <string>
 #include <system_error>
 #include <utility>
 #include <vector>
 
+#include "command_runner.hpp"
 #include "commands.hpp"
 #include "input_motion.hpp"
 #include "option_values.hpp"
+#include "output_file.hpp"
 #include "python_plot.hpp"
 #include "rockwatch/core/design_spectrum.hpp"
 #include "rockwatch/records/record.hpp"
-#include "rockwatch/records/record_error.hpp"
 #include "rockwatch/sim/intensity_measures.hpp"
-#include "rockwatch/sim/measure_error.hpp"
 #include "rockwatch/sim/response_spectrum.hpp"
 #include "spectrum_plot.hpp"
 #include "spectrum_report.hpp"
@@ -34,15 +29,10 @@ namespace rockwatch::cli {
 
 namespace {
 
-constexpr const char* kPrefix = "rockwatch spectrum: error: ";
+constexpr CommandErrors kErrors{"rockwatch spectrum: error: ", "out of memory (a very long record?)"};
 
 // One oscillator step is a few ns; 2e9 of them is several seconds. More is a typo (a huge N or a huge record).
 constexpr double kMaxOscillatorSteps = 2e9;
-
-std::string system_reason() {
-  const int code = errno;
-  return code != 0 ? std::string(": ") + std::strerror(code) : std::string();
-}
 
 bool same_file(const std::string& a, const std::string& b) {
   std::error_code ec;
@@ -61,55 +51,6 @@ void check_output_paths(const SpectrumRequest& q) {
   }
 }
 
-// Opened before the computation, so a wrong directory is reported at once; removed again if the run fails.
-class CsvOutput {
- public:
-  explicit CsvOutput(const SpectrumRequest& q) {
-    if (!q.out_csv_path) return;
-    path_ = *q.out_csv_path;
-    errno = 0;
-    file_.open(path_, std::ios::out | std::ios::trunc | std::ios::binary);
-    if (!file_) throw UsageError("--out " + path_ + ": cannot open the file for writing" + system_reason());
-    opened_ = true;
-  }
-  CsvOutput(const CsvOutput&) = delete;
-  CsvOutput& operator=(const CsvOutput&) = delete;
-  ~CsvOutput() {
-    if (opened_ && !complete_) {
-      file_.close();
-      std::remove(path_.c_str());
-    }
-  }
-
-  void write(const SpectrumResult& result) {
-    if (!opened_) return;
-    errno = 0;
-    write_spectrum_csv(file_, result);
-    file_.close();
-    if (file_.fail()) throw UsageError("--out " + path_ + ": writing the spectrum failed" + system_reason());
-    complete_ = true;
-  }
-
- private:
-  std::string path_;
-  std::ofstream file_;
-  bool opened_ = false;
-  bool complete_ = false;
-};
-
-RecordInfo info_of(const records::Record& r) {
-  RecordInfo info;
-  info.path = r.path;
-  info.format = r.format;
-  info.description = r.description;
-  info.units = std::string(records::accel_unit_name(r.units_in_file));
-  info.dt_s = r.dt_s;
-  info.t0_s = r.t0_s;
-  info.samples = r.horizontal_mps2.size();
-  info.peak_as_read_mps2 = sim::peak_abs(r.horizontal_mps2);
-  return info;
-}
-
 void check_work_size(const SpectrumRequest& q, std::size_t samples) {
   const double periods = static_cast<double>(q.periods.count + std::size(kStandardPeriods_s));
   const double steps = periods * static_cast<double>(samples);
@@ -122,7 +63,7 @@ void check_work_size(const SpectrumRequest& q, std::size_t samples) {
 
 SpectrumResult compute(const SpectrumRequest& q, const records::Record& record) {
   SpectrumResult r;
-  r.record = info_of(record);
+  r.record = record_info(record, record.horizontal_mps2);
   r.vertical_column_ignored = !record.vertical_mps2.empty();
   const std::vector<double>& a = record.horizontal_mps2;
   const std::vector<double> periods = sim::log_spaced_periods(q.periods.from_s, q.periods.to_s, q.periods.count);
@@ -147,10 +88,10 @@ int run(const SpectrumRequest& q) {
     std::cerr << "note: " << q.record_path << " has a third (vertical) column; the spectrum is of the second\n";
   }
   check_work_size(q, record.horizontal_mps2.size());
-  CsvOutput csv(q);
+  PendingOutputFile csv(q.out_csv_path);  // opened now, so a wrong directory is reported at once
 
   const SpectrumResult result = compute(q, record);
-  csv.write(result);
+  csv.write("the spectrum", [&result](std::ostream& out) { write_spectrum_csv(out, result); });
 
   if (q.json) {
     // The JSON has only the documented keys; the provenance SPEC §5 asks for goes to stderr.
@@ -165,46 +106,22 @@ int run(const SpectrumRequest& q) {
     const PlotOutcome plot = plot_spectrum(q, result);
     if (!plot.ok) {
       std::cout.flush();
-      std::cerr << kPrefix << "plot not written: " << plot.message << '\n';
-      return kExitInternalError;
+      return fail(kErrors, "plot not written: " + plot.message, kExitInternalError);
     }
     if (!q.json) std::cout << "wrote " << *q.plot_path << '\n';
   }
   if (q.out_csv_path && !q.json) std::cout << "wrote " << *q.out_csv_path << '\n';
-  std::cout.flush();
-  if (!std::cout) {
-    std::cerr << kPrefix << "cannot write the result to standard output\n";
-    return kExitUsageError;
-  }
-  return kExitOk;
-}
-
-int fail(const std::string& message, int status) {
-  std::cerr << kPrefix << message << '\n';
-  return status;
+  return finish_stdout(kErrors);
 }
 
 }  // namespace
 
 int spectrum_main(int argc, const char* const* argv) {
-  try {
+  return run_command(kErrors, [&] {
     const SpectrumParse parsed = parse_spectrum_arguments(argc, argv);
-    if (!parsed.request) {
-      std::cout << parsed.help_text;
-      return kExitOk;
-    }
+    if (!parsed.request) return print_help(parsed.help_text);
     return run(*parsed.request);
-  } catch (const UsageError& e) {
-    return fail(e.what(), kExitUsageError);
-  } catch (const records::RecordError& e) {
-    return fail(e.what(), kExitUsageError);
-  } catch (const sim::MeasureError& e) {
-    return fail(std::string("the record cannot be measured: ") + e.what(), kExitUsageError);
-  } catch (const std::bad_alloc&) {
-    return fail("out of memory (a very long record?)", kExitInternalError);
-  } catch (const std::exception& e) {
-    return fail(std::string("internal error: ") + e.what(), kExitInternalError);
-  }
+  });
 }
 
 }  // namespace rockwatch::cli

@@ -1,7 +1,6 @@
 #include "spectrum_report.hpp"
 
 #include <charconv>
-#include <cstdarg>
 #include <cstddef>
 #include <cstdio>
 #include <optional>
@@ -12,56 +11,11 @@
 
 #include "option_values.hpp"
 #include "rockwatch/core/design_spectrum.hpp"
+#include "text_report.hpp"
 
 namespace rockwatch::cli {
 
 namespace {
-
-#if defined(__GNUC__)
-__attribute__((format(printf, 1, 2)))
-#endif
-std::string format(const char* fmt, ...) {
-  va_list args;
-  va_start(args, fmt);
-  va_list again;
-  va_copy(again, args);
-  const int n = std::vsnprintf(nullptr, 0, fmt, args);
-  va_end(args);
-  std::string text;
-  if (n > 0) {
-    text.resize(static_cast<std::size_t>(n) + 1);
-    std::vsnprintf(text.data(), text.size(), fmt, again);
-    text.resize(static_cast<std::size_t>(n));
-  }
-  va_end(again);
-  return text;
-}
-
-nlohmann::ordered_json number_or_null(const std::optional<double>& value) {
-  return value ? nlohmann::ordered_json(*value) : nlohmann::ordered_json(nullptr);
-}
-
-std::string file_name(const std::string& path) {
-  const auto slash = path.find_last_of('/');
-  return slash == std::string::npos ? path : path.substr(slash + 1);
-}
-
-std::string format_name(const std::string& format_id) {
-  if (format_id == "peer-at2") return "PEER AT2";
-  if (format_id == "plain") return "plain columns";
-  return format_id;
-}
-
-// Header text comes from the file: control characters must not reach the terminal.
-std::string printable(std::string text) {
-  for (char& c : text) {
-    const auto u = static_cast<unsigned char>(c);
-    if (u < 0x20 || u == 0x7F) c = '?';
-  }
-  return text;
-}
-
-void line(std::string& out, const char* label, const std::string& text) { out += format("  %-24s %s\n", label, text.c_str()); }
 
 std::string duration_text(const std::optional<double>& d_s, const std::optional<double>& from_s,
                           const std::optional<double>& to_s, const char* from_label, const char* to_label) {

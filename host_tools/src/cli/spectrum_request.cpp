@@ -2,11 +2,14 @@
 
 #include <cmath>
 #include <cstddef>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 
+#include "command_line.hpp"
 #include "option_values.hpp"
 #include "rockwatch/core/design_spectrum.hpp"
 #include "usage_error.hpp"
@@ -71,27 +74,6 @@ void add_options(CLI::App& app, RawOptions& raw) {
   app.footer(kFooter);
 }
 
-std::string parse_error_message(const CLI::App& app, const CLI::ParseError& e) {
-  const std::string hint = " (see rockwatch spectrum --help)";
-  if (dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr) {
-    const std::vector<std::string> extras = app.remaining();
-    if (!extras.empty()) {
-      const std::string& first = extras.front();
-      const bool is_option = first.size() > 1 && first.front() == '-';
-      return std::string(is_option ? "unknown option " : "unexpected argument ") + quoted(first) + hint;
-    }
-  }
-  return e.what() + hint;
-}
-
-bool given(const CLI::App& app, const char* option) { return app.count(option) > 0; }
-
-double positive(const std::string& option, const std::string& text, const char* unit) {
-  const double value = parse_finite_number(option, text);
-  if (!(value > 0.0)) throw UsageError(option + " must be > 0" + unit + " (got " + number_text(value) + ")");
-  return value;
-}
-
 constexpr const char* kCustomOptions[] = {"--p", "--tb", "--tc", "--td"};
 
 core::SpectrumShape custom_shape(const CLI::App& app, const RawOptions& raw) {
@@ -136,7 +118,7 @@ std::optional<SpectrumTarget> parse_target(const CLI::App& app, const RawOptions
                      quoted(raw.target) + ")");
   }
   if (!given(app, "--pga")) throw UsageError("--target needs --pga, the design PGA a_g in g");
-  target.pga_g = positive("--pga", raw.pga, " (a multiple of g)");
+  target.pga_g = parse_positive_number("--pga", raw.pga, " (a multiple of g)");
   return target;
 }
 
@@ -178,19 +160,16 @@ SpectrumParse parse_spectrum_arguments(int argc, const char* const* argv) {
                "rockwatch spectrum"};
   RawOptions raw;
   add_options(app, raw);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    if (e.get_exit_code() == 0) return SpectrumParse{std::nullopt, app.help()};  // --help
-    throw UsageError(parse_error_message(app, e));
+  if (std::optional<std::string> help = parse_command_line(app, argc, argv, "spectrum")) {
+    return SpectrumParse{std::nullopt, std::move(*help)};
   }
 
   SpectrumRequest q;
   if (raw.record.empty()) throw UsageError("--record needs a file name");
   q.record_path = raw.record;
-  if (given(app, "--g")) q.read_options.g_mps2 = positive("--g", raw.g, " m/s2");
+  if (given(app, "--g")) q.read_options.g_mps2 = parse_positive_number("--g", raw.g, " m/s2");
   if (given(app, "--units")) q.read_options.units = parse_units("--units", raw.units);
-  if (given(app, "--dt")) q.read_options.dt_s = positive("--dt", raw.dt, " s");
+  if (given(app, "--dt")) q.read_options.dt_s = parse_positive_number("--dt", raw.dt, " s");
   if (given(app, "--damping")) {
     q.damping = parse_finite_number("--damping", raw.damping);
     if (!(q.damping >= 0.0 && q.damping < 1.0)) {

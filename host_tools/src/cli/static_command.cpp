@@ -3,16 +3,15 @@
 // output together; the physics is all in core.
 #include <cerrno>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <new>
 #include <stdexcept>
 #include <string>
 #include <system_error>
 #include <vector>
 
+#include "command_runner.hpp"
 #include "commands.hpp"
 #include "option_values.hpp"
 #include "python_plot.hpp"
@@ -26,12 +25,7 @@ namespace rockwatch::cli {
 
 namespace {
 
-constexpr const char* kPrefix = "rockwatch static: error: ";
-
-std::string system_reason() {
-  const int code = errno;
-  return code != 0 ? std::string(": ") + std::strerror(code) : std::string();
-}
+constexpr CommandErrors kErrors{"rockwatch static: error: ", "out of memory"};
 
 core::StaticResult evaluate(const core::StaticInputs& in) {
   core::StaticResult r;
@@ -43,15 +37,6 @@ core::StaticResult evaluate(const core::StaticInputs& in) {
 
 void print_a_note(const StaticRequest& q) {
   if (q.a_without_fp) std::cerr << "note: --a has no effect without --fp: it only places the overburden\n";
-}
-
-int finish_stdout() {
-  std::cout.flush();
-  if (!std::cout) {
-    std::cerr << kPrefix << "cannot write the result to standard output\n";
-    return kExitUsageError;
-  }
-  return kExitOk;
 }
 
 int run_cases(const StaticRequest& q) {
@@ -68,7 +53,7 @@ int run_cases(const StaticRequest& q) {
   } else {
     std::cout << static_summary_text(q, results);
   }
-  return finish_stdout();
+  return finish_stdout(kErrors);
 }
 
 // Creates --out (and its parents) if missing; refuses a path that exists as something else.
@@ -144,35 +129,21 @@ int run_sweep(const StaticRequest& q) {
   const PlotOutcome plot = run_plot_script("static_sweep", args);
   if (!plot.ok) {
     std::cout.flush();
-    std::cerr << kPrefix << "plot not written: " << plot.message << "\n(the CSV " << csv_path << " was written)\n";
-    return kExitInternalError;
+    return fail(kErrors, "plot not written: " + plot.message + "\n(the CSV " + csv_path + " was written)",
+                kExitInternalError);
   }
   std::cout << "  wrote " << png_path << '\n';
-  return finish_stdout();
-}
-
-int fail(const std::string& message, int status) {
-  std::cerr << kPrefix << message << '\n';
-  return status;
+  return finish_stdout(kErrors);
 }
 
 }  // namespace
 
 int static_main(int argc, const char* const* argv) {
-  try {
+  return run_command(kErrors, [&] {
     const StaticParse parsed = parse_static_arguments(argc, argv);
-    if (!parsed.request) {
-      std::cout << parsed.help_text;
-      return kExitOk;
-    }
+    if (!parsed.request) return print_help(parsed.help_text);
     return parsed.request->sweep ? run_sweep(*parsed.request) : run_cases(*parsed.request);
-  } catch (const UsageError& e) {
-    return fail(e.what(), kExitUsageError);
-  } catch (const std::bad_alloc&) {
-    return fail("out of memory", kExitInternalError);
-  } catch (const std::exception& e) {
-    return fail(std::string("internal error: ") + e.what(), kExitInternalError);
-  }
+  });
 }
 
 }  // namespace rockwatch::cli

@@ -1,6 +1,5 @@
 #include "static_report.hpp"
 
-#include <cstdarg>
 #include <cstddef>
 #include <cstdio>
 #include <functional>
@@ -9,37 +8,14 @@
 
 #include "option_values.hpp"
 #include "rockwatch/core/design_spectrum.hpp"
+#include "text_report.hpp"
 
 namespace rockwatch::cli {
 
 namespace {
 
-#if defined(__GNUC__)
-__attribute__((format(printf, 1, 2)))
-#endif
-std::string format(const char* fmt, ...) {
-  va_list args;
-  va_start(args, fmt);
-  va_list again;
-  va_copy(again, args);
-  const int n = std::vsnprintf(nullptr, 0, fmt, args);
-  va_end(args);
-  std::string text;
-  if (n > 0) {
-    text.resize(static_cast<std::size_t>(n) + 1);
-    std::vsnprintf(text.data(), text.size(), fmt, again);
-    text.resize(static_cast<std::size_t>(n));
-  }
-  va_end(again);
-  return text;
-}
-
 constexpr int kLabelWidth = 26;
 constexpr int kColumnWidth = 16;
-
-void line(std::string& out, const char* label, const std::string& text) {
-  out += format("  %-*s %s\n", kLabelWidth - 2, label, text.c_str());
-}
 
 // One table row: a label, then one value per case (by index) in its column.
 void row(std::string& out, const std::string& label, std::size_t cases,

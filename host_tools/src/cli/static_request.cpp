@@ -1,11 +1,14 @@
 #include "static_request.hpp"
 
 #include <cstddef>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 
+#include "command_line.hpp"
 #include "option_values.hpp"
 #include "rockwatch/core/design_spectrum.hpp"
 #include "rockwatch/core/static_check.hpp"
@@ -88,21 +91,6 @@ void add_options(CLI::App& app, RawOptions& raw) {
   app.add_option("--out", raw.out, "Directory for --sweep's static_sweep.csv and static_sweep.png")->type_name("DIR");
   app.footer(kFooter);
 }
-
-std::string parse_error_message(const CLI::App& app, const CLI::ParseError& e) {
-  const std::string hint = " (see rockwatch static --help)";
-  if (dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr) {
-    const std::vector<std::string> extras = app.remaining();
-    if (!extras.empty()) {
-      const std::string& first = extras.front();
-      const bool is_option = first.size() > 1 && first.front() == '-';
-      return std::string(is_option ? "unknown option " : "unexpected argument ") + quoted(first) + hint;
-    }
-  }
-  return e.what() + hint;
-}
-
-bool given(const CLI::App& app, const char* option) { return app.count(option) > 0; }
 
 void reject_together(const CLI::App& app, const char* first, const char* second, const std::string& why) {
   if (given(app, first) && given(app, second)) {
@@ -317,11 +305,8 @@ StaticParse parse_static_arguments(int argc, const char* const* argv) {
                "rockwatch static"};
   RawOptions raw;
   add_options(app, raw);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    if (e.get_exit_code() == 0) return StaticParse{std::nullopt, app.help()};  // --help
-    throw UsageError(parse_error_message(app, e));
+  if (std::optional<std::string> help = parse_command_line(app, argc, argv, "static")) {
+    return StaticParse{std::nullopt, std::move(*help)};
   }
 
   check_sweep_options(app, raw);

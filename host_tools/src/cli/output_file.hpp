@@ -1,0 +1,33 @@
+// A --out file opened before the work, so a wrong directory is reported at once, not after a long run. A failed
+// run must not leave a truncated or empty file that looks like a result: the file is removed unless it was
+// written completely.
+#pragma once
+
+#include <fstream>
+#include <functional>
+#include <optional>
+#include <ostream>
+#include <string>
+
+namespace rockwatch::cli {
+
+class PendingOutputFile {
+ public:
+  // Without a path nothing is opened and write() does nothing. Throws UsageError
+  // "--out PATH: cannot open the file for writing: REASON".
+  explicit PendingOutputFile(const std::optional<std::string>& path);
+  PendingOutputFile(const PendingOutputFile&) = delete;
+  PendingOutputFile& operator=(const PendingOutputFile&) = delete;
+  ~PendingOutputFile();
+
+  // Writes the content and closes the file. Throws UsageError "--out PATH: writing WHAT failed: REASON".
+  void write(const char* what, const std::function<void(std::ostream&)>& write_content);
+
+ private:
+  std::string path_;
+  std::ofstream file_;
+  bool opened_ = false;
+  bool complete_ = false;
+};
+
+}  // namespace rockwatch::cli

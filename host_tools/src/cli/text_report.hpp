@@ -1,0 +1,36 @@
+// Text helpers the commands' reports share: printf-style formatting, the "  label  text" line, and the record
+// naming used in summaries.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace rockwatch::cli {
+
+// printf into a std::string.
+#if defined(__GNUC__)
+__attribute__((format(printf, 1, 2)))
+#endif
+std::string format(const char* fmt, ...);
+
+// One "Label  text" line; labels share a column so the eye can run down them.
+void line(std::string& out, const char* label, const std::string& text);
+
+// The value, or JSON null when it is absent.
+nlohmann::ordered_json number_or_null(const std::optional<double>& value);
+
+// "t = 1.2345 s", or `when_absent`.
+std::string time_text(const std::optional<double>& t_s, const char* when_absent);
+
+// The last component of a '/'-separated path.
+std::string file_name(const std::string& path);
+
+// A record format id ("peer-at2", "plain") as readers know it.
+std::string format_name(const std::string& format_id);
+
+// Header text comes from the file: control characters must not reach the terminal.
+std::string printable(std::string text);
+
+}  // namespace rockwatch::cli
