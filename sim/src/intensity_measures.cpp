@@ -1,7 +1,5 @@
 #include "rockwatch/sim/intensity_measures.hpp"
 
-#include "rockwatch/sim/analysis.hpp"
-
 #include <cmath>
 #include <cstddef>
 #include <cstdio>
