@@ -9,6 +9,8 @@
 #include "cli_process.hpp"
 #include "cli_test_files.hpp"
 
+#include "cli_expect.hpp"  // brings in CppUTest, after every standard header
+
 #include <CppUTest/TestHarness.h>
 
 using rockwatch::test::describe;
@@ -23,15 +25,7 @@ namespace {
 const std::string kElCentro180 = record_path("RSN6_IMPVALL.I_I-ELC180-hor1.AT2");
 
 void expect_rejected(const std::vector<std::string>& args, const std::vector<std::string>& mentions) {
-  std::vector<std::string> full{"simulate"};
-  full.insert(full.end(), args.begin(), args.end());
-  const ProcessResult r = run_rockwatch(full);
-  const std::string what = describe(r);
-  CHECK_EQUAL_TEXT(0, r.signal, what.c_str());
-  CHECK_EQUAL_TEXT(2, r.exit_status, what.c_str());
-  CHECK_TEXT(r.out.empty(), what.c_str());
-  CHECK_TEXT(r.err.rfind("rockwatch simulate: error: ", 0) == 0, what.c_str());
-  for (const std::string& m : mentions) STRCMP_CONTAINS(m.c_str(), r.err.c_str());
+  rockwatch::test::expect_command_rejected("simulate", args, mentions);
 }
 
 void expect_rejected_option(const std::string& option, const std::string& value, const std::string& mention) {

@@ -20,6 +20,8 @@
 #include "rockwatch/sim/intensity_measures.hpp"
 #include "rockwatch/sim/response_spectrum.hpp"
 
+#include "cli_expect.hpp"  // brings in CppUTest, after every standard header
+
 #include <CppUTest/TestHarness.h>
 
 using rockwatch::test::describe;
@@ -252,15 +254,7 @@ TEST(SpectrumCommand, HelpNamesTheKeysAndSaysWhenTargetKeysAppear) {
 namespace {
 
 void expect_rejected(const std::vector<std::string>& args, const std::vector<std::string>& mentions) {
-  std::vector<std::string> full{"spectrum"};
-  full.insert(full.end(), args.begin(), args.end());
-  const ProcessResult r = run_rockwatch(full);
-  const std::string what = describe(r);
-  CHECK_EQUAL_TEXT(0, r.signal, what.c_str());
-  CHECK_EQUAL_TEXT(2, r.exit_status, what.c_str());
-  CHECK_TEXT(r.out.empty(), what.c_str());
-  CHECK_TEXT(r.err.rfind("rockwatch spectrum: error: ", 0) == 0, what.c_str());
-  for (const std::string& m : mentions) STRCMP_CONTAINS(m.c_str(), r.err.c_str());
+  rockwatch::test::expect_command_rejected("spectrum", args, mentions);
 }
 
 void expect_rejected_option(const std::string& option, const std::string& value, const std::string& mention) {

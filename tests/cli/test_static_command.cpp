@@ -19,6 +19,8 @@
 #include "rockwatch/core/design_spectrum.hpp"
 #include "rockwatch/core/static_check.hpp"
 
+#include "cli_expect.hpp"  // brings in CppUTest, after every standard header
+
 #include <CppUTest/TestHarness.h>
 
 using rockwatch::test::Csv;
@@ -236,13 +238,7 @@ TEST_GROUP(StaticRejects){};
 namespace {
 
 void expect_rejected(const std::vector<std::string>& args, const std::vector<std::string>& mentions) {
-  const ProcessResult r = run_static(args);
-  const std::string what = describe(r);
-  CHECK_EQUAL_TEXT(0, r.signal, what.c_str());
-  CHECK_EQUAL_TEXT(2, r.exit_status, what.c_str());
-  CHECK_TEXT(r.out.empty(), what.c_str());
-  CHECK_TEXT(r.err.rfind("rockwatch static: error: ", 0) == 0, what.c_str());
-  for (const std::string& m : mentions) CHECK_TEXT(r.err.find(m) != std::string::npos, (m + " in\n" + what).c_str());
+  rockwatch::test::expect_command_rejected("static", args, mentions);
 }
 
 }  // namespace

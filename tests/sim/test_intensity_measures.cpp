@@ -13,6 +13,8 @@
 #include "rockwatch/sim/intensity_measures.hpp"
 #include "rockwatch/sim/measure_error.hpp"
 
+#include "check_throws.hpp"  // brings in CppUTest, after every standard header
+
 #include <CppUTest/TestHarness.h>
 
 namespace sim = rockwatch::sim;
@@ -40,13 +42,7 @@ records::Record read(const char* file) { return records::read_record(data_path(s
 
 template <typename Fn>
 void check_throws_measure_error(Fn fn) {
-  bool thrown = false;
-  try {
-    fn();
-  } catch (const sim::MeasureError&) {
-    thrown = true;
-  }
-  CHECK_TEXT(thrown, "expected sim::MeasureError");
+  rockwatch::test::check_throws<sim::MeasureError>(fn, "expected sim::MeasureError");
 }
 
 }  // namespace

@@ -11,6 +11,8 @@
 #include "rockwatch/sim/measure_error.hpp"
 #include "rockwatch/sim/response_spectrum.hpp"
 
+#include "check_throws.hpp"  // brings in CppUTest, after every standard header
+
 #include <CppUTest/TestHarness.h>
 
 namespace sim = rockwatch::sim;
@@ -46,13 +48,7 @@ double peak(const std::vector<double>& v) {
 
 template <typename Fn>
 void check_throws_measure_error(Fn fn) {
-  bool thrown = false;
-  try {
-    fn();
-  } catch (const sim::MeasureError&) {
-    thrown = true;
-  }
-  CHECK_TEXT(thrown, "expected sim::MeasureError");
+  rockwatch::test::check_throws<sim::MeasureError>(fn, "expected sim::MeasureError");
 }
 
 }  // namespace
