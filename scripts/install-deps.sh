@@ -10,6 +10,8 @@ PACKAGES=(
   libbenchmark-dev       # Google Benchmark (tests/bench)
   libcli11-dev           # command-line parsing (host_tools)
   nlohmann-json3-dev     # JSON output and reference-value tests
+  libfftw3-dev           # FFT for the spectrum-compatible record generator (sim)
+  libmseed-dev           # miniSEED record reader (host_tools)
   liblcm-dev liblcm-bin libglib2.0-dev   # LCM transport (firmware); lcm.pc needs glib-2.0
   python3-matplotlib     # PNG plots (host_tools)
 )
