@@ -65,9 +65,17 @@ std::vector<double> bin_factors(const std::vector<double>& periods_s, const std:
   return factor;
 }
 
-double worst_log_deviation(const std::vector<double>& ratio, double level) {
+// The worst deviation from the matched level over the check band, each side measured in units of its distance to
+// the acceptance limit on that side (the band is not symmetric about the level: 0.9–1.3 around 1.0), so the kept
+// iterate is the one with the most margin; ≤ 1 means inside the band.
+double worst_band_deviation(const std::vector<double>& ratio, double level, double accept_min, double accept_max) {
+  const double low_room = std::log(level / accept_min);
+  const double high_room = std::log(accept_max / level);
   double worst = 0.0;
-  for (const double r : ratio) worst = std::max(worst, std::abs(std::log(r / level)));
+  for (const double r : ratio) {
+    const double d = std::log(r / level);
+    worst = std::max(worst, d < 0.0 ? -d / low_room : d / high_room);
+  }
   return worst;
 }
 
@@ -95,7 +103,8 @@ double envelope_value(const Envelope& e, double t_s, double duration_s) {
   if (u < e.rise_s) {
     v = (u / e.rise_s) * (u / e.rise_s);
   } else if (u > e.rise_s + e.strong_s) {
-    v = std::exp(-e.decay_per_s * (u - e.rise_s - e.strong_s));
+    const double tau = u - e.rise_s - e.strong_s;
+    v = (1.0 - e.coda_fraction) * std::exp(-e.decay_per_s * tau) + e.coda_fraction * std::exp(-e.coda_decay_per_s * tau);
   }
   const double taper_start_s = duration_s - e.taper_s;
   if (e.taper_s > 0.0 && t_s > taper_start_s) v *= 0.5 * (1.0 + std::cos(kPi * (t_s - taper_start_s) / e.taper_s));
@@ -118,7 +127,11 @@ ComponentTarget component_target(const GeneratorSettings& s, Component c) {
     // the EC8 vertical plateau lies (0.05–0.15 s).
     t.spectrum = s.vertical_target;
     t.pga_mps2 = s.pga_g * s.vertical_pga_ratio * s.g_mps2;
-    t.envelope = Envelope{0.6, 0.5, 0.8, 0.5, 1.0};
+    t.envelope.lead_s = 0.6;
+    t.envelope.rise_s = 0.5;
+    t.envelope.strong_s = 0.8;
+    t.envelope.decay_per_s = 0.5;
+    t.envelope.coda_fraction = 0.0;
     t.filter = GroundFilter{10.0, 0.6, 0.5, 0.6};
   } else {
     t.spectrum = s.horizontal_target;
@@ -180,7 +193,8 @@ void validate_settings(const GeneratorSettings& s) {
   require(finite_positive(s.suite_mean_tolerance) && s.suite_mean_tolerance < 1.0,
           "the suite-mean tolerance must be in (0, 1)");
   require(s.iterations >= 1 && s.iterations <= 1000, "iterations must be 1 to 1000");
-  require(finite_positive(s.match_level), "the matched level must be > 0");
+  require(finite_positive(s.match_level) && s.match_level > s.accept_min && s.match_level < s.accept_max,
+          "the matched level must lie inside the acceptance limits");
   require(finite_positive(s.correction_exponent) && s.correction_exponent <= 1.0,
           "the correction exponent must be in (0, 1]");
   require(std::isfinite(s.clip_fraction) && s.clip_fraction >= 0.0 && s.clip_fraction <= 1.0,
@@ -242,7 +256,7 @@ std::vector<double> match_one_draw(const GeneratorSettings& s, ComponentTarget t
     std::vector<double> candidate = finished_record(x, envelope, baseline, s.dt_s, target.pga_mps2);
     const BandRatio check = spectral_ratio(candidate, s.dt_s, target.spectrum, target.pga_mps2, s.check_from_s,
                                            s.check_to_s, s.check_periods, s.damping);
-    const double deviation = worst_log_deviation(check.ratio, s.match_level);
+    const double deviation = worst_band_deviation(check.ratio, s.match_level, s.accept_min, s.accept_max);
     if (best.empty() || deviation < best_deviation) {
       best = std::move(candidate);
       best_deviation = deviation;

@@ -40,13 +40,16 @@ inline constexpr bool is_vertical(Component c) { return c == Component::z; }
 
 // Time-modulating envelope e(t) in [0, 1]: quiet lead, quadratic rise, strong plateau, exponential decay, and a
 // cosine taper to exactly zero over the last taper_s of the record.
-// Defaults: the horizontal Groningen-like shape. After matching (whose peak clipping moves energy into the tail) it
-// gives D5-75 ≈ 2–5 s and D5-95 ≈ 4.5–10 s; the duration windows below select records within the SPEC §6 ranges.
+// Defaults: the horizontal Groningen-like shape, a short burst and a slower coda (D5-75 short, D5-95 long, like
+// the KNMI BGAR record: 2.1 s and 6.1 s). After matching (whose peak clipping moves energy into the tail) a draw
+// has D5-75 ≈ 2–5 s and D5-95 ≈ 4.5–12 s; the duration windows select records within the SPEC §6 ranges.
 struct Envelope {
   double lead_s = 1.0;         // zero before this time [s]
   double rise_s = 0.5;         // (t − lead)²/rise² up to 1 [s]
-  double strong_s = 0.3;       // plateau at 1 [s]
-  double decay_per_s = 0.3;    // exp(−decay·(t − end of plateau)) afterwards [1/s]
+  double strong_s = 0.5;       // plateau at 1 [s]
+  double decay_per_s = 1.0;    // exp(−decay·(t − end of plateau)) afterwards [1/s] ...
+  double coda_fraction = 0.3;  // ... of which this fraction decays at the slower coda rate instead [-]
+  double coda_decay_per_s = 0.2;  // [1/s]
   double taper_s = 1.0;        // cosine taper to zero at the end of the record [s]
 };
 double envelope_value(const Envelope& e, double t_s, double duration_s);
@@ -101,7 +104,7 @@ struct GeneratorSettings {
   double correction_exponent = 0.8;  // under-relaxation of the amplitude correction (ratio^exponent per iteration)
   double clip_fraction = 0.7;    // peaks above the target PGA are clipped in the first 70 % of the iterations
   std::size_t fft_padding = 4;   // the stationary signal is padding × record length (finer frequency control)
-  double envelope_spread = 0.2;  // per-record variation of the strong-phase length and decay rate (±20 %)
+  double envelope_spread = 0.1;  // per-record variation of the strong-phase length and decay rate (±10 %)
   // Significant-duration windows a record must meet [s]: horizontal D5-95 6–8 s is the setting calibrated against
   // the paper's study (SPEC §6); every D5-75 within 1.5–4 s; the vertical is shorter (3–8 s).
   DurationWindow horizontal_d5_75_s{1.5, 4.0};
