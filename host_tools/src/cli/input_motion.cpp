@@ -8,6 +8,7 @@
 
 #include "align.hpp"
 #include "option_values.hpp"
+#include "record_selection.hpp"
 #include "rockwatch/records/record.hpp"
 #include "usage_error.hpp"
 
@@ -19,26 +20,46 @@ void take_notes(std::vector<std::string>& notes, const records::Record& r) {
   notes.insert(notes.end(), r.notes.begin(), r.notes.end());
 }
 
+// The vertical of --vertical, or the Z component of the same suite set (--vertical-from-suite): the same grid, so the
+// resampling below copies it bit for bit and has nothing to note.
 std::vector<double> vertical_from_file(const SimulateRequest& q, const records::Record& horizontal, InputMotion& in) {
-  records::Record v = records::read_record(*q.vertical_path, q.read_options);
+  const RecordSelection& s = q.record;
+  const std::string& path = *s.vertical_path;
+  records::Record v = records::read_record(path, s.vertical_read_options());
   take_notes(in.notes, v);
   if (!v.vertical_mps2.empty()) {
-    throw UsageError("--vertical " + *q.vertical_path +
+    throw UsageError(vertical_source_text(s) +
                      " has three columns (time, horizontal, vertical): expected one acceleration component; extract "
                      "the vertical column, or pass the file as --record alone");
   }
   in.vertical = record_info(v, v.horizontal_mps2);
-  const TimeGrid source{v.t0_s, v.dt_s, v.horizontal_mps2.size()};
+  if (s.vertical_from_suite) {
+    in.vertical->source = suite_record_text(*s.suite, 'Z');
+  } else if (s.vertical_channel) {
+    in.vertical->source = "channel " + *s.vertical_channel;
+  }
+  // Files that state an absolute start (miniSEED, ESM) are put on one clock: two channels of one station start a
+  // fraction of a second apart, and their own times both begin at 0.
+  double offset_s = 0.0;
+  if (v.start_time_ns && horizontal.start_time_ns) {
+    offset_s = static_cast<double>(*v.start_time_ns - *horizontal.start_time_ns) * 1e-9;
+    if (offset_s != 0.0) {
+      in.notes.push_back("vertical record " + path + " starts " + number_text(std::fabs(offset_s)) + " s " +
+                         (offset_s > 0.0 ? "after" : "before") +
+                         " the horizontal by the files' start times: aligned on that clock");
+    }
+  }
+  const TimeGrid source{v.t0_s + offset_s, v.dt_s, v.horizontal_mps2.size()};
   const TimeGrid target{horizontal.t0_s, horizontal.dt_s, horizontal.horizontal_mps2.size()};
   if (source.dt_s != target.dt_s || source.t0_s != target.t0_s) {
-    in.notes.push_back("vertical record " + *q.vertical_path + " (dt " + number_text(source.dt_s) + " s, t0 " +
+    in.notes.push_back("vertical record " + path + " (dt " + number_text(source.dt_s) + " s, t0 " +
                        number_text(source.t0_s) + " s) resampled by linear interpolation onto the horizontal grid (dt " +
                        number_text(target.dt_s) + " s, t0 " + number_text(target.t0_s) + " s)");
   }
   const double v_end_s = source.t0_s + source.dt_s * (static_cast<double>(source.count) - 1.0);
   const double h_end_s = target.t0_s + target.dt_s * (static_cast<double>(target.count) - 1.0);
   if (source.t0_s > target.t0_s || v_end_s < h_end_s) {
-    in.notes.push_back("vertical record " + *q.vertical_path + " spans t = " + number_text(source.t0_s) + " to " +
+    in.notes.push_back("vertical record " + path + " spans t = " + number_text(source.t0_s) + " to " +
                        number_text(v_end_s) + " s, the horizontal " + number_text(target.t0_s) + " to " +
                        number_text(h_end_s) + " s: v'' = 0 where it has no samples");
   }
@@ -48,7 +69,7 @@ std::vector<double> vertical_from_file(const SimulateRequest& q, const records::
 void scale_to_pga(const SimulateRequest& q, InputMotion& in) {
   const double peak = in.horizontal.peak_as_read_mps2;
   if (!(peak > 0.0)) {
-    throw UsageError("--scale-pga: the horizontal record " + q.record_path +
+    throw UsageError("--scale-pga: the horizontal record " + q.record.record_path +
                      " has peak |u''| = 0, so no factor can scale it to " + number_text(*q.scale_pga_g) + " g");
   }
   in.scale_factor = *q.scale_pga_g * q.wall.g_mps2 / peak;
@@ -63,8 +84,8 @@ void check_no_lift_off(const SimulateRequest& q, const InputMotion& in) {
   for (std::size_t k = 0; k < v.size(); ++k) {
     const double big_g = q.wall.g_mps2 + v[k];
     if (big_g > 0.0) continue;
-    const std::string source = in.vertical_from_third_column ? "the third column of " + q.record_path
-                                                             : "--vertical " + in.vertical->path;
+    const std::string source = in.vertical_from_third_column ? "the third column of " + q.record.record_path
+                                                             : vertical_source_text(q.record);
     std::string message = source + ": v'' = " + number_text(v[k]) + " m/s2 at t = " +
                            number_text(static_cast<double>(k) * in.motion.dt_s) + " s";
     if (in.scale_factor != 1.0) message += " (after --scale-pga, factor " + number_text(in.scale_factor) + ")";
@@ -91,18 +112,20 @@ RecordInfo record_info(const records::Record& r, const std::vector<double>& valu
 
 InputMotion prepare_input(const SimulateRequest& q) {
   InputMotion in;
-  records::Record h = records::read_record(q.record_path, q.read_options);
+  const RecordSelection& s = q.record;
+  records::Record h = records::read_record(s.record_path, s.read_options);
   take_notes(in.notes, h);
   in.horizontal = record_info(h, h.horizontal_mps2);
+  in.horizontal.source = selection_text(s);
 
   if (!h.vertical_mps2.empty()) {
-    if (q.vertical_path) {
-      throw UsageError("ambiguous vertical input: " + q.record_path + " has a third (vertical) column and --vertical " +
-                       *q.vertical_path + " was given too; drop --vertical or remove the column");
+    if (s.vertical_path) {
+      throw UsageError("ambiguous vertical input: " + s.record_path + " has a third (vertical) column and " +
+                       vertical_source_text(s) + " was given too; drop the vertical option or remove the column");
     }
     in.vertical_from_third_column = true;
     in.motion.vg_mps2 = std::move(h.vertical_mps2);
-  } else if (q.vertical_path) {
+  } else if (s.vertical_path) {
     in.motion.vg_mps2 = vertical_from_file(q, h, in);
   }
   in.motion.dt_s = h.dt_s;

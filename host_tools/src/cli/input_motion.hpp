@@ -16,7 +16,8 @@ namespace rockwatch::cli {
 // What the reports say about a file; the samples themselves live in the GroundMotion.
 struct RecordInfo {
   std::string path;
-  std::string format;       // "peer-at2" | "plain"
+  std::string source;       // where in the file or suite: "suite npr9998-2015 set 3 component X", "channel HNE", or empty
+  std::string format;       // "peer-at2" | "plain" | the other readers' ids
   std::string description;  // header text, may be empty
   std::string units;        // units the values were converted from
   double dt_s = 0.0;
@@ -31,7 +32,7 @@ RecordInfo record_info(const records::Record& record, const std::vector<double>&
 struct InputMotion {
   sim::GroundMotion motion;            // as run: aligned and scaled
   RecordInfo horizontal;
-  std::optional<RecordInfo> vertical;  // set when the vertical comes from a file of its own (--vertical)
+  std::optional<RecordInfo> vertical;  // set when the vertical comes from a file of its own (--vertical) or the suite
   bool vertical_from_third_column = false;
   double scale_factor = 1.0;           // applied to both components
   std::vector<std::string> notes;      // readers' notes and ours, for stderr

@@ -19,6 +19,8 @@ constexpr Command kCommands[] = {
     {"simulate", "response of a wall to a ground-motion record (two-block rocking model, Newmark)", simulate_main},
     {"static", "allowable PGA by the static kinematic check (NTC 2008, NZSEE 2016); Figure 3 sweep", static_main},
     {"spectrum", "response spectrum and intensity measures of a record, against a design spectrum", spectrum_main},
+    {"generate", "spectrum-compatible ground-motion suite (NPR 9998-like): set files, manifest, spectra plots",
+     generate_main},
 };
 
 void print_usage(std::ostream& out) {

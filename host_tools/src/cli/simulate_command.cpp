@@ -49,8 +49,8 @@ void check_out_path(const SimulateRequest& q) {
   if (!q.out_csv_path) return;
   const std::string& path = *q.out_csv_path;
   std::error_code ec;
-  if (std::filesystem::equivalent(path, q.record_path, ec) ||
-      (q.vertical_path && std::filesystem::equivalent(path, *q.vertical_path, ec))) {
+  if (std::filesystem::equivalent(path, q.record.record_path, ec) ||
+      (q.record.vertical_path && std::filesystem::equivalent(path, *q.record.vertical_path, ec))) {
     throw UsageError("--out " + path + " is an input record: choose another file name");
   }
 }

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "option_values.hpp"
+#include "record_selection.hpp"
 #include "rockwatch/core/model.hpp"
 #include "rockwatch/core/restitution.hpp"
 #include "rockwatch/core/wall.hpp"
@@ -31,7 +32,9 @@ std::string restitution_text(const SimulateRequest& q, const sim::AnalysisResult
 
 void describe_record(std::string& out, const char* label, const RecordInfo& info) {
   line(out, label, file_name(info.path) + " (" + format_name(info.format) + ", values in " + info.units + ")");
-  if (!info.description.empty()) line(out, "", printable(info.description));
+  if (!info.source.empty()) line(out, "", printable(info.source) + ", " + printable(info.path));
+  // A suite record's header says what the source line says: once is enough.
+  if (!info.description.empty() && info.description != info.source) line(out, "", printable(info.description));
   const double duration_s = info.dt_s * (static_cast<double>(info.samples) - 1.0);
   std::string span = format("%zu samples at dt %s s, duration %s s", info.samples, number_text(info.dt_s).c_str(),
                             number_text(duration_s).c_str());
@@ -101,6 +104,7 @@ nlohmann::ordered_json result_json(const SimulateRequest& q, const sim::Analysis
   j["duration_s"] = r.duration_s;
   j["model"] = model_name(q.analysis.model);
   j["kappa"] = q.analysis.kappa;
+  add_selection_json(j, q.record);
   return j;
 }
 

@@ -11,7 +11,8 @@
 
 namespace rockwatch::cli {
 
-// Exactly the documented keys, in a fixed order; times that did not happen are null.
+// Exactly the documented keys, in a fixed order; times that did not happen are null. The record-selection keys
+// (add_selection_json) follow only when --suite, --component, --channel, --vertical-channel or --gain was used.
 nlohmann::ordered_json result_json(const SimulateRequest& request, const sim::AnalysisResult& result);
 
 // Multi-line, human-readable summary ending with a newline.

@@ -21,7 +21,8 @@ namespace {
 // Options are read as text and converted by option_values, so every message has one form and nan/inf are refused
 // the same way everywhere.
 struct RawOptions {
-  std::string record, vertical, units, dt, scale_pga, wall = "paper";
+  RecordOptionTexts record;
+  std::string scale_pga, wall = "paper";
   std::string b, h1, h2, rho, fp, a, a_prime, g;
   std::string r = "exp", model = "linear", kappa, max_step, t_end, out;
   bool json = false;
@@ -35,20 +36,20 @@ const char* const kFooter =
     "\n"
     "Exit status: 0 analysis done (whatever the verdict), 2 invalid options or input, 1 internal error.\n"
     "\n"
-    "Example:\n"
-    "  rockwatch simulate --record RSN6_IMPVALL.I_I-ELC180-hor1.AT2 --scale-pga 0.25 --r ana --out history.csv\n";
+    "Record selection: --record FILE, or --suite DIR --set N --component X|Y|Z for a record of a suite written by\n"
+    "rockwatch generate (--vertical-from-suite adds the set's Z as the vertical, on the same time grid).\n"
+    "--component also picks the component of a suite set file given as --record; --channel (--vertical-channel)\n"
+    "the channel of a multi-channel miniSEED file, whose counts --gain converts to m/s2.\n"
+    "--json prints one object with exactly the documented keys; only with --suite also suite (dir, name, set,\n"
+    "component, file, vertical_component), with --component on a --record file component, with --channel\n"
+    "channel, with --vertical-channel vertical_channel, with --gain gain_counts_per_mps2.\n"
+    "\n"
+    "Examples:\n"
+    "  rockwatch simulate --record RSN6_IMPVALL.I_I-ELC180-hor1.AT2 --scale-pga 0.25 --r ana --out history.csv\n"
+    "  rockwatch simulate --suite suite --set 3 --component X --vertical-from-suite --scale-pga 0.2 --r ana\n";
 
 void add_options(CLI::App& app, RawOptions& raw) {
-  app.add_option("--record", raw.record,
-                 "Horizontal (out-of-plane) record: PEER AT2, or plain columns [time] u'' [v'']")
-      ->required()
-      ->type_name("FILE");
-  app.add_option("--vertical", raw.vertical,
-                 "Vertical record (up +), resampled onto the --record time grid; zero outside its span")
-      ->type_name("FILE");
-  app.add_option("--units", raw.units, "Acceleration units of the record files: g|mps2|cmps2|mmps2 (overrides the file)")
-      ->type_name("U");
-  app.add_option("--dt", raw.dt, "Sample interval of one-column plain files [s]")->type_name("S");
+  add_record_options(app, raw.record, VerticalOptions::allowed);
   app.add_option("--scale-pga", raw.scale_pga,
                  "Scale the horizontal record to peak |u''| = G*g; the vertical by the same factor")
       ->type_name("G");
@@ -160,17 +161,9 @@ SimulateParse parse_simulate_arguments(int argc, const char* const* argv) {
   }
 
   SimulateRequest q;
-  q.record_path = raw.record;
-  if (raw.record.empty()) throw UsageError("--record needs a file name");
-  if (given(app, "--vertical")) {
-    if (raw.vertical.empty()) throw UsageError("--vertical needs a file name");
-    q.vertical_path = raw.vertical;
-  }
   q.wall = build_wall(app, raw, q.wall_options_given);
   q.wall_name = raw.wall;
-  q.read_options.g_mps2 = q.wall.g_mps2;
-  if (given(app, "--units")) q.read_options.units = parse_units("--units", raw.units);
-  if (given(app, "--dt")) q.read_options.dt_s = parse_positive_number("--dt", raw.dt, " s");
+  q.record = parse_record_selection(app, raw.record, q.wall.g_mps2);
   if (given(app, "--scale-pga")) q.scale_pga_g = parse_positive_number("--scale-pga", raw.scale_pga, " (a multiple of g)");
 
   q.analysis.restitution = parse_restitution("--r", raw.r);

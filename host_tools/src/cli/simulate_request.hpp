@@ -5,16 +5,14 @@
 #include <string>
 #include <vector>
 
+#include "record_selection.hpp"
 #include "rockwatch/core/wall.hpp"
-#include "rockwatch/records/record.hpp"
 #include "rockwatch/sim/analysis.hpp"
 
 namespace rockwatch::cli {
 
 struct SimulateRequest {
-  std::string record_path;
-  std::optional<std::string> vertical_path;
-  records::ReadOptions read_options;   // --units, --dt, --g: the same for both files
+  RecordSelection record;              // --record or --suite, the vertical, --units, --dt, --gain (g: the wall's)
   std::optional<double> scale_pga_g;   // target peak |ü| in units of g (the --g value)
   std::string wall_name = "paper";     // the base wall the --b … --a-prime options modify
   core::WallParameters wall = core::paper_wall();

@@ -16,6 +16,7 @@
 #include "option_values.hpp"
 #include "output_file.hpp"
 #include "python_plot.hpp"
+#include "record_selection.hpp"
 #include "rockwatch/core/design_spectrum.hpp"
 #include "rockwatch/records/record.hpp"
 #include "rockwatch/sim/intensity_measures.hpp"
@@ -40,10 +41,11 @@ bool same_file(const std::string& a, const std::string& b) {
 }
 
 void check_output_paths(const SpectrumRequest& q) {
-  if (q.out_csv_path && same_file(*q.out_csv_path, q.record_path)) {
+  const std::string& record_path = q.record.record_path;
+  if (q.out_csv_path && same_file(*q.out_csv_path, record_path)) {
     throw UsageError("--out " + *q.out_csv_path + " is the input record: choose another file name");
   }
-  if (q.plot_path && same_file(*q.plot_path, q.record_path)) {
+  if (q.plot_path && same_file(*q.plot_path, record_path)) {
     throw UsageError("--plot " + *q.plot_path + " is the input record: choose another file name");
   }
   if (q.plot_path && q.out_csv_path && *q.plot_path == *q.out_csv_path) {
@@ -64,6 +66,7 @@ void check_work_size(const SpectrumRequest& q, std::size_t samples) {
 SpectrumResult compute(const SpectrumRequest& q, const records::Record& record) {
   SpectrumResult r;
   r.record = record_info(record, record.horizontal_mps2);
+  r.record.source = selection_text(q.record);
   r.vertical_column_ignored = !record.vertical_mps2.empty();
   const std::vector<double>& a = record.horizontal_mps2;
   const std::vector<double> periods = sim::log_spaced_periods(q.periods.from_s, q.periods.to_s, q.periods.count);
@@ -82,10 +85,10 @@ SpectrumResult compute(const SpectrumRequest& q, const records::Record& record) 
 
 int run(const SpectrumRequest& q) {
   check_output_paths(q);
-  const records::Record record = records::read_record(q.record_path, q.read_options);
+  const records::Record record = records::read_record(q.record.record_path, q.record.read_options);
   for (const std::string& note : record.notes) std::cerr << "note: " << note << '\n';
   if (!record.vertical_mps2.empty()) {
-    std::cerr << "note: " << q.record_path << " has a third (vertical) column; the spectrum is of the second\n";
+    std::cerr << "note: " << q.record.record_path << " has a third (vertical) column; the spectrum is of the second\n";
   }
   check_work_size(q, record.horizontal_mps2.size());
   PendingOutputFile csv(q.out_csv_path);  // opened now, so a wrong directory is reported at once

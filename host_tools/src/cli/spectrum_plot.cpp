@@ -15,8 +15,8 @@ namespace rockwatch::cli {
 namespace {
 
 std::string plot_title(const SpectrumRequest& q, const SpectrumResult& r) {
-  std::string title = file_name(r.record.path) + ": elastic response spectrum, damping " +
-                      number_text(100.0 * q.damping) + " %";
+  std::string title = file_name(r.record.path) + (r.record.source.empty() ? "" : " (" + r.record.source + ")") +
+                      ": elastic response spectrum, damping " + number_text(100.0 * q.damping) + " %";
   if (!r.record.description.empty()) {
     std::string description = r.record.description;
     for (char& c : description) {

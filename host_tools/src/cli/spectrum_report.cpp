@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "option_values.hpp"
+#include "record_selection.hpp"
 #include "rockwatch/core/design_spectrum.hpp"
 #include "text_report.hpp"
 
@@ -55,6 +56,7 @@ nlohmann::ordered_json spectrum_json(const SpectrumRequest& q, const SpectrumRes
     j["target_sa_mps2"] = r.target_sa_mps2;
     j["target"] = core::spectrum_name(q.target->shape.kind);
   }
+  add_selection_json(j, q.record);
   return j;
 }
 
@@ -67,7 +69,11 @@ std::string spectrum_summary_text(const SpectrumRequest& q, const SpectrumResult
   out += "Record\n";
   line(out, "file", file_name(r.record.path) + " (" + format_name(r.record.format) + ", values in " + r.record.units +
                         ")");
-  if (!r.record.description.empty()) line(out, "", printable(r.record.description));
+  if (!r.record.source.empty()) line(out, "", printable(r.record.source) + ", " + printable(r.record.path));
+  // A suite record's header says what the source line says: once is enough.
+  if (!r.record.description.empty() && r.record.description != r.record.source) {
+    line(out, "", printable(r.record.description));
+  }
   const double duration_s = r.record.dt_s * (static_cast<double>(r.record.samples) - 1.0);
   line(out, "", format("%zu samples at dt %s s, duration %s s", r.record.samples, number_text(r.record.dt_s).c_str(),
                        number_text(duration_s).c_str()));

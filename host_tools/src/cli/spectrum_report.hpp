@@ -30,7 +30,8 @@ struct SpectrumResult {
 // Se(T) = a_g · g · shape(T) [m/s²].
 double target_sa_mps2(const SpectrumTarget& target, double g_mps2, double period_s);
 
-// Exactly the documented keys, in a fixed order; target keys only with --target; undefined durations are null.
+// Exactly the documented keys, in a fixed order; target keys only with --target; undefined durations are null; the
+// record-selection keys (add_selection_json) only when --suite, --component, --channel or --gain was used.
 nlohmann::ordered_json spectrum_json(const SpectrumRequest& request, const SpectrumResult& result);
 
 // Multi-line, human-readable summary ending with a newline.

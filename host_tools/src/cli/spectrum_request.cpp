@@ -21,7 +21,8 @@ namespace {
 // Options are read as text and converted by option_values, so every message has one form and nan/inf are refused
 // the same way everywhere.
 struct RawOptions {
-  std::string record, units, dt, g, damping, periods, out, plot, target, pga, p, tb, tc, td;
+  RecordOptionTexts record;
+  std::string g, damping, periods, out, plot, target, pga, p, tb, tc, td;
   bool json = false;
 };
 
@@ -35,7 +36,9 @@ const char* const kFooter =
     "\n"
     "--json prints one object with exactly the keys periods_s, sa_mps2, pga_mps2, pgv_mps, pgd_m, arias_mps,\n"
     "d5_75_s, d5_95_s (null for a record without motion); only with --target also target_sa_mps2 (Se(T) at the\n"
-    "same periods) and target (the spectrum's name).\n"
+    "same periods) and target (the spectrum's name); only with --suite also suite (dir, name, set, component,\n"
+    "file, vertical_component), with --component on a --record file component, with --channel channel,\n"
+    "with --gain gain_counts_per_mps2.\n"
     "--out writes the CSV columns period_s,sa_mps2 (and target_sa_mps2 with --target).\n"
     "The npr9998-2015 shape is back-calculated from the design paper's static results (NPR 9998:2015 bedrock\n"
     "parameters are not public); outputs that use it say so.\n"
@@ -45,15 +48,11 @@ const char* const kFooter =
     "Examples:\n"
     "  rockwatch spectrum --record RSN6_IMPVALL.I_I-ELC180-hor1.AT2\n"
     "  rockwatch spectrum --record RSN6_IMPVALL.I_I-ELC180-hor1.AT2 --target npr9998-2015 --pga 0.25 --plot sa.png\n"
-    "  rockwatch spectrum --record motion.csv --units cmps2 --periods 0.05:2:50 --out spectrum.csv --json\n";
+    "  rockwatch spectrum --record motion.csv --units cmps2 --periods 0.05:2:50 --out spectrum.csv --json\n"
+    "  rockwatch spectrum --suite suite --set 3 --component X --target npr9998-2015 --pga 0.2\n";
 
 void add_options(CLI::App& app, RawOptions& raw) {
-  app.add_option("--record", raw.record, "Ground-acceleration record: PEER AT2, or plain columns [time] a [v]")
-      ->required()
-      ->type_name("FILE");
-  app.add_option("--units", raw.units, "Acceleration units of the record: g|mps2|cmps2|mmps2 (overrides the file)")
-      ->type_name("U");
-  app.add_option("--dt", raw.dt, "Sample interval of a one-column plain file [s]")->type_name("S");
+  add_record_options(app, raw.record, VerticalOptions::none);
   app.add_option("--g", raw.g, "Gravity [m/s2] (default 9.81): converts records in g, --pga and the Arias intensity")
       ->type_name("MPS2");
   app.add_option("--damping", raw.damping, "Damping ratio of the oscillators, in [0, 1) (default 0.05)")->type_name("Z");
@@ -165,11 +164,8 @@ SpectrumParse parse_spectrum_arguments(int argc, const char* const* argv) {
   }
 
   SpectrumRequest q;
-  if (raw.record.empty()) throw UsageError("--record needs a file name");
-  q.record_path = raw.record;
-  if (given(app, "--g")) q.read_options.g_mps2 = parse_positive_number("--g", raw.g, " m/s2");
-  if (given(app, "--units")) q.read_options.units = parse_units("--units", raw.units);
-  if (given(app, "--dt")) q.read_options.dt_s = parse_positive_number("--dt", raw.dt, " s");
+  const double g_mps2 = given(app, "--g") ? parse_positive_number("--g", raw.g, " m/s2") : records::ReadOptions{}.g_mps2;
+  q.record = parse_record_selection(app, raw.record, g_mps2);
   if (given(app, "--damping")) {
     q.damping = parse_finite_number("--damping", raw.damping);
     if (!(q.damping >= 0.0 && q.damping < 1.0)) {

@@ -7,7 +7,7 @@
 
 #include "rockwatch/core/design_spectrum.hpp"
 #include "rockwatch/core/response_oscillator.hpp"
-#include "rockwatch/records/record.hpp"
+#include "record_selection.hpp"
 #include "rockwatch/sim/response_spectrum.hpp"
 
 namespace rockwatch::cli {
@@ -28,15 +28,14 @@ struct SpectrumTarget {
 };
 
 struct SpectrumRequest {
-  std::string record_path;
-  records::ReadOptions read_options;  // --units, --dt, --g
+  RecordSelection record;             // --record or --suite, --units, --dt, --gain; g from --g
   double damping = core::kDefaultDampingRatio;
   PeriodGrid periods;
   std::optional<SpectrumTarget> target;
   std::optional<std::string> out_csv_path;
   std::optional<std::string> plot_path;
   bool json = false;
-  double g_mps2() const { return read_options.g_mps2; }
+  double g_mps2() const { return record.read_options.g_mps2; }
 };
 
 struct SpectrumParse {

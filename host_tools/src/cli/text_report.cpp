@@ -41,6 +41,10 @@ std::string file_name(const std::string& path) {
 std::string format_name(const std::string& format_id) {
   if (format_id == "peer-at2") return "PEER AT2";
   if (format_id == "plain") return "plain columns";
+  if (format_id == "esm") return "ESM ASCII";
+  if (format_id == "itaca-cor-acc") return "ITACA .cor.acc";
+  if (format_id == "miniseed") return "miniSEED";
+  if (format_id == "rockwatch-suite") return "rockwatch suite set file";
   return format_id;
 }
 

@@ -27,7 +27,8 @@ std::string time_text(const std::optional<double>& t_s, const char* when_absent)
 // The last component of a '/'-separated path.
 std::string file_name(const std::string& path);
 
-// A record format id ("peer-at2", "plain") as readers know it.
+// A record format id as readers know it ("peer-at2", "plain", "esm", "itaca-cor-acc", "miniseed",
+// "rockwatch-suite"), as people know it; an unknown id as it is.
 std::string format_name(const std::string& format_id);
 
 // Header text comes from the file: control characters must not reach the terminal.

@@ -125,6 +125,7 @@ bool looks_cut_short(std::string_view token, bool others_have_exponent) {
 
 Record read_peer_at2(const std::string& path, const ReadOptions& options) {
   detail::check_options(path, options);
+  detail::reject_multi_component_options(path, options, "a PEER AT2 record");
   const std::string content = detail::read_whole_file(path);
   const std::vector<std::string_view> lines = detail::split_lines(content);
   if (detail::all_blank(lines)) {

@@ -261,6 +261,7 @@ void take_time_column(const std::string& path, const Columns& columns, const Rea
 
 Record read_plain_text(const std::string& path, const ReadOptions& options) {
   detail::check_options(path, options);
+  detail::reject_multi_component_options(path, options, "a plain-text record");
   const std::string content = detail::read_whole_file(path);
   const std::vector<std::string_view> lines = detail::split_lines(content);
 

@@ -138,6 +138,37 @@ inline void check_options(const std::string& path, const ReadOptions& options) {
     throw RecordError(
         path, 0, "sample interval --dt " + number_text(*options.dt_s) + " s: expected a positive number of seconds");
   }
+  if (options.gain_counts_per_mps2 &&
+      (!std::isfinite(*options.gain_counts_per_mps2) || *options.gain_counts_per_mps2 <= 0.0)) {
+    throw RecordError(path, 0,
+                      "--gain " + number_text(*options.gain_counts_per_mps2) +
+                          ": expected a positive number of counts per m/s² (the station's InstrumentSensitivity)");
+  }
+}
+
+// Formats with one acceleration series per file: a component choice or a counts gain given for them is a user
+// mistake (the wrong file, or options meant for another one), so it is refused rather than ignored.
+inline void reject_multi_component_options(const std::string& path, const ReadOptions& options,
+                                           std::string_view format_label) {
+  if (options.channel) {
+    throw RecordError(path, 0,
+                      "the file holds one component (" + std::string(format_label) + "); --channel/--component " +
+                          shown(*options.channel) + " does not apply");
+  }
+  if (options.gain_counts_per_mps2) {
+    throw RecordError(path, 0,
+                      "the file holds acceleration values (" + std::string(format_label) +
+                          "), not counts; --gain applies to miniSEED integer counts only");
+  }
+}
+
+// "--dt 0.01 s ignored" for formats whose header states the sample interval.
+inline void note_ignored_dt(const std::string& path, const ReadOptions& options, double dt_s, std::string_view source,
+                            Record& record) {
+  if (options.dt_s && std::fabs(*options.dt_s - dt_s) > 1e-6 * dt_s) {
+    record.notes.push_back(file_name_of(path) + ": --dt " + number_text(*options.dt_s) + " s ignored, " +
+                           std::string(source) + " gives dt = " + number_text(dt_s) + " s");
+  }
 }
 
 // Multiplies in place; a huge value times g can overflow, which must not pass as a number.
