@@ -21,5 +21,6 @@ int simulate_main(int argc, const char* const* argv);
 int static_main(int argc, const char* const* argv);
 int spectrum_main(int argc, const char* const* argv);
 int generate_main(int argc, const char* const* argv);
+int study_main(int argc, const char* const* argv);
 
 }  // namespace rockwatch::cli

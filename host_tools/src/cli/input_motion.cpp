@@ -38,32 +38,7 @@ std::vector<double> vertical_from_file(const SimulateRequest& q, const records::
   } else if (s.vertical_channel) {
     in.vertical->source = "channel " + *s.vertical_channel;
   }
-  // Files that state an absolute start (miniSEED, ESM) are put on one clock: two channels of one station start a
-  // fraction of a second apart, and their own times both begin at 0.
-  double offset_s = 0.0;
-  if (v.start_time_ns && horizontal.start_time_ns) {
-    offset_s = static_cast<double>(*v.start_time_ns - *horizontal.start_time_ns) * 1e-9;
-    if (offset_s != 0.0) {
-      in.notes.push_back("vertical record " + path + " starts " + number_text(std::fabs(offset_s)) + " s " +
-                         (offset_s > 0.0 ? "after" : "before") +
-                         " the horizontal by the files' start times: aligned on that clock");
-    }
-  }
-  const TimeGrid source{v.t0_s + offset_s, v.dt_s, v.horizontal_mps2.size()};
-  const TimeGrid target{horizontal.t0_s, horizontal.dt_s, horizontal.horizontal_mps2.size()};
-  if (source.dt_s != target.dt_s || source.t0_s != target.t0_s) {
-    in.notes.push_back("vertical record " + path + " (dt " + number_text(source.dt_s) + " s, t0 " +
-                       number_text(source.t0_s) + " s) resampled by linear interpolation onto the horizontal grid (dt " +
-                       number_text(target.dt_s) + " s, t0 " + number_text(target.t0_s) + " s)");
-  }
-  const double v_end_s = source.t0_s + source.dt_s * (static_cast<double>(source.count) - 1.0);
-  const double h_end_s = target.t0_s + target.dt_s * (static_cast<double>(target.count) - 1.0);
-  if (source.t0_s > target.t0_s || v_end_s < h_end_s) {
-    in.notes.push_back("vertical record " + path + " spans t = " + number_text(source.t0_s) + " to " +
-                       number_text(v_end_s) + " s, the horizontal " + number_text(target.t0_s) + " to " +
-                       number_text(h_end_s) + " s: v'' = 0 where it has no samples");
-  }
-  return resample_linear(v.horizontal_mps2, source, target);
+  return vertical_on_horizontal_grid(horizontal, v, in.notes);
 }
 
 void scale_to_pga(const SimulateRequest& q, InputMotion& in) {
@@ -96,6 +71,36 @@ void check_no_lift_off(const SimulateRequest& q, const InputMotion& in) {
 }
 
 }  // namespace
+
+std::vector<double> vertical_on_horizontal_grid(const records::Record& horizontal, const records::Record& vertical,
+                                                std::vector<std::string>& notes) {
+  // Files that state an absolute start (miniSEED, ESM) are put on one clock: two channels of one station start a
+  // fraction of a second apart, and their own times both begin at 0.
+  double offset_s = 0.0;
+  if (vertical.start_time_ns && horizontal.start_time_ns) {
+    offset_s = static_cast<double>(*vertical.start_time_ns - *horizontal.start_time_ns) * 1e-9;
+    if (offset_s != 0.0) {
+      notes.push_back("vertical record " + vertical.path + " starts " + number_text(std::fabs(offset_s)) + " s " +
+                         (offset_s > 0.0 ? "after" : "before") +
+                      " the horizontal by the files' start times: aligned on that clock");
+    }
+  }
+  const TimeGrid source{vertical.t0_s + offset_s, vertical.dt_s, vertical.horizontal_mps2.size()};
+  const TimeGrid target{horizontal.t0_s, horizontal.dt_s, horizontal.horizontal_mps2.size()};
+  if (source.dt_s != target.dt_s || source.t0_s != target.t0_s) {
+    notes.push_back("vertical record " + vertical.path + " (dt " + number_text(source.dt_s) + " s, t0 " +
+                    number_text(source.t0_s) + " s) resampled by linear interpolation onto the horizontal grid (dt " +
+                    number_text(target.dt_s) + " s, t0 " + number_text(target.t0_s) + " s)");
+  }
+  const double v_end_s = source.t0_s + source.dt_s * (static_cast<double>(source.count) - 1.0);
+  const double h_end_s = target.t0_s + target.dt_s * (static_cast<double>(target.count) - 1.0);
+  if (source.t0_s > target.t0_s || v_end_s < h_end_s) {
+    notes.push_back("vertical record " + vertical.path + " spans t = " + number_text(source.t0_s) + " to " +
+                    number_text(v_end_s) + " s, the horizontal " + number_text(target.t0_s) + " to " +
+                    number_text(h_end_s) + " s: v'' = 0 where it has no samples");
+  }
+  return resample_linear(vertical.horizontal_mps2, source, target);
+}
 
 RecordInfo record_info(const records::Record& r, const std::vector<double>& values) {
   RecordInfo info;

@@ -38,6 +38,13 @@ struct InputMotion {
   std::vector<std::string> notes;      // readers' notes and ours, for stderr
 };
 
+// The samples of `vertical` (one component) at the times of `horizontal`'s grid: put on one clock by the files'
+// absolute start times when both state them, resampled by linear interpolation (bit for bit on the same grid), zero
+// where the vertical has no samples. What that involved (another clock, another grid, a shorter span) is added to
+// `notes`, naming vertical.path.
+std::vector<double> vertical_on_horizontal_grid(const records::Record& horizontal, const records::Record& vertical,
+                                                std::vector<std::string>& notes);
+
 // Reads the files and prepares the input. Throws records::RecordError for file defects and UsageError for
 // combinations the analysis cannot take (ambiguous vertical, a record with zero peak to scale, lift-off).
 InputMotion prepare_input(const SimulateRequest& request);

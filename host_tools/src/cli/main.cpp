@@ -21,6 +21,8 @@ constexpr Command kCommands[] = {
     {"spectrum", "response spectrum and intensity measures of a record, against a design spectrum", spectrum_main},
     {"generate", "spectrum-compatible ground-motion suite (NPR 9998-like): set files, manifest, spectra plots",
      generate_main},
+    {"study", "collapse-probability study of the design paper (Table 3): a wall through a suite at many PGA levels",
+     study_main},
 };
 
 void print_usage(std::ostream& out) {

@@ -63,6 +63,14 @@ core::Restitution parse_restitution(const std::string& option, const std::string
   return r;
 }
 
+double parse_kappa(const std::string& option, const std::string& text) {
+  const double kappa = parse_finite_number(option, text);
+  if (!(kappa >= 1.0)) {
+    throw UsageError(option + " must be >= 1: collapse cannot come before x_inst (got " + number_text(kappa) + ")");
+  }
+  return kappa;
+}
+
 core::ModelKind parse_model(const std::string& option, const std::string& text) {
   if (text == "linear") return core::ModelKind::linear;
   if (text == "full") return core::ModelKind::full;

@@ -19,6 +19,9 @@ double parse_positive_number(const std::string& option, const std::string& text,
 // ana | exp | impulse | a number in [0, 1]. Throws UsageError naming `option` and what is accepted.
 core::Restitution parse_restitution(const std::string& option, const std::string& text);
 
+// The collapse factor kappa: a finite number >= 1 (collapse cannot come before x_inst).
+double parse_kappa(const std::string& option, const std::string& text);
+
 // linear | full.
 core::ModelKind parse_model(const std::string& option, const std::string& text);
 const char* model_name(core::ModelKind kind);

@@ -3,6 +3,7 @@
 // because carriage returns make logs unreadable.
 #pragma once
 
+#include <cstddef>
 #include <ostream>
 #include <string>
 
@@ -30,5 +31,12 @@ class ProgressLine {
   bool terminal_;
   bool showing_ = false;
 };
+
+// "[#########...............]  640/1760  36 %  1 min 02 s, 1 min 49 s left": a bar `width` characters wide, the
+// count, and the elapsed and remaining time (by the rate so far; "left" only once something is done).
+std::string progress_bar_text(std::size_t done, std::size_t total, double elapsed_s, std::size_t width = 24);
+
+// "12 s", "3 min 05 s", "2 h 07 min": a duration as people read it, rounded to whole seconds.
+std::string duration_text(double seconds);
 
 }  // namespace rockwatch::cli

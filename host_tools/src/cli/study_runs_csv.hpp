@@ -1,0 +1,34 @@
+// runs.csv of a `rockwatch study`: one row per finished analysis, in run-index order, written so that it reads back
+// into exactly the results it came from (numbers in shortest round-trip form, absent times as empty fields). That
+// makes the file the study's checkpoint: --resume reads it and runs only what it lacks, and the final file does not
+// depend on how often the study was interrupted or on --jobs.
+#pragma once
+
+#include <cstddef>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "rockwatch/sim/study/batch_study.hpp"
+
+namespace rockwatch::cli {
+
+inline constexpr const char* kRunsCsvName = "runs.csv";
+
+// record,component,vertical,r,pga_g,collapsed,t_collapse_s,t_exceed_s,max_abs_x_m,n_impacts,run
+// [,collapsed_half_step],error
+std::string runs_csv_header(const sim::study::StudyPlan& plan);
+
+// The header and one row per done run. A run the engine refused (error) has empty verdict fields. Text fields
+// (record names, errors) are quoted as RFC 4180 says when they hold a comma, quote or line break.
+void write_runs_csv(std::ostream& out, const sim::study::StudyPlan& plan,
+                    const std::vector<sim::study::RunResult>& results);
+
+// Reads a runs.csv written for `plan` into `results` (resized to the plan's run count when empty), marking its rows
+// done; returns how many. Throws UsageError naming PATH:LINE when the header is not the plan's, a field is
+// malformed, or a row does not belong to the plan (its record, component, vertical, r or PGA differ from those of
+// its run index).
+std::size_t read_runs_csv(const std::string& path, const sim::study::StudyPlan& plan,
+                          std::vector<sim::study::RunResult>& results);
+
+}  // namespace rockwatch::cli
