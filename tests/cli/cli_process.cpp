@@ -2,10 +2,12 @@
 
 #include <fcntl.h>
 #include <spawn.h>
+#include <stdlib.h>  // setenv, unsetenv (POSIX)
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -42,11 +44,8 @@ TempDir::~TempDir() {
   std::filesystem::remove_all(path_, ec);
 }
 
-// stdout and stderr go to files rather than pipes: no reader thread, and no deadlock when the tool writes a lot.
-ProcessResult run_rockwatch(const std::vector<std::string>& arguments) {
-  const TempDir capture;
-  const std::string out_path = capture.file("stdout"), err_path = capture.file("stderr");
-
+pid_t spawn_rockwatch(const std::vector<std::string>& arguments, const std::string& out_path,
+                      const std::string& err_path) {
   std::vector<std::string> args{ROCKWATCH_CLI_PATH};
   args.insert(args.end(), arguments.begin(), arguments.end());
   std::vector<char*> argv;
@@ -64,17 +63,45 @@ ProcessResult run_rockwatch(const std::vector<std::string>& arguments) {
   if (spawn_error != 0) {
     throw std::runtime_error(std::string("cannot start " ROCKWATCH_CLI_PATH ": ") + std::strerror(spawn_error));
   }
+  return pid;
+}
 
+int wait_status(pid_t pid) {
   int status = 0;
   while (waitpid(pid, &status, 0) < 0) {
     if (errno != EINTR) throw std::runtime_error(std::string("waitpid: ") + std::strerror(errno));
   }
+  return status;
+}
+
+// stdout and stderr go to files rather than pipes: no reader thread, and no deadlock when the tool writes a lot.
+ProcessResult run_rockwatch(const std::vector<std::string>& arguments) {
+  const TempDir capture;
+  const std::string out_path = capture.file("stdout"), err_path = capture.file("stderr");
+  const int status = wait_status(spawn_rockwatch(arguments, out_path, err_path));
   ProcessResult result;
   if (WIFEXITED(status)) result.exit_status = WEXITSTATUS(status);
   if (WIFSIGNALED(status)) result.signal = WTERMSIG(status);
   result.out = slurp(out_path);
   result.err = slurp(err_path);
   return result;
+}
+
+EnvOverride::EnvOverride(const char* name, const char* value) : name_(name) {
+  if (const char* old = std::getenv(name)) old_ = old;
+  if (value != nullptr) {
+    setenv(name, value, 1);
+  } else {
+    unsetenv(name);
+  }
+}
+
+EnvOverride::~EnvOverride() {
+  if (old_) {
+    setenv(name_.c_str(), old_->c_str(), 1);
+  } else {
+    unsetenv(name_.c_str());
+  }
 }
 
 }  // namespace rockwatch::test

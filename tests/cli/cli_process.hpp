@@ -1,6 +1,9 @@
 // Runs the built `rockwatch` as a separate process, the way a user or a script does, and captures what it printed.
 #pragma once
 
+#include <sys/types.h>  // pid_t
+
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,6 +19,29 @@ struct ProcessResult {
 // Runs ROCKWATCH_CLI_PATH with `arguments` (argv[1] onwards), stdin from /dev/null. Throws std::runtime_error when
 // the process cannot be started.
 ProcessResult run_rockwatch(const std::vector<std::string>& arguments);
+
+// Starts ROCKWATCH_CLI_PATH without waiting for it, stdin from /dev/null, stdout and stderr to the files named, so a
+// test can watch or signal it mid-run ("/dev/null" discards a stream). Throws std::runtime_error when the process
+// cannot be started.
+pid_t spawn_rockwatch(const std::vector<std::string>& arguments, const std::string& out_path,
+                      const std::string& err_path);
+
+// Waits for `pid` to end and returns its waitpid status. Throws std::runtime_error when waitpid fails.
+int wait_status(pid_t pid);
+
+// Sets (or clears, with nullptr) an environment variable for one test and restores it afterwards. The processes a
+// test starts inherit the test's environment, so this also sets their variables.
+class EnvOverride {
+ public:
+  EnvOverride(const char* name, const char* value);
+  ~EnvOverride();
+  EnvOverride(const EnvOverride&) = delete;
+  EnvOverride& operator=(const EnvOverride&) = delete;
+
+ private:
+  std::string name_;
+  std::optional<std::string> old_;
+};
 
 // A fresh directory under the system temporary directory, removed with its contents on destruction.
 class TempDir {

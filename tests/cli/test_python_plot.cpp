@@ -1,9 +1,6 @@
 // The matplotlib runner behind the tool's PNG plots: interpreter search order, embedded scripts, failures that
 // carry the script's stderr, and no temporary files left behind.
-#include <stdlib.h>  // setenv, unsetenv (POSIX)
-
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -18,36 +15,11 @@
 using rockwatch::cli::find_matplotlib_python;
 using rockwatch::cli::PlotOutcome;
 using rockwatch::cli::run_plot_script;
+using rockwatch::test::EnvOverride;
 using rockwatch::test::TempDir;
 using rockwatch::test::write_text;
 
 namespace {
-
-// Sets (or clears, with nullptr) an environment variable for one test and restores it afterwards.
-class EnvOverride {
- public:
-  EnvOverride(const char* name, const char* value) : name_(name) {
-    if (const char* old = std::getenv(name)) old_ = old;
-    if (value != nullptr) {
-      setenv(name, value, 1);
-    } else {
-      unsetenv(name);
-    }
-  }
-  ~EnvOverride() {
-    if (old_) {
-      setenv(name_.c_str(), old_->c_str(), 1);
-    } else {
-      unsetenv(name_.c_str());
-    }
-  }
-  EnvOverride(const EnvOverride&) = delete;
-  EnvOverride& operator=(const EnvOverride&) = delete;
-
- private:
-  std::string name_;
-  std::optional<std::string> old_;
-};
 
 bool directory_is_empty(const std::string& path) {
   return std::filesystem::directory_iterator(path) == std::filesystem::directory_iterator();

@@ -3,20 +3,14 @@
 // independent of --jobs, --resume after losing half the rows (and after a real SIGINT) giving the same files, a
 // resume with another plan refused, the default suite found without a path, --records with real AT2 files, the
 // --dt-check, the plots, and every invalid option rejected with a message naming it (exit 2, nothing written).
-#include <fcntl.h>
 #include <signal.h>  // kill (POSIX)
-#include <spawn.h>
-#include <stdlib.h>  // setenv, unsetenv (POSIX)
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -33,20 +27,23 @@
 
 #include "cli_process.hpp"
 #include "cli_test_files.hpp"
+#include "option_values.hpp"
 #include "python_plot.hpp"
 
 #include "cli_expect.hpp"  // brings in CppUTest, after every standard header
 
 #include <CppUTest/TestHarness.h>
 
+using rockwatch::cli::split_fields;
 using rockwatch::test::describe;
+using rockwatch::test::EnvOverride;
 using rockwatch::test::ProcessResult;
 using rockwatch::test::run_rockwatch;
+using rockwatch::test::spawn_rockwatch;
 using rockwatch::test::TempDir;
+using rockwatch::test::wait_status;
 using rockwatch::test::write_text;
 namespace fs = std::filesystem;
-
-extern char** environ;
 
 namespace {
 
@@ -77,17 +74,6 @@ std::string slurp(const std::string& path) {
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
-std::vector<std::string> split(const std::string& text, char separator) {
-  std::vector<std::string> fields;
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t at = text.find(separator, start);
-    fields.push_back(text.substr(start, at == std::string::npos ? std::string::npos : at - start));
-    if (at == std::string::npos) return fields;
-    start = at + 1;
-  }
-}
-
 // runs.csv as header and rows of fields (the mini study's texts hold no commas or quotes).
 struct Runs {
   std::string header;
@@ -96,11 +82,11 @@ struct Runs {
 
 Runs read_runs(const std::string& path) {
   Runs runs;
-  std::vector<std::string> lines = split(slurp(path), '\n');
+  std::vector<std::string> lines = split_fields(slurp(path), '\n');
   CHECK_TRUE(!lines.empty() && lines.back().empty());  // ends with a newline
   lines.pop_back();
   runs.header = lines.front();
-  for (std::size_t i = 1; i < lines.size(); ++i) runs.rows.push_back(split(lines[i], ','));
+  for (std::size_t i = 1; i < lines.size(); ++i) runs.rows.push_back(split_fields(lines[i], ','));
   return runs;
 }
 
@@ -109,32 +95,6 @@ void check_ok(const ProcessResult& r) {
   CHECK_EQUAL_TEXT(0, r.signal, what.c_str());
   CHECK_EQUAL_TEXT(0, r.exit_status, what.c_str());
 }
-
-// Sets (or clears, with nullptr) an environment variable for one test and restores it afterwards.
-class EnvOverride {
- public:
-  EnvOverride(const char* name, const char* value) : name_(name) {
-    if (const char* old = std::getenv(name)) old_ = old;
-    if (value != nullptr) {
-      setenv(name, value, 1);
-    } else {
-      unsetenv(name);
-    }
-  }
-  ~EnvOverride() {
-    if (old_) {
-      setenv(name_.c_str(), old_->c_str(), 1);
-    } else {
-      unsetenv(name_.c_str());
-    }
-  }
-  EnvOverride(const EnvOverride&) = delete;
-  EnvOverride& operator=(const EnvOverride&) = delete;
-
- private:
-  std::string name_;
-  std::optional<std::string> old_;
-};
 
 // The summary says what runs.csv holds: per case the runs, the survival rate per level and the smallest PGA that
 // collapsed, recomputed from the rows.
@@ -249,7 +209,7 @@ TEST(StudyCommand, MiniStudyIsConsistentAndIndependentOfJobsAndResume) {
 
   // Half the rows lost: --resume runs only those and ends with the same files.
   const std::string runs = slurp(one + "/runs.csv"), summary = slurp(one + "/summary.json");
-  const std::vector<std::string> lines = split(runs, '\n');
+  const std::vector<std::string> lines = split_fields(runs, '\n');
   std::string half = lines[0] + "\n";
   for (std::size_t i = 1; i + 1 < lines.size(); i += 2) half += lines[i] + "\n";
   write_text(one + "/runs.csv", half);
@@ -396,37 +356,6 @@ TEST(StudyCommand, PlotsTheFiguresPerCase) {
   CHECK_FALSE(fs::exists(dir + "/fig6_collapse_map_exp_H.png"));
 }
 
-namespace {
-
-// Starts the tool without waiting for it, stderr to a file, so a test can signal it mid-run.
-pid_t spawn_rockwatch(const std::vector<std::string>& arguments, const std::string& err_path) {
-  std::vector<std::string> args{ROCKWATCH_CLI_PATH};
-  args.insert(args.end(), arguments.begin(), arguments.end());
-  std::vector<char*> argv;
-  for (std::string& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, 2, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  pid_t pid = 0;
-  const int error = posix_spawn(&pid, ROCKWATCH_CLI_PATH, &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (error != 0) throw std::runtime_error(std::string("cannot start rockwatch: ") + std::strerror(error));
-  return pid;
-}
-
-int wait_status(pid_t pid) {
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR) throw std::runtime_error(std::string("waitpid: ") + std::strerror(errno));
-  }
-  return status;
-}
-
-}  // namespace
-
 // Ctrl-C mid-study: the finished analyses are kept, the exit status is 130, and --resume finishes the study. The
 // signal is sent once the first progress line (10 %) is out; should the study have ended by then, there is
 // nothing to check.
@@ -436,7 +365,7 @@ TEST(StudyCommand, InterruptKeepsTheFinishedRunsAndResumeCompletesThem) {
   // 8 records x 20 levels at a fine step: long enough to be interrupted, short enough for a test.
   const std::vector<std::string> args{"study",   "--suite", kSuite, "--sets",     "1-4",    "--r",   "exp",
                                       "--vertical", "without", "--max-step", "0.0002", "--jobs", "1", "--out", dir};
-  const pid_t pid = spawn_rockwatch(args, err);
+  const pid_t pid = spawn_rockwatch(args, "/dev/null", err);
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
   bool signalled = false;
   while (std::chrono::steady_clock::now() < deadline) {

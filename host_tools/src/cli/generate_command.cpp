@@ -2,12 +2,9 @@
 // manifest and plots. This file wires the parts together, shows progress and maps failures to messages and exit
 // statuses; the generator and the measures are sim's.
 #include <array>
-#include <cerrno>
 #include <cstddef>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <functional>
 #include <iostream>
 #include <string>
 #include <system_error>
@@ -20,6 +17,7 @@
 #include "generate_report.hpp"
 #include "generate_request.hpp"
 #include "option_values.hpp"
+#include "output_file.hpp"
 #include "progress_line.hpp"
 #include "rockwatch/records/record_error.hpp"
 #include "rockwatch/records/suite_format.hpp"
@@ -80,20 +78,6 @@ void prepare_directory(const GenerateRequest& q) {
   remove_old_suite(q);
 }
 
-// A failed write must not leave a truncated file that looks like a result.
-void write_file(const std::string& path, const std::function<void(std::ostream&)>& write_content) {
-  errno = 0;
-  std::ofstream file(path, std::ios::out | std::ios::trunc | std::ios::binary);
-  if (!file) throw UsageError("--out: cannot open " + path + " for writing" + system_reason());
-  write_content(file);
-  file.close();
-  if (file.fail()) {
-    const std::string reason = system_reason();
-    std::remove(path.c_str());
-    throw UsageError("--out: writing " + path + " failed" + reason);
-  }
-}
-
 std::string accepted_text(const synthesis::GeneratedSet& set) {
   std::string text;
   for (const synthesis::GeneratedComponent& c : set.components) {
@@ -131,9 +115,10 @@ void write_suite(const GenerateRequest& q, const GeneratedSuite& suite, const nl
     records::write_suite_record(in_dir(q, set_file_name(set.set_number)), suite_record_file(q, set));
   }
   // The manifest last: a directory with a manifest is a complete suite.
-  write_file(in_dir(q, kManifestCsvName),
-             [&](std::ostream& out) { write_manifest_csv(out, suite, q.settings.g_mps2); });
-  write_file(in_dir(q, records::kSuiteManifestName), [&](std::ostream& out) { out << manifest.dump(2) << '\n'; });
+  write_output_file(in_dir(q, kManifestCsvName),
+                    [&](std::ostream& out) { write_manifest_csv(out, suite, q.settings.g_mps2); });
+  write_output_file(in_dir(q, records::kSuiteManifestName),
+                    [&](std::ostream& out) { out << manifest.dump(2) << '\n'; });
 }
 
 int run(const GenerateRequest& q) {

@@ -1,11 +1,9 @@
 #include "generate_request.hpp"
 
-#include <charconv>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
-#include <system_error>
 #include <utility>
 #include <vector>
 
@@ -117,17 +115,14 @@ void add_options(CLI::App& app, RawOptions& raw) {
   app.footer(std::string(kFooterMethod) + acceptance_text(defaults) + kFooterFiles);
 }
 
-// A plain decimal whole number in [min, max], so "1.5", "1e2" and "+3" are refused rather than read as something
-// else. `what` completes "OPTION must be a whole number WHAT".
+// whole_number or a UsageError; `what` completes "OPTION must be a whole number WHAT".
 std::uint64_t parse_whole(const char* option, const std::string& text, std::uint64_t min, std::uint64_t max,
                           const std::string& what) {
-  std::uint64_t value = 0;
-  const bool digits = !text.empty() && text.find_first_not_of("0123456789") == std::string::npos;
-  const auto result = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (!digits || result.ec != std::errc{} || value < min || value > max) {
+  const std::optional<std::uint64_t> value = whole_number(text, min, max);
+  if (!value) {
     throw UsageError(std::string(option) + " must be a whole number " + what + " (got " + quoted(text) + ")");
   }
-  return value;
+  return *value;
 }
 
 void append_option(std::string& arguments, const char* option, const std::string& value) {
@@ -159,15 +154,7 @@ core::SpectrumShape parse_target_spec(const std::string& option, const std::stri
     throw UsageError(option + " must be npr9998-2015, ec8-1A, ec8-2A, vertical-default or custom:P,TB,TC,TD (got " +
                      quoted(text) + ")");
   }
-  std::vector<std::string> fields;
-  const std::string list = text.substr(std::string(kCustom).size());
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t comma = list.find(',', start);
-    fields.push_back(list.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
+  const std::vector<std::string> fields = split_fields(text.substr(std::string(kCustom).size()), ',');
   const std::string expected = option + " custom:P,TB,TC,TD needs four numbers, e.g. custom:2.5,0.1,0.3,0.8 (got " +
                                quoted(text) + ")";
   if (fields.size() != 4) throw UsageError(expected);

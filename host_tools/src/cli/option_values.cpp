@@ -3,9 +3,11 @@
 #include <charconv>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <system_error>
+#include <vector>
 
 #include "rockwatch/records/text_format.hpp"
 #include "usage_error.hpp"
@@ -30,6 +32,25 @@ std::string number_text(double value) {
   const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
   if (result.ec != std::errc{}) return "?";
   return std::string(buffer, result.ptr);
+}
+
+std::optional<std::uint64_t> whole_number(const std::string& text, std::uint64_t min, std::uint64_t max) {
+  std::uint64_t value = 0;
+  const bool digits = !text.empty() && text.find_first_not_of("0123456789") == std::string::npos;
+  const auto result = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (!digits || result.ec != std::errc{} || value < min || value > max) return std::nullopt;
+  return value;
+}
+
+std::vector<std::string> split_fields(const std::string& text, char separator) {
+  std::vector<std::string> fields;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t at = text.find(separator, start);
+    fields.push_back(text.substr(start, at == std::string::npos ? std::string::npos : at - start));
+    if (at == std::string::npos) return fields;
+    start = at + 1;
+  }
 }
 
 double parse_finite_number(const std::string& option, const std::string& text) {

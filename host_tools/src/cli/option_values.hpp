@@ -2,7 +2,10 @@
 // user running a batch of analyses can see which argument of which line is wrong.
 #pragma once
 
+#include <cstdint>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "rockwatch/core/model.hpp"
 #include "rockwatch/core/restitution.hpp"
@@ -15,6 +18,13 @@ double parse_finite_number(const std::string& option, const std::string& text);
 
 // A finite number > 0; the message says "OPTION must be > 0UNIT (got VALUE)", e.g. unit " s".
 double parse_positive_number(const std::string& option, const std::string& text, const char* unit);
+
+// A plain decimal whole number in [min, max], so "1.5", "1e2" and "+3" are refused rather than read as something
+// else; nullopt otherwise (the caller's message says what the option takes).
+std::optional<std::uint64_t> whole_number(const std::string& text, std::uint64_t min, std::uint64_t max);
+
+// The fields of "A,B,C" split at `separator`: empty fields kept, so "ana,,exp" is an error rather than two cases.
+std::vector<std::string> split_fields(const std::string& text, char separator);
 
 // ana | exp | impulse | a number in [0, 1]. Throws UsageError naming `option` and what is accepted.
 core::Restitution parse_restitution(const std::string& option, const std::string& text);

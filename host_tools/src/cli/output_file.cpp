@@ -2,11 +2,29 @@
 
 #include <cerrno>
 #include <cstdio>
+#include <fstream>
+#include <functional>
+#include <ostream>
+#include <string>
 
 #include "command_runner.hpp"
 #include "usage_error.hpp"
 
 namespace rockwatch::cli {
+
+void write_output_file(const std::string& path, const std::function<void(std::ostream&)>& write_content,
+                       const std::string& shown_as) {
+  errno = 0;
+  std::ofstream file(path, std::ios::out | std::ios::trunc | std::ios::binary);
+  if (!file) throw UsageError("--out: cannot open " + path + " for writing" + system_reason());
+  write_content(file);
+  file.close();
+  if (file.fail()) {
+    const std::string reason = system_reason();
+    std::remove(path.c_str());
+    throw UsageError("--out: writing " + (shown_as.empty() ? path : shown_as) + " failed" + reason);
+  }
+}
 
 PendingOutputFile::PendingOutputFile(const std::optional<std::string>& path) {
   if (!path) return;

@@ -11,6 +11,12 @@
 
 namespace rockwatch::cli {
 
+// Writes a whole --out file at once; a failed write removes it. Throws UsageError "--out: cannot open PATH for
+// writing: REASON" or "--out: writing NAME failed: REASON", NAME being `shown_as` if given (a temporary file named
+// as the file it becomes), else PATH.
+void write_output_file(const std::string& path, const std::function<void(std::ostream&)>& write_content,
+                       const std::string& shown_as = {});
+
 class PendingOutputFile {
  public:
   // Without a path nothing is opened and write() does nothing. Throws UsageError

@@ -1,10 +1,8 @@
 // `rockwatch static`: the static non-linear kinematic check of SPEC §5 (core::run_static_check) for the codes'
 // instability factors, or the allowable-PGA sweep of the paper's Figure 3. This file wires parsing, core and
 // output together; the physics is all in core.
-#include <cerrno>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <stdexcept>
 #include <string>
@@ -14,6 +12,7 @@
 #include "command_runner.hpp"
 #include "commands.hpp"
 #include "option_values.hpp"
+#include "output_file.hpp"
 #include "python_plot.hpp"
 #include "rockwatch/core/static_check.hpp"
 #include "static_report.hpp"
@@ -66,20 +65,6 @@ void prepare_directory(const std::string& dir) {
   if (ec) throw UsageError("--out " + quoted(dir) + ": cannot create the directory: " + ec.message());
 }
 
-// A failed write must not leave a truncated table that looks like a result.
-void write_csv(const std::string& path, const std::vector<SweepRow>& rows) {
-  errno = 0;
-  std::ofstream file(path, std::ios::out | std::ios::trunc | std::ios::binary);
-  if (!file) throw UsageError("--out: cannot open " + path + " for writing" + system_reason());
-  write_sweep_csv(file, rows);
-  file.close();
-  if (file.fail()) {
-    const std::string reason = system_reason();
-    std::remove(path.c_str());
-    throw UsageError("--out: writing " + path + " failed" + reason);
-  }
-}
-
 // Allowable PGA at the codes' lambda for each h/b: the figure's two marker lines in numbers.
 std::string code_points_text(const std::vector<SweepRow>& rows) {
   std::string out;
@@ -105,7 +90,8 @@ int run_sweep(const StaticRequest& q) {
 
   const std::vector<SweepRow> rows = compute_sweep(q.inputs);
   const bool general = !rows.empty() && rows.front().result.general_case;
-  write_csv(csv_path, rows);
+  // A failed write must not leave a truncated table that looks like a result.
+  write_output_file(csv_path, [&](std::ostream& out) { write_sweep_csv(out, rows); });
 
   // An old figure next to the new table would be mistaken for it if the plot fails.
   std::error_code ec;

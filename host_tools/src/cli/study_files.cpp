@@ -1,15 +1,14 @@
 #include "study_files.hpp"
 
-#include <cerrno>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <system_error>
 #include <vector>
 
 #include "command_runner.hpp"
 #include "option_values.hpp"
+#include "output_file.hpp"
 #include "study_runs_csv.hpp"
 #include "usage_error.hpp"
 
@@ -75,16 +74,7 @@ void remove_study_figures(const StudyRequest& q) {
 
 void write_study_file(const std::string& path, const std::function<void(std::ostream&)>& write_content) {
   const std::string partial = path + ".partial";
-  errno = 0;
-  std::ofstream file(partial, std::ios::out | std::ios::trunc | std::ios::binary);
-  if (!file) throw UsageError("--out: cannot open " + partial + " for writing" + system_reason());
-  write_content(file);
-  file.close();
-  if (file.fail()) {
-    const std::string reason = system_reason();
-    std::remove(partial.c_str());
-    throw UsageError("--out: writing " + path + " failed" + reason);
-  }
+  write_output_file(partial, write_content, path);
   std::error_code ec;
   fs::rename(partial, path, ec);
   if (ec) {

@@ -1,14 +1,12 @@
 #include "study_request.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <set>
 #include <string>
-#include <system_error>
 #include <utility>
 #include <vector>
 
@@ -127,31 +125,9 @@ void add_options(CLI::App& app, RawOptions& raw) {
   app.footer(kFooter);
 }
 
-// The fields of "A,B,C": empty fields kept, so "ana,,exp" is an error rather than two cases.
-std::vector<std::string> split(const std::string& text, char separator) {
-  std::vector<std::string> fields;
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t at = text.find(separator, start);
-    fields.push_back(text.substr(start, at == std::string::npos ? std::string::npos : at - start));
-    if (at == std::string::npos) return fields;
-    start = at + 1;
-  }
-}
-
-// A plain decimal whole number in [min, max], so "1.5", "1e2" and "+3" are refused rather than read as something
-// else; nullopt otherwise.
-std::optional<std::uint64_t> whole_number(const std::string& text, std::uint64_t min, std::uint64_t max) {
-  std::uint64_t value = 0;
-  const bool digits = !text.empty() && text.find_first_not_of("0123456789") == std::string::npos;
-  const auto result = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (!digits || result.ec != std::errc{} || value < min || value > max) return std::nullopt;
-  return value;
-}
-
 std::vector<sim::study::RestitutionCase> parse_restitution_list(const std::string& text) {
   std::vector<sim::study::RestitutionCase> cases;
-  for (const std::string& item : split(text, ',')) {
+  for (const std::string& item : split_fields(text, ',')) {
     sim::study::RestitutionCase c;
     try {
       c.restitution = parse_restitution("--r", item);
@@ -170,7 +146,7 @@ std::vector<sim::study::RestitutionCase> parse_restitution_list(const std::strin
 
 std::vector<bool> parse_vertical_list(const std::string& text) {
   std::vector<bool> settings;
-  for (const std::string& item : split(text, ',')) {
+  for (const std::string& item : split_fields(text, ',')) {
     if (item != "without" && item != "with") {
       throw UsageError("--vertical must be a comma-separated list of without (horizontal only) and with (the vertical "
                        "partner too), e.g. without,with (got " + quoted(item) + " in " + quoted(text) + ")");
@@ -263,7 +239,7 @@ void parse_run_options(const CLI::App& app, const RawOptions& raw, StudyRequest&
 }  // namespace
 
 std::vector<double> parse_pga_levels(const std::string& option, const std::string& text) {
-  const std::vector<std::string> fields = split(text, ':');
+  const std::vector<std::string> fields = split_fields(text, ':');
   const std::string got = " (got " + quoted(text) + ")";
   if (fields.size() != 3) {
     throw UsageError(option + " expects FROM:TO:STEP in g, e.g. " + kDefaultStudyPga + got);
@@ -299,7 +275,7 @@ std::vector<int> parse_set_list(const std::string& option, const std::string& te
   const std::string expected =
       option + " must be a list of set numbers (from 1) and ranges, e.g. 1,2 or 1-3 (got " + quoted(text) + ")";
   std::set<int> sets;
-  for (const std::string& item : split(text, ',')) {
+  for (const std::string& item : split_fields(text, ',')) {
     const std::size_t dash = item.find('-');
     const std::string first = item.substr(0, dash);
     const std::string last = dash == std::string::npos ? first : item.substr(dash + 1);
