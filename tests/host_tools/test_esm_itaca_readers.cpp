@@ -14,6 +14,7 @@
 
 #include "reference_data.hpp"
 #include "rockwatch/records/record.hpp"
+#include "record_test_support.hpp"
 #include "rockwatch/records/record_error.hpp"
 
 // After the standard headers: CppUTest's leak-detector macros redefine new/malloc.
@@ -30,34 +31,12 @@ using rockwatch::records::read_record;
 using rockwatch::records::ReadOptions;
 using rockwatch::records::Record;
 using rockwatch::records::RecordError;
+using rockwatch::test::failure_of;
+using rockwatch::test::Failure;
+using rockwatch::test::has_note_with;
 using rockwatch::test::data_path;
 
 namespace {
-
-// The RecordError message of `read`, or a marker that fails every STRCMP_CONTAINS when nothing (or something else)
-// was thrown.
-struct Failure {
-  std::string message;
-  int line = -1;
-};
-
-Failure failure_of(const std::function<void()>& read) {
-  try {
-    read();
-  } catch (const RecordError& error) {
-    return {error.what(), error.line()};
-  } catch (const std::exception& other) {
-    return {std::string("<unexpected exception> ") + other.what(), -1};
-  }
-  return {"<no exception thrown>", -1};
-}
-
-bool has_note_with(const Record& record, const std::vector<std::string>& fragments) {
-  return std::any_of(record.notes.begin(), record.notes.end(), [&fragments](const std::string& note) {
-    return std::all_of(fragments.begin(), fragments.end(),
-                       [&note](const std::string& f) { return note.find(f) != std::string::npos; });
-  });
-}
 
 double peak_abs(const std::vector<double>& values) {
   double peak = 0.0;
@@ -250,39 +229,7 @@ TEST(ItacaRealRecord, ComponentOrGainOptionsAreRejected) {
 // ---------------------------------------------------------------------------------------------------------------
 // Hand-made files
 
-TEST_GROUP(EsmItacaHandMade) {
-  fs::path dir;
-
-  void setup() override {
-    std::string pattern = (fs::temp_directory_path() / "rockwatch_esm_itaca_XXXXXX").string();
-    const char* made = mkdtemp(pattern.data());
-    CHECK_TRUE_TEXT(made != nullptr, "mkdtemp failed");
-    dir = pattern;
-  }
-  void teardown() override {
-    std::error_code ec;
-    fs::remove_all(dir, ec);
-  }
-
-  std::string write(const std::string& name, const std::string& content) {
-    const std::string path = (dir / name).string();
-    std::ofstream out(path, std::ios::binary);
-    out << content;
-    return path;
-  }
-
-  // Reads with read_record (so detection is part of every case) and checks the RecordError names the file, the line
-  // (":N:", or no line when line == 0) and each fragment.
-  void expect_rejected(const std::string& name, const std::string& content, int line,
-                       const std::vector<std::string>& fragments, const ReadOptions& options = {}) {
-    const std::string path = write(name, content);
-    const Failure f = failure_of([&] { read_record(path, options); });
-    const std::string located = line > 0 ? name + ":" + std::to_string(line) + ": " : name + ": ";
-    STRCMP_CONTAINS(located.c_str(), f.message.c_str());
-    LONGS_EQUAL(line, f.line);
-    for (const std::string& fragment : fragments) STRCMP_CONTAINS(fragment.c_str(), f.message.c_str());
-  }
-};
+TEST_GROUP_BASE(EsmItacaHandMade, rockwatch::test::HandMadeFileTest){};
 
 // --- ESM: accepted --------------------------------------------------------------------------------------------
 

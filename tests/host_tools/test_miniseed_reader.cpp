@@ -18,6 +18,7 @@
 
 #include "reference_data.hpp"
 #include "rockwatch/records/record.hpp"
+#include "record_test_support.hpp"
 #include "rockwatch/records/record_error.hpp"
 
 // After the standard headers: CppUTest's leak-detector macros redefine new/malloc.
@@ -32,6 +33,9 @@ using rockwatch::records::read_record;
 using rockwatch::records::ReadOptions;
 using rockwatch::records::Record;
 using rockwatch::records::RecordError;
+using rockwatch::test::failure_of;
+using rockwatch::test::Failure;
+using rockwatch::test::has_note_with;
 using rockwatch::test::data_path;
 
 namespace {
@@ -41,29 +45,6 @@ constexpr double kBgarGain = 213867.4766;
 // 2020-05-02T03:13:05 UTC, the derived file's first row.
 constexpr std::int64_t kWindowStartNs = 1588389185LL * 1000000000LL;
 constexpr std::int64_t kMicrosecondNs = 1000;
-
-struct Failure {
-  std::string message;
-  int line = -1;
-};
-
-Failure failure_of(const std::function<void()>& read) {
-  try {
-    read();
-  } catch (const RecordError& error) {
-    return {error.what(), error.line()};
-  } catch (const std::exception& other) {
-    return {std::string("<unexpected exception> ") + other.what(), -1};
-  }
-  return {"<no exception thrown>", -1};
-}
-
-bool has_note_with(const Record& record, const std::vector<std::string>& fragments) {
-  return std::any_of(record.notes.begin(), record.notes.end(), [&fragments](const std::string& note) {
-    return std::all_of(fragments.begin(), fragments.end(),
-                       [&note](const std::string& f) { return note.find(f) != std::string::npos; });
-  });
-}
 
 std::string bgar_path() { return data_path("records/NL.BGAR.mseed"); }
 
@@ -245,27 +226,7 @@ TEST(MiniseedRealRecord, CountsNeedAGainAndNoUnits) {
 // ---------------------------------------------------------------------------------------------------------------
 // Damaged copies and packed files
 
-TEST_GROUP(MiniseedHandMade) {
-  fs::path dir;
-
-  void setup() override {
-    std::string pattern = (fs::temp_directory_path() / "rockwatch_miniseed_XXXXXX").string();
-    const char* made = mkdtemp(pattern.data());
-    CHECK_TRUE_TEXT(made != nullptr, "mkdtemp failed");
-    dir = pattern;
-  }
-  void teardown() override {
-    std::error_code ec;
-    fs::remove_all(dir, ec);
-  }
-
-  std::string write(const std::string& name, const std::string& content) {
-    const std::string path = (dir / name).string();
-    std::ofstream out(path, std::ios::binary);
-    out << content;
-    return path;
-  }
-};
+TEST_GROUP_BASE(MiniseedHandMade, rockwatch::test::HandMadeFileTest){};
 
 TEST(MiniseedHandMade, TruncatedCopiesAreRejected) {
   const std::string bytes = file_bytes(bgar_path());

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "rockwatch/records/record.hpp"
+#include "record_test_support.hpp"
 #include "rockwatch/records/record_error.hpp"
 
 // After the standard headers: CppUTest's leak-detector macros redefine new/malloc.
@@ -27,6 +28,9 @@ using rockwatch::records::read_record;
 using rockwatch::records::ReadOptions;
 using rockwatch::records::Record;
 using rockwatch::records::RecordError;
+using rockwatch::test::failure_of;
+using rockwatch::test::Failure;
+using rockwatch::test::has_note_with;
 
 namespace {
 
@@ -38,31 +42,6 @@ double pga_g(const Record& record, double g_mps2) {
   double peak_mps2 = 0.0;
   for (const double a : record.horizontal_mps2) peak_mps2 = std::max(peak_mps2, std::fabs(a));
   return peak_mps2 / g_mps2;
-}
-
-// The RecordError message of `read`, or a marker that fails every STRCMP_CONTAINS when nothing (or something
-// else) was thrown.
-struct Failure {
-  std::string message;
-  int line = -1;
-};
-
-Failure failure_of(const std::function<void()>& read) {
-  try {
-    read();
-  } catch (const RecordError& error) {
-    return {error.what(), error.line()};
-  } catch (const std::exception& other) {
-    return {std::string("<unexpected exception> ") + other.what(), -1};
-  }
-  return {"<no exception thrown>", -1};
-}
-
-bool has_note_with(const Record& record, const std::vector<std::string>& fragments) {
-  return std::any_of(record.notes.begin(), record.notes.end(), [&fragments](const std::string& note) {
-    return std::all_of(fragments.begin(), fragments.end(),
-                       [&note](const std::string& f) { return note.find(f) != std::string::npos; });
-  });
 }
 
 ReadOptions with_units(AccelUnit unit) {
@@ -221,40 +200,7 @@ TEST(RealRecords, KnmiFourColumnFileIsRejectedNamingTheColumnCount) {
 // ---------------------------------------------------------------------------------------------------------------
 // Hand-made files
 
-TEST_GROUP(HandMade) {
-  fs::path dir;
-
-  void setup() override {
-    std::string pattern = (fs::temp_directory_path() / "rockwatch_records_XXXXXX").string();
-    const char* made = mkdtemp(pattern.data());
-    CHECK_TRUE_TEXT(made != nullptr, "mkdtemp failed");
-    dir = pattern;
-  }
-  void teardown() override {
-    std::error_code ec;
-    fs::remove_all(dir, ec);
-  }
-
-  // Written in binary so "\r\n" and a missing final newline reach the reader as written.
-  std::string write(const std::string& name, const std::string& content) {
-    const std::string path = (dir / name).string();
-    std::ofstream out(path, std::ios::binary);
-    out << content;
-    return path;
-  }
-
-  // Reads with `options` and checks the RecordError names the file, the line (":N:", or no line when line == 0)
-  // and each fragment.
-  void expect_rejected(const std::string& name, const std::string& content, int line,
-                       const std::vector<std::string>& fragments, const ReadOptions& options = {}) {
-    const std::string path = write(name, content);
-    const Failure f = failure_of([&] { read_record(path, options); });
-    const std::string located = line > 0 ? name + ":" + std::to_string(line) + ": " : name + ": ";
-    STRCMP_CONTAINS(located.c_str(), f.message.c_str());
-    LONGS_EQUAL(line, f.line);
-    for (const std::string& fragment : fragments) STRCMP_CONTAINS(fragment.c_str(), f.message.c_str());
-  }
-};
+TEST_GROUP_BASE(HandMade, rockwatch::test::HandMadeFileTest){};
 
 const char* const kAt2Head =
     "PEER NGA STRONG MOTION DATABASE RECORD\n"

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "rockwatch/records/record.hpp"
+#include "record_test_support.hpp"
 #include "rockwatch/records/record_error.hpp"
 #include "rockwatch/records/suite_format.hpp"
 
@@ -28,35 +29,16 @@ using rockwatch::records::read_suite_record;
 using rockwatch::records::ReadOptions;
 using rockwatch::records::Record;
 using rockwatch::records::RecordError;
+using rockwatch::test::check_rejection;
+using rockwatch::test::failure_of;
+using rockwatch::test::Failure;
+using rockwatch::test::has_note_with;
 using rockwatch::records::suite_set_path;
 using rockwatch::records::suite_sets;
 using rockwatch::records::SuiteRecordFile;
 using rockwatch::records::write_suite_record;
 
 namespace {
-
-struct Failure {
-  std::string message;
-  int line = -1;
-};
-
-Failure failure_of(const std::function<void()>& action) {
-  try {
-    action();
-  } catch (const RecordError& error) {
-    return {error.what(), error.line()};
-  } catch (const std::exception& other) {
-    return {std::string("<unexpected exception> ") + other.what(), -1};
-  }
-  return {"<no exception thrown>", -1};
-}
-
-bool has_note_with(const Record& record, const std::vector<std::string>& fragments) {
-  return std::any_of(record.notes.begin(), record.notes.end(), [&fragments](const std::string& note) {
-    return std::all_of(fragments.begin(), fragments.end(),
-                       [&note](const std::string& f) { return note.find(f) != std::string::npos; });
-  });
-}
 
 // A set whose values span the magnitudes a generated motion has (1e-9 to 10 m/s², both signs).
 SuiteRecordFile sample_set(std::size_t rows = 400) {
@@ -124,37 +106,13 @@ ReadOptions component(const std::string& name) {
 
 }  // namespace
 
-TEST_GROUP(SuiteFormat) {
-  fs::path dir;
-
-  void setup() override {
-    std::string pattern = (fs::temp_directory_path() / "rockwatch_suite_XXXXXX").string();
-    const char* made = mkdtemp(pattern.data());
-    CHECK_TRUE_TEXT(made != nullptr, "mkdtemp failed");
-    dir = pattern;
-  }
-  void teardown() override {
-    std::error_code ec;
-    fs::remove_all(dir, ec);
-  }
-
-  std::string write(const std::string& name, const std::string& content) {
-    const std::string path = (dir / name).string();
-    fs::create_directories(fs::path(path).parent_path());
-    std::ofstream out(path, std::ios::binary);
-    out << content;
-    return path;
-  }
-
-  // read_suite_record's RecordError names the file, the line (":N:", or none when line == 0) and each fragment.
+TEST_GROUP_BASE(SuiteFormat, rockwatch::test::HandMadeFileTest) {
+  // Hides the base's read_record version: read_suite_record's RecordError names the file, the line (":N:", or none when line == 0) and each fragment.
   void expect_rejected(const std::string& name, const std::string& content, int line,
                        const std::vector<std::string>& fragments) {
     const std::string path = write(name, content);
     const Failure f = failure_of([&] { read_suite_record(path); });
-    const std::string located = line > 0 ? name + ":" + std::to_string(line) + ": " : name + ": ";
-    STRCMP_CONTAINS(located.c_str(), f.message.c_str());
-    LONGS_EQUAL(line, f.line);
-    for (const std::string& fragment : fragments) STRCMP_CONTAINS(fragment.c_str(), f.message.c_str());
+    check_rejection(f, name, line, fragments);
   }
 
   void expect_write_rejected(const SuiteRecordFile& set, const std::vector<std::string>& fragments) {

@@ -8,6 +8,8 @@
 #include <vector>
 
 #include "check_throws.hpp"
+#include "rockwatch/sim/analysis.hpp"
+#include "trapezoid_from_rest.hpp"
 #include "rockwatch/core/design_spectrum.hpp"
 #include "rockwatch/sim/intensity_measures.hpp"
 #include "rockwatch/sim/response_spectrum.hpp"
@@ -20,30 +22,6 @@ using namespace rockwatch;
 using namespace rockwatch::sim::synthesis;
 
 namespace {
-
-struct EndState {
-  double v_mps = 0.0;
-  double d_m = 0.0;
-  double max_abs_d_m = 0.0;
-};
-
-// Trapezoidal integration from rest, written out here rather than borrowed from the generator.
-EndState integrate(const std::vector<double>& a, double dt_s) {
-  EndState e;
-  for (std::size_t k = 1; k < a.size(); ++k) {
-    const double v_next = e.v_mps + 0.5 * dt_s * (a[k - 1] + a[k]);
-    e.d_m += 0.5 * dt_s * (e.v_mps + v_next);
-    e.v_mps = v_next;
-    e.max_abs_d_m = std::max(e.max_abs_d_m, std::abs(e.d_m));
-  }
-  return e;
-}
-
-double peak_abs(const std::vector<double>& a) {
-  double p = 0.0;
-  for (const double v : a) p = std::max(p, std::abs(v));
-  return p;
-}
 
 double correlation(const std::vector<double>& a, const std::vector<double>& b) {
   double ab = 0.0, aa = 0.0, bb = 0.0;
@@ -165,7 +143,7 @@ TEST(Generator, RecordMeetsTheAcceptanceCriteriaRecomputedFromItsSamples) {
   CHECK_TRUE(g.accepted);
   CHECK_EQUAL(static_cast<std::size_t>(std::llround(s.duration_s / s.dt_s)) + 1, g.acc_mps2.size());
 
-  DOUBLES_EQUAL(ag, peak_abs(g.acc_mps2), 1e-12 * ag);  // PGA anchored to a_g
+  DOUBLES_EQUAL(ag, sim::peak_abs(g.acc_mps2), 1e-12 * ag);  // PGA anchored to a_g
 
   const std::vector<double> periods = sim::log_spaced_periods(0.05, 2.5, 100);
   const sim::ResponseSpectrum rs = sim::response_spectrum(g.acc_mps2, s.dt_s, periods, 0.05);
@@ -174,7 +152,7 @@ TEST(Generator, RecordMeetsTheAcceptanceCriteriaRecomputedFromItsSamples) {
     CHECK_TRUE(ratio >= 0.9 && ratio <= 1.3);
   }
 
-  const EndState end = integrate(g.acc_mps2, s.dt_s);
+  const rockwatch::test::TrapezoidState end = rockwatch::test::trapezoid_from_rest(g.acc_mps2, s.dt_s);
   CHECK_TRUE(std::abs(end.v_mps) < 1e-12);
   CHECK_TRUE(std::abs(end.d_m) < 1e-12);
   CHECK_TRUE(end.max_abs_d_m < 0.1);  // no drift on the way either (PGD of such records is centimetres)

@@ -7,10 +7,12 @@
 #include <vector>
 
 #include "rockwatch/core/design_spectrum.hpp"
+#include "rockwatch/sim/analysis.hpp"
 #include "rockwatch/records/suite_format.hpp"
 #include "rockwatch/sim/intensity_measures.hpp"
 #include "rockwatch/sim/response_spectrum.hpp"
 #include "rockwatch/sim/synthesis/ground_motion_generator.hpp"
+#include "trapezoid_from_rest.hpp"
 
 #include <CppUTest/TestHarness.h>
 
@@ -49,12 +51,6 @@ std::vector<double> ratio_to_target(const std::vector<double>& a, double dt_s, c
   return r;
 }
 
-double peak_abs(const std::vector<double>& a) {
-  double p = 0.0;
-  for (const double v : a) p = std::max(p, std::abs(v));
-  return p;
-}
-
 std::string where(int set, std::size_t component) {
   return "set " + std::to_string(set) + " component " + std::string(1, "XYZ"[component]);
 }
@@ -81,7 +77,7 @@ TEST(ShippedSuite, EveryComponentIsWithinPointNineToOnePointThreeOfItsTargetAndA
       const double pga = vertical ? s.file.avg_mps2 : s.file.ag_mps2;
       const core::SpectrumShape shape = vertical ? core::spectrum_vertical_default() : core::spectrum_npr9998_2015();
       const std::vector<double>& a = s.file.components_mps2[c];
-      DOUBLES_EQUAL_TEXT(pga, peak_abs(a), 1e-9 * pga, where(s.set, c).c_str());
+      DOUBLES_EQUAL_TEXT(pga, sim::peak_abs(a), 1e-9 * pga, where(s.set, c).c_str());
       for (const double r : ratio_to_target(a, s.file.dt_s, shape, pga)) {
         CHECK_TEXT(r >= 0.9 && r <= 1.3, (where(s.set, c) + ": spectral ratio " + std::to_string(r)).c_str());
       }
@@ -114,14 +110,8 @@ TEST(ShippedSuite, SuiteMeanOfEachDirectionIsWithinTenPercent) {
 TEST(ShippedSuite, NoResidualVelocityOrDisplacementDrift) {
   for (const ShippedSet& s : kSuite) {
     for (std::size_t c = 0; c < 3; ++c) {
-      const std::vector<double>& a = s.file.components_mps2[c];
-      double v = 0.0, d = 0.0, max_d = 0.0;
-      for (std::size_t k = 1; k < a.size(); ++k) {
-        const double v_next = v + 0.5 * s.file.dt_s * (a[k - 1] + a[k]);
-        d += 0.5 * s.file.dt_s * (v + v_next);
-        v = v_next;
-        max_d = std::max(max_d, std::abs(d));
-      }
+      const test::TrapezoidState end = test::trapezoid_from_rest(s.file.components_mps2[c], s.file.dt_s);
+      const double v = end.v_mps, d = end.d_m, max_d = end.max_abs_d_m;
       // Exactly zero before the values were rounded to 10 digits; rounding moves the end by ~1e-9 m/s, 1e-8 m.
       CHECK_TEXT(std::abs(v) < 1e-7, (where(s.set, c) + ": final velocity " + std::to_string(v)).c_str());
       CHECK_TEXT(std::abs(d) < 1e-6, (where(s.set, c) + ": final displacement " + std::to_string(d)).c_str());
@@ -157,7 +147,7 @@ TEST(ShippedSuite, RegeneratingSetThreeReproducesTheShippedFile) {
         sim::synthesis::generate_component(settings, 3, sim::synthesis::kAllComponents[c]).acc_mps2;
     const std::vector<double>& b = shipped.components_mps2[c];
     CHECK_EQUAL(a.size(), b.size());
-    const double tolerance = 1e-9 * peak_abs(a);  // the file holds 10 significant digits
+    const double tolerance = 1e-9 * sim::peak_abs(a);  // the file holds 10 significant digits
     for (std::size_t k = 0; k < a.size(); ++k) {
       if (std::abs(a[k] - b[k]) > tolerance) {
         FAIL((where(3, c) + ": sample " + std::to_string(k) + " regenerated " + std::to_string(a[k]) + ", shipped " +

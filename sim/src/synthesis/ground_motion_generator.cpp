@@ -13,6 +13,7 @@
 
 #include "real_fft.hpp"
 #include "rockwatch/core/design_spectrum.hpp"
+#include "rockwatch/sim/analysis.hpp"
 #include "rockwatch/sim/intensity_measures.hpp"
 #include "rockwatch/sim/response_spectrum.hpp"
 #include "rockwatch/sim/synthesis/random_stream.hpp"
@@ -85,8 +86,7 @@ std::vector<double> finished_record(const std::vector<double>& stationary, const
   std::vector<double> a(envelope.size());
   for (std::size_t k = 0; k < a.size(); ++k) a[k] = envelope[k] * stationary[k];
   baseline.correct(a, dt_s);
-  double peak = 0.0;
-  for (const double v : a) peak = std::max(peak, std::abs(v));
+  const double peak = peak_abs(a);
   if (peak > 0.0) {
     const double scale = pga_mps2 / peak;
     for (double& v : a) v *= scale;
