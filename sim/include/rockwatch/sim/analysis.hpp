@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "rockwatch/core/alarm.hpp"
 #include "rockwatch/core/model.hpp"
 #include "rockwatch/core/restitution.hpp"
 #include "rockwatch/core/wall.hpp"
@@ -23,7 +24,12 @@ struct GroundMotion {
   double duration_s() const { return ug_mps2.empty() ? 0.0 : dt_s * double(ug_mps2.size() - 1); }
 };
 
+// The engine's arithmetic: the verified double-precision engine, or the real-time fixed-point engine
+// (core/fixed_rocking_stepper.hpp; linear model only) that the monitor runs.
+enum class Arithmetic : std::uint8_t { double_precision = 0, fixed_point = 1 };
+
 struct AnalysisOptions {
+  Arithmetic arithmetic = Arithmetic::double_precision;
   core::ModelKind model = core::ModelKind::linear;
   core::Restitution restitution{};      // default r_exp
   double kappa = 2.0;                   // collapse at κ·x_inst [-], ≥ 1
@@ -32,6 +38,31 @@ struct AnalysisOptions {
   double free_motion_limit_s = 600.0;   // longest free motion after t_end before giving up [s]
   bool keep_history = false;            // fill AnalysisResult::history (one row per integration step)
   std::size_t max_impacts_kept = 32;    // impacts listed in AnalysisResult::impacts
+  bool evaluate_alarm = false;          // run the instability alarm every integration step (AnalysisResult::alarm)
+  core::AlarmSettings alarm{};
+  std::size_t max_alarm_transitions_kept = 64;  // transitions listed in AlarmSummary::transitions
+};
+
+// One change of alarm level, at the end of the integration step where it happened.
+struct AlarmTransition {
+  double t_s = 0.0;                          // [s]
+  core::AlarmLevel level = core::AlarmLevel::quiet;
+  core::AlarmLevel previous = core::AlarmLevel::quiet;
+  std::uint32_t reasons = 0;                 // core::alarm_reason bits
+  double x_m = 0.0;                          // mid-height displacement at the transition [m]
+  double xd_mps = 0.0;                       // [m/s]
+  std::optional<double> t_to_instability_s;  // predicted time to |x| = x_inst under zero further input [s]
+  double energy_ratio = 0.0;                 // E / E_barrier in free motion [-]
+};
+
+struct AlarmSummary {
+  bool evaluated = false;
+  core::AlarmLevel max_level = core::AlarmLevel::quiet;
+  std::optional<double> t_first_warning_s;   // first step end at WARNING or above [s]
+  std::optional<double> t_first_imminent_s;  // first step end at IMMINENT or above [s]
+  std::optional<double> t_first_collapsed_s; // first step end at COLLAPSED [s]
+  std::size_t n_transitions = 0;             // all transitions
+  std::vector<AlarmTransition> transitions;  // the first max_alarm_transitions_kept
 };
 
 struct HistoryRow {
@@ -67,6 +98,9 @@ struct AnalysisResult {
   double t_final_s = 0.0;               // where integration stopped [s]
   std::vector<ImpactEvent> impacts;     // the first max_impacts_kept impacts
   std::vector<HistoryRow> history;      // when keep_history
+  AlarmSummary alarm;                   // when evaluate_alarm
+  Arithmetic arithmetic = Arithmetic::double_precision;
+  bool saturated = false;               // fixed point only: a quantity reached its range limit (result unreliable)
   bool verdict_collapse() const { return collapsed || collapse_after_end; }
 };
 

@@ -1,0 +1,135 @@
+// The instability alarm (levels, hold time, latch, reason bitmask): pure integer logic, the same for every
+// arithmetic. The physical conditions it acts on are evaluated by the engine in its own arithmetic
+// (instability_indicators.hpp for double/float, FixedRockingStepper::indicators() for fixed point).
+//
+// Levels rise at once; they fall only after the conditions have stayed below the current level's entry
+// condition for hold_samples consecutive samples (then straight to the level the conditions give); COLLAPSED
+// is latched until reset().
+#pragma once
+
+#include <cstdint>
+
+namespace rockwatch::core {
+
+// Values are part of the message format (issue 7): append, never renumber.
+enum class AlarmLevel : std::uint8_t { quiet = 0, rocking = 1, warning = 2, imminent = 3, collapsed = 4 };
+
+constexpr const char* alarm_level_name(AlarmLevel l) {
+  switch (l) {
+    case AlarmLevel::quiet: return "QUIET";
+    case AlarmLevel::rocking: return "ROCKING";
+    case AlarmLevel::warning: return "WARNING";
+    case AlarmLevel::imminent: return "IMMINENT";
+    case AlarmLevel::collapsed: return "COLLAPSED";
+  }
+  return "?";
+}
+
+// Reason bits. A bit keeps its meaning forever: new reasons take new bits, retired bits are never reused.
+namespace alarm_reason {
+inline constexpr std::uint32_t moving = 1u << 0;                 // the wall is rocking (not at rest)
+inline constexpr std::uint32_t over_warning_displacement = 1u << 1;  // |x| ≥ λ_w·x_inst
+inline constexpr std::uint32_t energy_over_barrier_outward = 1u << 2;  // E ≥ E_barrier while moving outward
+inline constexpr std::uint32_t over_instability_displacement = 1u << 3;  // |x| ≥ x_inst
+inline constexpr std::uint32_t over_collapse_displacement = 1u << 4;  // |x| ≥ κ·x_inst (this sample or latched)
+inline constexpr std::uint32_t held = 1u << 5;                   // level held by the hold time; conditions are lower
+inline constexpr std::uint32_t input_invalid = 1u << 6;          // G = g + v̈ ≤ 0 or unusable input: state held
+inline constexpr std::uint32_t arithmetic_saturated = 1u << 7;   // a fixed-point quantity hit its range limit
+}  // namespace alarm_reason
+
+// What the engine found at the end of a sample.
+struct AlarmConditions {
+  bool moving = false;
+  bool over_warning_displacement = false;
+  bool energy_over_barrier_outward = false;
+  bool over_instability_displacement = false;
+  bool over_collapse_displacement = false;
+  bool input_invalid = false;
+  bool arithmetic_saturated = false;
+};
+
+struct AlarmSettings {
+  double lambda_warning = 0.4;  // WARNING at |x| ≥ λ_w·x_inst [-], 0 < λ_w ≤ 1 (0.4: the NTC 2008 allowable)
+  double hold_s = 1.0;          // time below a level's entry condition before the level falls [s], ≥ 0
+  double energy_margin = 1.0;   // IMMINENT by energy when E ≥ margin·E_barrier moving outward [-], ≥ 1
+};
+
+inline bool alarm_settings_valid(const AlarmSettings& s) {
+  return s.lambda_warning > 0.0 && s.lambda_warning <= 1.0 && s.hold_s >= 0.0 && s.hold_s <= 3600.0 &&
+         s.energy_margin >= 1.0 && s.energy_margin <= 100.0;
+}
+
+// Samples of the hold time at a sample interval dt_s (rounded to nearest). Initialisation-time code.
+inline std::uint32_t hold_samples(const AlarmSettings& s, double dt_s) {
+  const double n = s.hold_s / dt_s + 0.5;
+  return n >= 4.0e9 ? 4000000000u : static_cast<std::uint32_t>(n);
+}
+
+struct AlarmUpdate {
+  AlarmLevel level = AlarmLevel::quiet;     // after this sample
+  AlarmLevel previous = AlarmLevel::quiet;  // before this sample
+  std::uint32_t reasons = 0;                // alarm_reason bits of this sample
+  bool changed = false;                     // level != previous
+};
+
+class InstabilityAlarm {
+ public:
+  void init(std::uint32_t hold_samples) {
+    hold_samples_ = hold_samples;
+    reset();
+  }
+  void reset() {
+    level_ = AlarmLevel::quiet;
+    below_count_ = 0;
+  }
+
+  // Constant work: a fixed sequence of comparisons, no loops.
+  AlarmUpdate update(const AlarmConditions& c) {
+    std::uint32_t reasons = 0;
+    if (c.moving) reasons |= alarm_reason::moving;
+    if (c.over_warning_displacement) reasons |= alarm_reason::over_warning_displacement;
+    if (c.energy_over_barrier_outward) reasons |= alarm_reason::energy_over_barrier_outward;
+    if (c.over_instability_displacement) reasons |= alarm_reason::over_instability_displacement;
+    if (c.over_collapse_displacement) reasons |= alarm_reason::over_collapse_displacement;
+    if (c.input_invalid) reasons |= alarm_reason::input_invalid;
+    if (c.arithmetic_saturated) reasons |= alarm_reason::arithmetic_saturated;
+
+    AlarmLevel target = AlarmLevel::quiet;
+    if (c.over_collapse_displacement) {
+      target = AlarmLevel::collapsed;
+    } else if (c.energy_over_barrier_outward || c.over_instability_displacement) {
+      target = AlarmLevel::imminent;
+    } else if (c.over_warning_displacement) {
+      target = AlarmLevel::warning;
+    } else if (c.moving) {
+      target = AlarmLevel::rocking;
+    }
+
+    AlarmUpdate u;
+    u.previous = level_;
+    if (level_ == AlarmLevel::collapsed) {
+      reasons |= alarm_reason::over_collapse_displacement;  // latched
+    } else if (target >= level_) {
+      level_ = target;
+      below_count_ = 0;
+    } else if (++below_count_ > hold_samples_) {
+      level_ = target;
+      below_count_ = 0;
+    } else {
+      reasons |= alarm_reason::held;
+    }
+    u.level = level_;
+    u.reasons = reasons;
+    u.changed = u.level != u.previous;
+    return u;
+  }
+
+  AlarmLevel level() const { return level_; }
+
+ private:
+  std::uint32_t hold_samples_ = 0;
+  AlarmLevel level_ = AlarmLevel::quiet;
+  std::uint32_t below_count_ = 0;
+};
+
+}  // namespace rockwatch::core

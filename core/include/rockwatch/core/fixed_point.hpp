@@ -1,0 +1,172 @@
+// Signed fixed-point numbers Q<IntBits>.<FracBits> on int32 with int64 intermediates (CMSIS-DSP naming: the
+// format is in the type). Value = raw · 2^−FracBits; IntBits + FracBits = 31 (the sign takes the last bit).
+//
+// Rounding: every operation that drops bits rounds to nearest, ties away from zero (so results are symmetric
+// under negation: round(−v) = −round(v)).
+// Saturation: results outside the range clamp to ±(2^31 − 1) raw. The range is symmetric, so negation and abs
+// never overflow; INT32_MIN is never produced (from_raw maps it to the lowest value). No operation has undefined
+// behaviour for any input: every shift is of a non-negative magnitude, every product fits int64, and division by
+// zero saturates by the sign of the dividend (0/0 = 0).
+//
+// Mixed formats: fixed_mul<Out>(a, b), fixed_div<Out>(a, b) and fixed_convert<Out>(a) produce the result directly
+// in the format Out with a single rounding. The engine keeps each quantity in its own format (see
+// fixed_rocking_stepper.hpp); the same-format operators exist for generic code and Eigen (fixed_point_eigen.hpp).
+#pragma once
+
+#include <cstdint>
+#include <type_traits>
+
+namespace rockwatch::core {
+
+namespace fixed_detail {
+
+inline constexpr std::int64_t kRawMax = INT32_MAX;
+inline constexpr std::int64_t kRawMin = -static_cast<std::int64_t>(INT32_MAX);
+
+constexpr std::int32_t saturate(std::int64_t v) {
+  return static_cast<std::int32_t>(v > kRawMax ? kRawMax : (v < kRawMin ? kRawMin : v));
+}
+
+// v · 2^−shift rounded to nearest, ties away from zero; shift ≤ 0 multiplies with saturation.
+// Scaling and overflow: |v| < 2^63 on entry; for shift > 0 the magnitude only shrinks; for shift < 0 the
+// result saturates when it would exceed the int32 range (checked before shifting, so no int64 overflow).
+constexpr std::int32_t round_shift(std::int64_t v, int shift) {
+  if (shift <= 0) {
+    const int up = -shift;
+    if (up >= 32) return v == 0 ? 0 : saturate(v > 0 ? kRawMax + 1 : kRawMin - 1);
+    const std::int64_t limit = kRawMax >> up;
+    if (v > limit) return saturate(kRawMax + 1);
+    if (v < -limit) return saturate(kRawMin - 1);
+    return saturate(v * (std::int64_t{1} << up));
+  }
+  if (shift >= 63) return 0;
+  const bool negative = v < 0;
+  const std::uint64_t magnitude = negative ? std::uint64_t(0) - static_cast<std::uint64_t>(v) : static_cast<std::uint64_t>(v);
+  const std::uint64_t rounded = (magnitude + (std::uint64_t{1} << (shift - 1))) >> shift;
+  const std::int64_t r = rounded > std::uint64_t(kRawMax) ? kRawMax + 1 : static_cast<std::int64_t>(rounded);
+  return saturate(negative ? -r : r);
+}
+
+// n / d rounded to nearest, ties away from zero; d = 0 saturates by the sign of n (0/0 = 0).
+// Scaling and overflow: |n| < 2^63, |d| < 2^63; the quotient saturates to the int32 range.
+constexpr std::int32_t round_divide(std::int64_t n, std::int64_t d) {
+  if (d == 0) return n == 0 ? 0 : saturate(n > 0 ? kRawMax + 1 : kRawMin - 1);
+  const bool negative = (n < 0) != (d < 0);
+  const std::uint64_t un = n < 0 ? std::uint64_t(0) - static_cast<std::uint64_t>(n) : static_cast<std::uint64_t>(n);
+  const std::uint64_t ud = d < 0 ? std::uint64_t(0) - static_cast<std::uint64_t>(d) : static_cast<std::uint64_t>(d);
+  const std::uint64_t q = un / ud;
+  const std::uint64_t rem = un - q * ud;
+  const std::uint64_t rounded = q + (rem >= ud - rem ? 1u : 0u);  // rem ≥ d/2 without overflow
+  const std::int64_t r = rounded > std::uint64_t(kRawMax) ? kRawMax + 1 : static_cast<std::int64_t>(rounded);
+  return saturate(negative ? -r : r);
+}
+
+}  // namespace fixed_detail
+
+template <int IntBits, int FracBits>
+class Fixed {
+  static_assert(IntBits >= 0 && FracBits >= 0 && IntBits + FracBits == 31, "Q format must use 31 value bits");
+
+ public:
+  static constexpr int kIntBits = IntBits;
+  static constexpr int kFracBits = FracBits;
+
+  constexpr Fixed() = default;
+  // From an integer value. Scaling and overflow: saturates when |v| ≥ 2^IntBits.
+  constexpr explicit Fixed(int v) : raw_(fixed_detail::round_shift(v, -FracBits)) {}
+  // From a double, rounded to nearest (ties away); saturates outside the range; NaN gives 0.
+  // Initialisation-time conversion: the per-sample code never touches floating point.
+  constexpr explicit Fixed(double v) : raw_(from_double_raw(v)) {}
+
+  static constexpr Fixed from_raw(std::int32_t raw) {
+    Fixed f;
+    f.raw_ = raw < -INT32_MAX ? -INT32_MAX : raw;
+    return f;
+  }
+  constexpr std::int32_t raw() const { return raw_; }
+  constexpr double to_double() const { return double(raw_) / double(std::int64_t{1} << FracBits); }
+
+  static constexpr Fixed highest() { return from_raw(INT32_MAX); }
+  static constexpr Fixed lowest() { return from_raw(-INT32_MAX); }
+  static constexpr Fixed resolution() { return from_raw(1); }  // 2^−FracBits
+  static constexpr double resolution_value() { return 1.0 / double(std::int64_t{1} << FracBits); }
+  // At either end of the range: the value saturated (or is exactly the extreme).
+  constexpr bool saturated() const { return raw_ == INT32_MAX || raw_ == -INT32_MAX; }
+
+  // Scaling and overflow (+, −): exact, saturates on overflow.
+  friend constexpr Fixed operator+(Fixed a, Fixed b) {
+    return from_raw(fixed_detail::saturate(std::int64_t{a.raw_} + b.raw_));
+  }
+  friend constexpr Fixed operator-(Fixed a, Fixed b) {
+    return from_raw(fixed_detail::saturate(std::int64_t{a.raw_} - b.raw_));
+  }
+  // Scaling and overflow: exact; the symmetric range makes it never overflow.
+  constexpr Fixed operator-() const { return from_raw(-raw_); }
+  // Scaling and overflow: 62-bit product, one rounding by 2^−FracBits, saturates.
+  friend constexpr Fixed operator*(Fixed a, Fixed b) {
+    return from_raw(fixed_detail::round_shift(std::int64_t{a.raw_} * b.raw_, FracBits));
+  }
+  // Scaling and overflow: dividend widened by 2^FracBits (< 2^62), one rounding, saturates; b = 0 saturates.
+  friend constexpr Fixed operator/(Fixed a, Fixed b) {
+    return from_raw(fixed_detail::round_divide(std::int64_t{a.raw_} * (std::int64_t{1} << FracBits), b.raw_));
+  }
+  constexpr Fixed& operator+=(Fixed b) { return *this = *this + b; }
+  constexpr Fixed& operator-=(Fixed b) { return *this = *this - b; }
+  constexpr Fixed& operator*=(Fixed b) { return *this = *this * b; }
+  constexpr Fixed& operator/=(Fixed b) { return *this = *this / b; }
+
+  friend constexpr bool operator==(Fixed a, Fixed b) { return a.raw_ == b.raw_; }
+  friend constexpr bool operator!=(Fixed a, Fixed b) { return a.raw_ != b.raw_; }
+  friend constexpr bool operator<(Fixed a, Fixed b) { return a.raw_ < b.raw_; }
+  friend constexpr bool operator<=(Fixed a, Fixed b) { return a.raw_ <= b.raw_; }
+  friend constexpr bool operator>(Fixed a, Fixed b) { return a.raw_ > b.raw_; }
+  friend constexpr bool operator>=(Fixed a, Fixed b) { return a.raw_ >= b.raw_; }
+
+ private:
+  static constexpr std::int32_t from_double_raw(double v) {
+    if (!(v == v)) return 0;
+    const double scaled = v * double(std::int64_t{1} << FracBits);
+    if (scaled >= double(fixed_detail::kRawMax)) return INT32_MAX;
+    if (scaled <= double(fixed_detail::kRawMin)) return -INT32_MAX;
+    const double rounded = scaled < 0.0 ? scaled - 0.5 : scaled + 0.5;
+    return static_cast<std::int32_t>(rounded);  // truncation of ±(|scaled| + ½) = round half away
+  }
+
+  std::int32_t raw_ = 0;
+};
+
+template <typename T>
+struct is_fixed : std::false_type {};
+template <int I, int F>
+struct is_fixed<Fixed<I, F>> : std::true_type {};
+
+// a · b in the format Out. Scaling and overflow: the 62-bit product is shifted by F_a + F_b − F_out with one
+// rounding; saturates when the result does not fit Out.
+template <typename Out, int Ia, int Fa, int Ib, int Fb>
+constexpr Out fixed_mul(Fixed<Ia, Fa> a, Fixed<Ib, Fb> b) {
+  return Out::from_raw(fixed_detail::round_shift(std::int64_t{a.raw()} * b.raw(), Fa + Fb - Out::kFracBits));
+}
+
+// a / b in the format Out. Scaling and overflow: the dividend is widened by 2^(F_out + F_b − F_a), which must be
+// in [0, 31] (checked at compile time) so it stays below 2^62; one rounding; saturates; b = 0 saturates by sign.
+template <typename Out, int Ia, int Fa, int Ib, int Fb>
+constexpr Out fixed_div(Fixed<Ia, Fa> a, Fixed<Ib, Fb> b) {
+  constexpr int widen = Out::kFracBits + Fb - Fa;
+  static_assert(widen >= 0 && widen <= 31, "fixed_div: choose formats whose quotient needs a widening of 0..31 bits");
+  return Out::from_raw(fixed_detail::round_divide(std::int64_t{a.raw()} * (std::int64_t{1} << widen), b.raw()));
+}
+
+// a in the format Out. Scaling and overflow: fewer fraction bits round once; more fraction bits are exact but
+// saturate when the value exceeds Out's range.
+template <typename Out, int I, int F>
+constexpr Out fixed_convert(Fixed<I, F> a) {
+  return Out::from_raw(fixed_detail::round_shift(a.raw(), F - Out::kFracBits));
+}
+
+// |a|. Scaling and overflow: exact (symmetric range).
+template <int I, int F>
+constexpr Fixed<I, F> abs(Fixed<I, F> a) {
+  return a.raw() < 0 ? -a : a;
+}
+
+}  // namespace rockwatch::core
