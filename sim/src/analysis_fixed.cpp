@@ -1,10 +1,189 @@
 #include "analysis_fixed.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "rockwatch/core/fixed_instability_indicators.hpp"
+#include "rockwatch/core/fixed_rocking_stepper.hpp"
+
 namespace rockwatch::sim::detail {
 
-// Placeholder while the fixed-point engine is written (issue 6, same session); replaced before commit.
-AnalysisResult analyse_fixed(const core::WallParameters&, const GroundMotion&, const AnalysisOptions&) {
-  throw AnalysisError("fixed-point engine not built yet");
+using core::AccelQ7_24;
+using core::Side;
+
+namespace {
+
+// The record on the integration grid, converted to the engine's input format once per step.
+struct FixedGridInput {
+  const GroundMotion& motion;
+  std::size_t n_sub;
+
+  double at(const std::vector<double>& v, std::size_t k) const {
+    if (v.empty()) return 0.0;
+    const std::size_t i = k / n_sub, j = k % n_sub;
+    if (i + 1 >= v.size()) return i + 1 == v.size() && j == 0 ? v.back() : 0.0;
+    return v[i] + (v[i + 1] - v[i]) * double(j) / double(n_sub);
+  }
+  AccelQ7_24 ug(std::size_t k) const { return AccelQ7_24(at(motion.ug_mps2, k)); }
+  AccelQ7_24 vg(std::size_t k) const { return AccelQ7_24(at(motion.vg_mps2, k)); }
+};
+
+// Inputs beyond ±100 m/s² would saturate the engine's coefficients (docs/FIXED_POINT.md): refuse, naming the sample.
+void check_input_range(const GroundMotion& motion) {
+  constexpr double limit = 100.0;
+  const std::vector<double>* series[2] = {&motion.ug_mps2, &motion.vg_mps2};
+  const char* names[2] = {"horizontal", "vertical"};
+  for (int c = 0; c < 2; ++c) {
+    for (std::size_t i = 0; i < series[c]->size(); ++i) {
+      if (std::fabs((*series[c])[i]) >= limit) {
+        std::ostringstream m;
+        m << names[c] << " sample " << i << " (t = " << double(i) * motion.dt_s << " s) is " << (*series[c])[i]
+          << " m/s2: the fixed-point engine accepts |acceleration| < " << limit << " m/s2";
+        throw AnalysisError(m.str());
+      }
+    }
+  }
+}
+
+double fraction(core::FractionQ1_30 f) { return f.to_double(); }
+
+}  // namespace
+
+void record_alarm_update(AlarmSummary& summary, std::size_t keep, double t_s, const core::AlarmUpdate& u,
+                         const AlarmSample& sample) {
+  if (u.level > summary.max_level) summary.max_level = u.level;
+  if (u.level >= core::AlarmLevel::warning && !summary.t_first_warning_s) summary.t_first_warning_s = t_s;
+  if (u.level >= core::AlarmLevel::imminent && !summary.t_first_imminent_s) summary.t_first_imminent_s = t_s;
+  if (u.level >= core::AlarmLevel::collapsed && !summary.t_first_collapsed_s) summary.t_first_collapsed_s = t_s;
+  if (!u.changed) return;
+  ++summary.n_transitions;
+  if (summary.transitions.size() >= keep) return;
+  AlarmTransition t;
+  t.t_s = t_s;
+  t.level = u.level;
+  t.previous = u.previous;
+  t.reasons = u.reasons;
+  t.x_m = sample.x_m;
+  t.xd_mps = sample.xd_mps;
+  t.t_to_instability_s = sample.t_to_instability_s;
+  t.energy_ratio = sample.energy_ratio;
+  summary.transitions.push_back(t);
+}
+
+AnalysisResult analyse_fixed(const core::WallParameters& wall, const GroundMotion& motion, const AnalysisOptions& o) {
+  if (o.model != core::ModelKind::linear) throw AnalysisError("fixed-point arithmetic supports the linear model only");
+  check_input_range(motion);
+
+  AnalysisResult result;
+  result.arithmetic = Arithmetic::fixed_point;
+  const auto n_sub = static_cast<std::size_t>(std::max(1.0, std::ceil(motion.dt_s / o.max_step_s - 1e-9)));
+  const double h = motion.dt_s / double(n_sub);
+  result.dt_s = h;
+  result.duration_s = motion.duration_s();
+  result.t_end_s = o.t_end_s ? *o.t_end_s : result.duration_s;
+  result.pga_mps2 = peak_abs(motion.ug_mps2);
+  result.r = core::restitution_energy_ratio(wall, o.restitution);
+
+  core::StepperOptions so;
+  so.dt_s = h;
+  so.kappa = o.kappa;
+  const core::StepperSetup<double> setup = core::make_stepper_setup(wall, o.model, result.r, so);
+  result.x_inst_m = std::min(setup.x_inst_m[0], setup.x_inst_m[1]);
+  result.threshold_mps2 = std::min(core::threshold_mps2(setup.model, Side::negative, wall.g_mps2),
+                                   core::threshold_mps2(setup.model, Side::positive, wall.g_mps2));
+
+  core::FixedRockingStepper stepper;
+  const core::FixedSetupError error = stepper.init(setup);
+  if (error != core::FixedSetupError::ok) throw AnalysisError(core::fixed_setup_error_message(error));
+
+  core::FixedInstabilityConstants constants{};
+  if (!core::make_fixed_instability_constants(setup, o.alarm, constants)) {
+    throw AnalysisError("x_inst must be in (0.008, 1.9) m for the fixed-point instability indicators");
+  }
+  core::InstabilityAlarm alarm;
+  alarm.init(core::hold_samples(o.alarm, h));
+  if (o.evaluate_alarm) result.alarm.evaluated = true;
+
+  const FixedGridInput input{motion, n_sub};
+  stepper.reset(input.ug(0), input.vg(0));
+
+  auto record_row = [&](double t_s, AccelQ7_24 ug, AccelQ7_24 vg) {
+    const double x = stepper.x_m().to_double();
+    const double ax = std::fabs(x);
+    if (ax > result.max_abs_x_m) {
+      result.max_abs_x_m = ax;
+      result.t_max_abs_x_s = t_s;
+    }
+    if (o.keep_history) {
+      result.history.push_back(HistoryRow{t_s, ug.to_double(), vg.to_double(), x, stepper.xd_mps().to_double(),
+                                          stepper.xdd_mps2().to_double(), -x / wall.h1_m, x / wall.h2_m,
+                                          stepper.side() == Side::positive ? 1 : -1});
+    }
+  };
+  auto record_events = [&](double t0_s, const core::FixedStepReport& rep) {
+    if (rep.saturated) result.saturated = true;
+    if (rep.started && !result.t_first_motion_s) result.t_first_motion_s = t0_s + fraction(rep.start_fraction) * h;
+    if (rep.impacts_total > 0 && result.impacts.size() < o.max_impacts_kept) {
+      result.impacts.push_back(ImpactEvent{t0_s + fraction(rep.first_impact_fraction) * h,
+                                           rep.first_impact_v_before_mps.to_double(),
+                                           rep.first_impact_v_after_mps.to_double()});
+    }
+    result.n_impacts += rep.impacts_counted;
+    result.n_impacts_total += rep.impacts_total;
+    if (rep.exceeded && !result.t_exceed_s) result.t_exceed_s = t0_s + fraction(rep.exceed_fraction) * h;
+    if (rep.collapsed) {
+      result.t_collapse_s = t0_s + fraction(rep.collapse_fraction) * h;
+      return *result.t_collapse_s;
+    }
+    return t0_s + h;
+  };
+  record_row(0.0, input.ug(0), input.vg(0));
+  // The indicators also decide the post-record verdict, so they run whether or not the alarm is reported.
+  core::FixedInstabilityIndicators indicators{};
+  auto after_step = [&](double t_s, const core::FixedStepReport& rep) {
+    indicators = core::evaluate_instability(constants, stepper, rep);
+    if (!o.evaluate_alarm) return;
+    const core::AlarmUpdate u = alarm.update(indicators.conditions);
+    AlarmSample sample;
+    sample.x_m = stepper.x_m().to_double();
+    sample.xd_mps = stepper.xd_mps().to_double();
+    if (indicators.t_valid) sample.t_to_instability_s = indicators.t_to_instability_s.to_double();
+    sample.energy_ratio = indicators.energy_ratio.to_double();
+    record_alarm_update(result.alarm, o.max_alarm_transitions_kept, t_s, u, sample);
+  };
+
+  const auto forced_steps = static_cast<std::size_t>(std::llround(result.t_end_s / h));
+  std::size_t k = 0;
+  for (; k < forced_steps && !stepper.collapsed(); ++k) {
+    const AccelQ7_24 ug = input.ug(k + 1), vg = input.vg(k + 1);
+    const core::FixedStepReport rep = stepper.step(ug, vg);
+    const double t_s = record_events(double(k) * h, rep);
+    record_row(t_s, ug, vg);
+    after_step(t_s, rep);
+  }
+  result.collapsed = stepper.collapsed();
+
+  // After the record: free motion until safe (|x| < x_inst and E < E_barrier, SPEC §4.3) or collapse, decided in
+  // fixed point by the indicators (ρ = E/E_barrier).
+  const auto free_steps = static_cast<std::size_t>(std::llround(o.free_motion_limit_s / h));
+  auto safe = [&]() {
+    if (!stepper.moving()) return true;
+    return !indicators.conditions.over_instability_displacement && indicators.energy_ratio < core::RatioQ7_24(1);
+  };
+  std::size_t free = 0;
+  const AccelQ7_24 zero{};
+  for (; !stepper.collapsed() && !safe() && free < free_steps; ++free, ++k) {
+    const core::FixedStepReport rep = stepper.step(zero, zero);
+    const double t_s = record_events(double(k) * h, rep);
+    record_row(t_s, zero, zero);
+    after_step(t_s, rep);
+  }
+  result.t_final_s = double(k) * h;
+  if (!result.collapsed && stepper.collapsed()) result.collapse_after_end = true;
+  result.free_motion_undecided = !stepper.collapsed() && free == free_steps && free_steps > 0 && !safe();
+  if (result.t_collapse_s) result.t_max_abs_x_s = *result.t_collapse_s;
+  return result;
 }
 
 }  // namespace rockwatch::sim::detail

@@ -1,5 +1,7 @@
 // Signed fixed-point numbers Q<IntBits>.<FracBits> on int32 with int64 intermediates (CMSIS-DSP naming: the
 // format is in the type). Value = raw · 2^−FracBits; IntBits + FracBits = 31 (the sign takes the last bit).
+// IntBits may be negative for small quantities (Q−12.43 holds |v| < 2^−12 with 2^−43 resolution), as in the
+// engine's H²/4 [s²].
 //
 // Rounding: every operation that drops bits rounds to nearest, ties away from zero (so results are symmetric
 // under negation: round(−v) = −round(v)).
@@ -39,7 +41,7 @@ constexpr std::int32_t round_shift(std::int64_t v, int shift) {
     if (v < -limit) return saturate(kRawMin - 1);
     return saturate(v * (std::int64_t{1} << up));
   }
-  if (shift >= 63) return 0;
+  if (shift >= 64) return 0;  // |v| < 2^63: below one half (shift 63 can still round to ±1)
   const bool negative = v < 0;
   const std::uint64_t magnitude = negative ? std::uint64_t(0) - static_cast<std::uint64_t>(v) : static_cast<std::uint64_t>(v);
   const std::uint64_t rounded = (magnitude + (std::uint64_t{1} << (shift - 1))) >> shift;
@@ -65,7 +67,7 @@ constexpr std::int32_t round_divide(std::int64_t n, std::int64_t d) {
 
 template <int IntBits, int FracBits>
 class Fixed {
-  static_assert(IntBits >= 0 && FracBits >= 0 && IntBits + FracBits == 31, "Q format must use 31 value bits");
+  static_assert(IntBits >= -30 && IntBits <= 31 && IntBits + FracBits == 31, "Q format must use 31 value bits");
 
  public:
   static constexpr int kIntBits = IntBits;
@@ -73,7 +75,9 @@ class Fixed {
 
   constexpr Fixed() = default;
   // From an integer value. Scaling and overflow: saturates when |v| ≥ 2^IntBits.
-  constexpr explicit Fixed(int v) : raw_(fixed_detail::round_shift(v, -FracBits)) {}
+  // Any integer type (Eigen constructs scalars from Index). Scaling and overflow: saturates when |v| ≥ 2^IntBits.
+  template <typename Int, typename std::enable_if<std::is_integral<Int>::value, int>::type = 0>
+  constexpr explicit Fixed(Int v) : raw_(from_integer_raw(v)) {}
   // From a double, rounded to nearest (ties away); saturates outside the range; NaN gives 0.
   // Initialisation-time conversion: the per-sample code never touches floating point.
   constexpr explicit Fixed(double v) : raw_(from_double_raw(v)) {}
@@ -123,13 +127,26 @@ class Fixed {
   friend constexpr bool operator>=(Fixed a, Fixed b) { return a.raw_ >= b.raw_; }
 
  private:
+  template <typename Int>
+  static constexpr std::int32_t from_integer_raw(Int v) {
+    // Clamp first so that the widening to int64 and the shift are exact for every integer type.
+    constexpr std::int64_t limit = fixed_detail::kRawMax;
+    if (v > Int(0) && static_cast<std::uint64_t>(v) > static_cast<std::uint64_t>(limit)) return INT32_MAX;
+    if (v < Int(0) && static_cast<std::int64_t>(v) < -limit) return -INT32_MAX;
+    return fixed_detail::round_shift(static_cast<std::int64_t>(v), -FracBits);
+  }
+
   static constexpr std::int32_t from_double_raw(double v) {
     if (!(v == v)) return 0;
     const double scaled = v * double(std::int64_t{1} << FracBits);
     if (scaled >= double(fixed_detail::kRawMax)) return INT32_MAX;
     if (scaled <= double(fixed_detail::kRawMin)) return -INT32_MAX;
-    const double rounded = scaled < 0.0 ? scaled - 0.5 : scaled + 0.5;
-    return static_cast<std::int32_t>(rounded);  // truncation of ±(|scaled| + ½) = round half away
+    // Truncate, then round on the remainder. Adding ½ before truncating would itself round: the largest double
+    // below ½ plus ½ gives 1.0, so values just below a half would round away from zero.
+    const std::int64_t truncated = static_cast<std::int64_t>(scaled);  // |scaled| < 2^31 − 1: fits
+    const double remainder = scaled - double(truncated);                // exact (Sterbenz), |remainder| < 1
+    const std::int64_t rounded = remainder >= 0.5 ? truncated + 1 : (remainder <= -0.5 ? truncated - 1 : truncated);
+    return static_cast<std::int32_t>(rounded);
   }
 
   std::int32_t raw_ = 0;

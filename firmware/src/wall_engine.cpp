@@ -1,0 +1,56 @@
+#include "rockwatch/firmware/wall_engine.hpp"
+
+namespace rockwatch::firmware {
+
+const char* wall_engine_error_message(WallEngineError e) {
+  switch (e) {
+    case WallEngineError::ok: return "ok";
+    case WallEngineError::wall_invalid: return "wall parameters are invalid";
+    case WallEngineError::restitution_out_of_range: return "r must be in [0, 1]";
+    case WallEngineError::kappa_out_of_range: return "kappa must be >= 1";
+    case WallEngineError::alarm_settings_invalid:
+      return "alarm settings invalid (lambda_w in (0, 1], hold in [0, 3600] s, energy margin in [1, 100])";
+    case WallEngineError::sensor_axes_invalid: return "sensor axes invalid (finite, |entries| <= 1.5, rows not zero)";
+    case WallEngineError::fixed_point_setup: return "wall or step outside the fixed-point engine's formats";
+    case WallEngineError::indicator_constants: return "x_inst must be in (0.008, 1.9) m for the alarm's formats";
+  }
+  return "?";
+}
+
+WallEngineError WallEngine::init(const WallEngineConfig& c) {
+  if (!core::validate_wall(c.wall).ok()) return WallEngineError::wall_invalid;
+  if (!(c.r_energy >= 0.0 && c.r_energy <= 1.0)) return WallEngineError::restitution_out_of_range;
+  if (!(c.kappa >= 1.0 && c.kappa < 100.0)) return WallEngineError::kappa_out_of_range;
+  if (!core::alarm_settings_valid(c.alarm)) return WallEngineError::alarm_settings_invalid;
+  if (!core::sensor_axes_valid(c.axes)) return WallEngineError::sensor_axes_invalid;
+  core::StepperOptions so;
+  so.dt_s = c.dt_s;
+  so.kappa = c.kappa;
+  const core::StepperSetup<double> setup = core::make_stepper_setup(c.wall, core::ModelKind::linear, c.r_energy, so);
+  fixed_error_ = stepper_.init(setup);
+  if (fixed_error_ != core::FixedSetupError::ok) return WallEngineError::fixed_point_setup;
+  if (!core::make_fixed_instability_constants(setup, c.alarm, constants_)) return WallEngineError::indicator_constants;
+  axes_ = core::cast_sensor_axes<core::AccelQ7_24>(c.axes);
+  alarm_.init(core::hold_samples(c.alarm, c.dt_s));
+  out_ = WallEngineOutput{};
+  return WallEngineError::ok;
+}
+
+void WallEngine::reset(const SensorSampleQ& sensor_mps2) {
+  const Eigen::Matrix<core::AccelQ7_24, 2, 1> wall_inputs = core::wall_inputs(axes_, sensor_mps2);
+  stepper_.reset(wall_inputs(0), wall_inputs(1));
+  alarm_.reset();
+  out_ = WallEngineOutput{};
+}
+
+const WallEngineOutput& WallEngine::process(const SensorSampleQ& sensor_mps2) {
+  const Eigen::Matrix<core::AccelQ7_24, 2, 1> wall_inputs = core::wall_inputs(axes_, sensor_mps2);
+  out_.ug_mps2 = wall_inputs(0);
+  out_.vg_mps2 = wall_inputs(1);
+  out_.step = stepper_.step(out_.ug_mps2, out_.vg_mps2);
+  out_.indicators = core::evaluate_instability(constants_, stepper_, out_.step);
+  out_.alarm = alarm_.update(out_.indicators.conditions);
+  return out_;
+}
+
+}  // namespace rockwatch::firmware
