@@ -29,9 +29,9 @@ struct FixedGridInput {
   AccelQ7_24 vg(std::size_t k) const { return AccelQ7_24(at(motion.vg_mps2, k)); }
 };
 
-// Inputs beyond ±100 m/s² would saturate the engine's coefficients (docs/FIXED_POINT.md): refuse, naming the sample.
+// Inputs beyond ±80 m/s² would saturate ẍ the engine's coefficients (docs/FIXED_POINT.md): refuse, naming the sample.
 void check_input_range(const GroundMotion& motion) {
-  constexpr double limit = 100.0;
+  constexpr double limit = 80.0;
   const std::vector<double>* series[2] = {&motion.ug_mps2, &motion.vg_mps2};
   const char* names[2] = {"horizontal", "vertical"};
   for (int c = 0; c < 2; ++c) {

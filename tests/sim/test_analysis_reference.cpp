@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "reference_data.hpp"
+#include "reference_pulses.hpp"
 #include "rockwatch/sim/analysis.hpp"
 
 #include <CppUTest/TestHarness.h>
@@ -13,32 +14,9 @@ using nlohmann::json;
 
 namespace {
 
-constexpr double kG = 9.81;
-
-// The reference's input functions (descriptions in the JSON), zero after the pulse.
-double pulse_mps2(const std::string& name, double t) {
-  if (name == "G1") return t <= 0.5 ? 0.30 * kG * std::sin(2.0 * M_PI * t / 0.5) : 0.0;
-  if (name == "G2") return t <= 0.25 ? 0.30 * kG * std::sin(2.0 * M_PI * t / 0.25) : 0.0;
-  if (name == "G3") return t <= 0.5 ? 0.15 * kG * std::sin(2.0 * M_PI * t / 0.5) : 0.0;
-  if (name == "G6") return t <= 1.5 ? -(0.15 * kG / 1.5) * t : -0.15 * kG;
-  const double peak = name == "G7" ? 0.20 * kG : 0.15 * kG;  // G7, G7b: triangle 0 → −peak at 0.5 s → 0 at 1 s
-  if (t <= 0.5) return -peak * t / 0.5;
-  return t <= 1.0 ? -peak * (1.0 - t) / 0.5 : 0.0;
-}
-
-bool is_piecewise_linear(const std::string& name) { return name == "G6" || name == "G7" || name == "G7b"; }
-
-sim::AnalysisResult analyse_pulse(const std::string& name, const std::string& r, double dt, core::ModelKind model,
-                        double kappa = 2.0, double t_end = 5.0, double record_end = 5.0) {
-  sim::AnalysisOptions o;
-  o.restitution.kind = r == "r_ana" ? core::RestitutionKind::ana : core::RestitutionKind::exp;
-  o.model = model;
-  o.kappa = kappa;
-  o.max_step_s = dt;
-  o.t_end_s = t_end;
-  return sim::analyse(core::paper_wall(), sim::sample_motion([&](double t) { return pulse_mps2(name, t); }, dt, record_end),
-                      o);
-}
+using test::analyse_pulse;
+using test::is_piecewise_linear;
+using test::pulse_mps2;
 
 std::optional<double> opt(const json& v) {
   if (v.is_null()) return std::nullopt;
