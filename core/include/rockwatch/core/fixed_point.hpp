@@ -110,8 +110,14 @@ class Fixed {
   friend constexpr Fixed operator*(Fixed a, Fixed b) {
     return from_raw(fixed_detail::round_shift(std::int64_t{a.raw_} * b.raw_, FracBits));
   }
-  // Scaling and overflow: dividend widened by 2^FracBits (< 2^62), one rounding, saturates; b = 0 saturates.
+  // Scaling and overflow: dividend widened by 2^FracBits, one rounding, saturates; b = 0 saturates. With more
+  // than 31 fraction bits a dividend |a.raw|·2^FracBits ≥ 2^62 would overflow int64; its quotient exceeds
+  // 2^62/|b.raw| > 2^31 anyway, so it saturates by the signs without dividing. Otherwise the dividend is < 2^62.
   friend constexpr Fixed operator/(Fixed a, Fixed b) {
+    if constexpr (FracBits > 31) {
+      constexpr std::int32_t kLimit = std::int32_t{1} << (62 - FracBits);
+      if (a.raw_ >= kLimit || a.raw_ <= -kLimit) return (a.raw_ < 0) != (b.raw_ < 0) ? lowest() : highest();
+    }
     return from_raw(fixed_detail::round_divide(std::int64_t{a.raw_} * (std::int64_t{1} << FracBits), b.raw_));
   }
   constexpr Fixed& operator+=(Fixed b) { return *this = *this + b; }

@@ -8,8 +8,8 @@
 // - Saturation is sticky only per operation: a saturated partial sum that later terms pull back is not an
 //   error flag. Check .saturated() on results where the range matters, and keep inputs within range.
 // - Not supported: mixing formats in one expression (use fixed_mul/fixed_convert between them), anything that
-//   needs a square root or floating point (norm(), normalized(), decompositions), .mean() (Eigen builds the
-//   divisor from an Index, which Fixed does not take), printing.
+//   needs a square root or floating point (norm(), normalized(), decompositions), printing. .mean() works but
+//   divides (a 64-bit library division on Cortex-M4).
 //
 // Include this header before instantiating any Eigen type with a Fixed scalar (sensor_axes.hpp does).
 #pragma once
