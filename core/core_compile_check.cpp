@@ -10,6 +10,10 @@
 #include "rockwatch/core/fixed_math.hpp"
 #include "rockwatch/core/fixed_point.hpp"
 #include "rockwatch/core/fixed_point_eigen.hpp"
+#include "rockwatch/core/fixed_point64.hpp"
+#include "rockwatch/core/fixed_instability_indicators.hpp"
+#include "rockwatch/core/fixed_rocking_stepper.hpp"
+#include "rockwatch/core/alarm.hpp"
 #include "rockwatch/core/instability_indicators.hpp"
 #include "rockwatch/core/static_check.hpp"
 #include "rockwatch/core/wall.hpp"
@@ -38,4 +42,12 @@ SensorAxes<float> float_default_sensor_axes() { return cast_sensor_axes<float>(d
 Q7_24 fixed_dot(const Eigen::Matrix<Q7_24, 3, 3>& m, const Eigen::Matrix<Q7_24, 3, 1>& v) { return (m * v).dot(v); }
 Q7_24 fixed_time_to_instability_s(Fixed<1, 30> z, Q7_24 omega_radps) { return fixed_atanh<Q7_24>(z) / omega_radps; }
 Q7_24 fixed_ln(Q7_24 u) { return fixed_log<Q7_24>(u); }
+}  // namespace rockwatch::core::compile_check
+
+// The fixed-point engine and its indicators (64-bit state, 128-bit intermediates on every target).
+namespace rockwatch::core::compile_check {
+FixedStepReport fixed_engine_step(FixedRockingStepper& s, AccelQ7_56 ug, AccelQ7_56 vg) { return s.step(ug, vg); }
+FixedInstabilityIndicators fixed_indicators(const FixedInstabilityConstants& c, const FixedRockingStepper& s) {
+  return evaluate_instability(c, s, FixedStepReport{});
+}
 }  // namespace rockwatch::core::compile_check

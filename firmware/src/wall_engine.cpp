@@ -38,7 +38,7 @@ WallEngineError WallEngine::init(const WallEngineConfig& c) {
 
 void WallEngine::reset(const SensorSampleQ& sensor_mps2) {
   const Eigen::Matrix<core::AccelQ7_24, 2, 1> wall_inputs = core::wall_inputs(axes_, sensor_mps2);
-  stepper_.reset(wall_inputs(0), wall_inputs(1));
+  stepper_.reset(core::wide_convert<core::AccelQ7_56>(wall_inputs(0)), core::wide_convert<core::AccelQ7_56>(wall_inputs(1)));
   alarm_.reset();
   out_ = WallEngineOutput{};
 }
@@ -47,7 +47,8 @@ const WallEngineOutput& WallEngine::process(const SensorSampleQ& sensor_mps2) {
   const Eigen::Matrix<core::AccelQ7_24, 2, 1> wall_inputs = core::wall_inputs(axes_, sensor_mps2);
   out_.ug_mps2 = wall_inputs(0);
   out_.vg_mps2 = wall_inputs(1);
-  out_.step = stepper_.step(out_.ug_mps2, out_.vg_mps2);
+  out_.step = stepper_.step(core::wide_convert<core::AccelQ7_56>(out_.ug_mps2),
+                            core::wide_convert<core::AccelQ7_56>(out_.vg_mps2));
   out_.indicators = core::evaluate_instability(constants_, stepper_, out_.step);
   out_.alarm = alarm_.update(out_.indicators.conditions);
   return out_;

@@ -9,7 +9,7 @@
 
 namespace rockwatch::sim::detail {
 
-using core::AccelQ7_24;
+using core::AccelQ7_56;
 using core::Side;
 
 namespace {
@@ -25,8 +25,8 @@ struct FixedGridInput {
     if (i + 1 >= v.size()) return i + 1 == v.size() && j == 0 ? v.back() : 0.0;
     return v[i] + (v[i + 1] - v[i]) * double(j) / double(n_sub);
   }
-  AccelQ7_24 ug(std::size_t k) const { return AccelQ7_24(at(motion.ug_mps2, k)); }
-  AccelQ7_24 vg(std::size_t k) const { return AccelQ7_24(at(motion.vg_mps2, k)); }
+  AccelQ7_56 ug(std::size_t k) const { return AccelQ7_56(at(motion.ug_mps2, k)); }
+  AccelQ7_56 vg(std::size_t k) const { return AccelQ7_56(at(motion.vg_mps2, k)); }
 };
 
 // Inputs beyond ±80 m/s² would saturate ẍ the engine's coefficients (docs/FIXED_POINT.md): refuse, naming the sample.
@@ -46,7 +46,7 @@ void check_input_range(const GroundMotion& motion) {
   }
 }
 
-double fraction(core::FractionQ1_30 f) { return f.to_double(); }
+double fraction(core::FractionQ1_62 f) { return f.to_double(); }
 
 }  // namespace
 
@@ -108,7 +108,7 @@ AnalysisResult analyse_fixed(const core::WallParameters& wall, const GroundMotio
   const FixedGridInput input{motion, n_sub};
   stepper.reset(input.ug(0), input.vg(0));
 
-  auto record_row = [&](double t_s, AccelQ7_24 ug, AccelQ7_24 vg) {
+  auto record_row = [&](double t_s, AccelQ7_56 ug, AccelQ7_56 vg) {
     const double x = stepper.x_m().to_double();
     const double ax = std::fabs(x);
     if (ax > result.max_abs_x_m) {
@@ -156,7 +156,7 @@ AnalysisResult analyse_fixed(const core::WallParameters& wall, const GroundMotio
   const auto forced_steps = static_cast<std::size_t>(std::llround(result.t_end_s / h));
   std::size_t k = 0;
   for (; k < forced_steps && !stepper.collapsed(); ++k) {
-    const AccelQ7_24 ug = input.ug(k + 1), vg = input.vg(k + 1);
+    const AccelQ7_56 ug = input.ug(k + 1), vg = input.vg(k + 1);
     const core::FixedStepReport rep = stepper.step(ug, vg);
     const double t_s = record_events(double(k) * h, rep);
     record_row(t_s, ug, vg);
@@ -172,7 +172,7 @@ AnalysisResult analyse_fixed(const core::WallParameters& wall, const GroundMotio
     return !indicators.conditions.over_instability_displacement && indicators.energy_ratio < core::RatioQ7_24(1);
   };
   std::size_t free = 0;
-  const AccelQ7_24 zero{};
+  const AccelQ7_56 zero{};
   for (; !stepper.collapsed() && !safe() && free < free_steps; ++free, ++k) {
     const core::FixedStepReport rep = stepper.step(zero, zero);
     const double t_s = record_events(double(k) * h, rep);

@@ -69,13 +69,16 @@ inline FixedInstabilityIndicators evaluate_instability(const FixedInstabilityCon
   const Side side = stepper.side();
   const int i = side_index(side);
   const bool pos = side == Side::positive;
-  const LengthQ1_30 sx = pos ? stepper.x_m() : -stepper.x_m();
-  const SpeedQ3_28 syd = pos ? stepper.xd_mps() : -stepper.xd_mps();
+  // The engine's 64-bit state in the 32-bit formats: the indicators need ~1e-8 relative, not the engine's 1e-19.
+  const LengthQ1_30 x = wide_convert<LengthQ1_30>(stepper.x_m());
+  const SpeedQ3_28 xd = wide_convert<SpeedQ3_28>(stepper.xd_mps());
+  const LengthQ1_30 sx = pos ? x : -x;
+  const SpeedQ3_28 syd = pos ? xd : -xd;
   const LengthQ1_30 y = sx - c.x_inst_m[i];
   const RatioQ7_24 w = fixed_mul<RatioQ7_24>(y, c.inv_x_inst_pm[i]);             // y/x_i
   const RatioQ7_24 u = fixed_mul<RatioQ7_24>(syd, c.inv_omega_x_inst_spm[i]);   // ẏ/(ω x_i)
   out.energy_ratio = RatioQ7_24(1) + u * u - w * w;
-  const LengthQ1_30 ax = abs(stepper.x_m());
+  const LengthQ1_30 ax = abs(x);
   const bool moving = stepper.moving();
   AlarmConditions& k = out.conditions;
   k.moving = moving;

@@ -28,25 +28,33 @@
 #include <cstdint>
 
 #include "rockwatch/core/fixed_point.hpp"
+#include "rockwatch/core/fixed_point64.hpp"
 #include "rockwatch/core/rocking_stepper.hpp"
 
 namespace rockwatch::core {
 
+// 32-bit formats of the same quantities, for sensors, messages and the alarm's indicators.
 using AccelQ7_24 = Fixed<7, 24>;
 using LengthQ1_30 = Fixed<1, 30>;
 using SpeedQ3_28 = Fixed<3, 28>;
-using DurationQ0_31 = Fixed<0, 31>;
-using Duration2Qm12_43 = Fixed<-12, 43>;
-using StiffQ8_23 = Fixed<8, 23>;
-using GainQ4_27 = Fixed<4, 27>;
 using FractionQ1_30 = Fixed<1, 30>;
+
+// The engine's 64-bit formats.
+using AccelQ7_56 = Fixed64<7, 56>;
+using LengthQ1_62 = Fixed64<1, 62>;
+using SpeedQ3_60 = Fixed64<3, 60>;
+using DurationQ0_63 = Fixed64<0, 63>;
+using Duration2Qm12_75 = Fixed64<-12, 75>;
+using StiffQ8_55 = Fixed64<8, 55>;
+using GainQ4_59 = Fixed64<4, 59>;
+using FractionQ1_62 = Fixed64<1, 62>;
 
 // Why a fixed-point setup was refused. Values are stable: append, never renumber.
 enum class FixedSetupError : std::uint8_t {
   ok = 0,
   model_not_linear = 1,         // the fixed-point engine runs the linear model only
   step_out_of_range = 2,        // dt must be in (0, 0.03] s
-  collapse_out_of_range = 3,    // κ·x_inst must stay below 1.9 m (LengthQ1_30)
+  collapse_out_of_range = 3,    // κ·x_inst must stay below 1.9 m (LengthQ1_62)
   constant_out_of_range = 4,    // a model constant does not fit its format (wall far outside masonry sizes)
   gravity_out_of_range = 5,     // g must be below 100 m/s²
   restitution_out_of_range = 6, // r must be in [0, 1]
@@ -68,19 +76,19 @@ inline const char* fixed_setup_error_message(FixedSetupError e) {
 }
 
 struct FixedStepperSetup {
-  AccelQ7_24 f_fp_mps2[2];    // Fp term of f per side (index side_index) [m/s²]
-  GainQ4_27 f_g;              // c6_g/p1 [-]
-  GainQ4_27 f_u;              // c6_u/p1 [-]
-  StiffQ8_23 k_fp_ps2[2];     // Fp term of k per side [1/s²]
-  GainQ4_27 k_g_pm;           // c4_g/p1 [1/m]
-  GainQ4_27 k_u_pm;           // c4_u/p1 [1/m]
-  AccelQ7_24 g_mps2;          // gravity [m/s²]
-  DurationQ0_31 dt_s;         // step [s]
-  FractionQ1_30 sqrt_r;       // velocity ratio at impact [-]
-  LengthQ1_30 x_inst_m[2];    // per side [m]
-  LengthQ1_30 x_collapse_m[2];  // κ·x_inst per side [m]
-  SpeedQ3_28 v_rest_mps;      // rest threshold after an impact [m/s]
-  SpeedQ3_28 v_count_mps;     // impact-count threshold [m/s]
+  AccelQ7_56 f_fp_mps2[2];    // Fp term of f per side (index side_index) [m/s²]
+  GainQ4_59 f_g;              // c6_g/p1 [-]
+  GainQ4_59 f_u;              // c6_u/p1 [-]
+  StiffQ8_55 k_fp_ps2[2];     // Fp term of k per side [1/s²]
+  GainQ4_59 k_g_pm;           // c4_g/p1 [1/m]
+  GainQ4_59 k_u_pm;           // c4_u/p1 [1/m]
+  AccelQ7_56 g_mps2;          // gravity [m/s²]
+  DurationQ0_63 dt_s;         // step [s]
+  FractionQ1_62 sqrt_r;       // velocity ratio at impact [-]
+  LengthQ1_62 x_inst_m[2];    // per side [m]
+  LengthQ1_62 x_collapse_m[2];  // κ·x_inst per side [m]
+  SpeedQ3_60 v_rest_mps;      // rest threshold after an impact [m/s]
+  SpeedQ3_60 v_count_mps;     // impact-count threshold [m/s]
 };
 
 // Initialisation-time conversion from the double setup (all floating point happens here).
@@ -102,21 +110,21 @@ inline FixedSetupError make_fixed_setup(const StepperSetup<double>& s, FixedStep
     const double f_fp = c.c6_fp[i] / p1, k_fp = c.c4_fp[i] / p1;
     ok = ok && fits(f_fp, 128.0) && fits(k_fp, 256.0) && fits(k_fp + k_g * s.g_mps2, 256.0) &&
          fits(f_fp + f_g * s.g_mps2, 128.0);
-    out.f_fp_mps2[i] = AccelQ7_24(f_fp);
-    out.k_fp_ps2[i] = StiffQ8_23(k_fp);
-    out.x_inst_m[i] = LengthQ1_30(s.x_inst_m[i]);
-    out.x_collapse_m[i] = LengthQ1_30(s.x_collapse_m[i]);
+    out.f_fp_mps2[i] = AccelQ7_56(f_fp);
+    out.k_fp_ps2[i] = StiffQ8_55(k_fp);
+    out.x_inst_m[i] = LengthQ1_62(s.x_inst_m[i]);
+    out.x_collapse_m[i] = LengthQ1_62(s.x_collapse_m[i]);
   }
   if (!ok) return FixedSetupError::constant_out_of_range;
-  out.f_g = GainQ4_27(f_g);
-  out.f_u = GainQ4_27(f_u);
-  out.k_g_pm = GainQ4_27(k_g);
-  out.k_u_pm = GainQ4_27(k_u);
-  out.g_mps2 = AccelQ7_24(s.g_mps2);
-  out.dt_s = DurationQ0_31(s.dt_s);
-  out.sqrt_r = FractionQ1_30(s.sqrt_r);
-  out.v_rest_mps = SpeedQ3_28(s.v_rest_mps);
-  out.v_count_mps = SpeedQ3_28(s.v_count_mps);
+  out.f_g = GainQ4_59(f_g);
+  out.f_u = GainQ4_59(f_u);
+  out.k_g_pm = GainQ4_59(k_g);
+  out.k_u_pm = GainQ4_59(k_u);
+  out.g_mps2 = AccelQ7_56(s.g_mps2);
+  out.dt_s = DurationQ0_63(s.dt_s);
+  out.sqrt_r = FractionQ1_62(s.sqrt_r);
+  out.v_rest_mps = SpeedQ3_60(s.v_rest_mps);
+  out.v_count_mps = SpeedQ3_60(s.v_count_mps);
   return FixedSetupError::ok;
 }
 
@@ -124,39 +132,39 @@ inline FixedSetupError make_fixed_setup(const StepperSetup<double>& s, FixedStep
 struct FixedStepReport {
   bool input_invalid = false;      // G = g + v̈ ≤ 0 at the step end: outside the model, state held
   bool started = false;            // rocking started from rest in this step
-  FractionQ1_30 start_fraction{};
+  FractionQ1_62 start_fraction{};
   std::uint16_t impacts_counted = 0;  // 0 or 1: impacts with |ẋ⁻| ≥ v_count
   std::uint16_t impacts_total = 0;    // 0 or 1
-  FractionQ1_30 first_impact_fraction{};
-  SpeedQ3_28 first_impact_v_before_mps{};
-  SpeedQ3_28 first_impact_v_after_mps{};  // 0 when put at rest
+  FractionQ1_62 first_impact_fraction{};
+  SpeedQ3_60 first_impact_v_before_mps{};
+  SpeedQ3_60 first_impact_v_after_mps{};  // 0 when put at rest
   bool came_to_rest = false;
   bool rest_forced = false;        // a second crossing in the step: put at rest without locating it
   bool exceeded = false;           // |x| rose through x_inst in this step
-  FractionQ1_30 exceed_fraction{};
+  FractionQ1_62 exceed_fraction{};
   bool collapsed = false;          // |x| reached κ·x_inst; the stepper stops
-  FractionQ1_30 collapse_fraction{};
+  FractionQ1_62 collapse_fraction{};
   bool saturated = false;          // a state quantity reached the end of its format: results unreliable
 };
 
 class FixedRockingStepper {
  public:
   // Newton iterations on the event residual, always all of them (constant work per sample).
-  static constexpr int kLocateIterations = 3;
+  static constexpr int kLocateIterations = 12;
   // Segments (impacts + 1) handled inside one step; more means settling speeds and the wall is put at rest.
-  static constexpr int kMaxSegmentsPerStep = 4;
+  static constexpr int kMaxSegmentsPerStep = 16;
 
   FixedSetupError init(const StepperSetup<double>& setup) {
     const FixedSetupError e = make_fixed_setup(setup, setup_);
-    reset(AccelQ7_24{}, AccelQ7_24{});
+    reset(AccelQ7_56{}, AccelQ7_56{});
     return e;
   }
 
   // Wall at rest, vertical, with the given input at the current instant.
-  void reset(AccelQ7_24 ug_mps2, AccelQ7_24 vg_mps2) {
-    x_ = LengthQ1_30{};
-    xd_ = SpeedQ3_28{};
-    xdd_ = AccelQ7_24{};
+  void reset(AccelQ7_56 ug_mps2, AccelQ7_56 vg_mps2) {
+    x_ = LengthQ1_62{};
+    xd_ = SpeedQ3_60{};
+    xdd_ = AccelQ7_56{};
     side_ = Side::positive;
     moving_ = false;
     collapsed_ = false;
@@ -164,32 +172,32 @@ class FixedRockingStepper {
   }
 
   // Places the wall in motion (tests, restarts). Side follows x, or ẋ when x = 0.
-  void set_state(LengthQ1_30 x_m, SpeedQ3_28 xd_mps, AccelQ7_24 ug_mps2, AccelQ7_24 vg_mps2) {
+  void set_state(LengthQ1_62 x_m, SpeedQ3_60 xd_mps, AccelQ7_56 ug_mps2, AccelQ7_56 vg_mps2) {
     reset(ug_mps2, vg_mps2);
     x_ = x_m;
     xd_ = xd_mps;
-    if (x_m != LengthQ1_30{}) {
-      side_ = x_m > LengthQ1_30{} ? Side::positive : Side::negative;
+    if (x_m != LengthQ1_62{}) {
+      side_ = x_m > LengthQ1_62{} ? Side::positive : Side::negative;
     } else {
-      side_ = xd_mps < SpeedQ3_28{} ? Side::negative : Side::positive;
+      side_ = xd_mps < SpeedQ3_60{} ? Side::negative : Side::positive;
     }
-    moving_ = x_m != LengthQ1_30{} || xd_mps != SpeedQ3_28{};
+    moving_ = x_m != LengthQ1_62{} || xd_mps != SpeedQ3_60{};
     const int i = side_index(side_);
-    xdd_ = f_prev_[i] - fixed_mul<AccelQ7_24>(k_prev_[i], x_);
+    xdd_ = f_prev_[i] - wide_mul<AccelQ7_56>(k_prev_[i], x_);
   }
 
   // Advances one step of setup dt to the given input at the step end. Same work whatever happens.
-  FixedStepReport step(AccelQ7_24 ug_mps2, AccelQ7_24 vg_mps2) {
+  FixedStepReport step(AccelQ7_56 ug_mps2, AccelQ7_56 vg_mps2) {
     FixedStepReport report;
-    AccelQ7_24 f_end[2];
-    StiffQ8_23 k_end[2];
+    AccelQ7_56 f_end[2];
+    StiffQ8_55 k_end[2];
     const bool valid = coefficients(ug_mps2, vg_mps2, f_end, k_end);
     if (collapsed_ || !valid) {
       report.input_invalid = !valid;
       keep_coefficients(f_end, k_end);
       return report;
     }
-    MotionPoint at{x_, xd_, xdd_, FractionQ1_30{}, side_};
+    MotionPoint at{x_, xd_, xdd_, FractionQ1_62{}, side_};
     bool finished = false;
     for (int segment = 0; segment < kMaxSegmentsPerStep && !finished; ++segment) {
       if (!moving_ && !try_start(f_end, at, report)) break;
@@ -207,9 +215,9 @@ class FixedRockingStepper {
     return report;
   }
 
-  LengthQ1_30 x_m() const { return x_; }
-  SpeedQ3_28 xd_mps() const { return xd_; }
-  AccelQ7_24 xdd_mps2() const { return xdd_; }
+  LengthQ1_62 x_m() const { return x_; }
+  SpeedQ3_60 xd_mps() const { return xd_; }
+  AccelQ7_56 xdd_mps2() const { return xdd_; }
   Side side() const { return side_; }
   bool moving() const { return moving_; }
   bool collapsed() const { return collapsed_; }
@@ -218,43 +226,43 @@ class FixedRockingStepper {
  private:
   // A state inside the current step: θ is the fraction of the step already done.
   struct MotionPoint {
-    LengthQ1_30 x_m;
-    SpeedQ3_28 xd_mps;
-    AccelQ7_24 xdd_mps2;
-    FractionQ1_30 theta;
+    LengthQ1_62 x_m;
+    SpeedQ3_60 xd_mps;
+    AccelQ7_56 xdd_mps2;
+    FractionQ1_62 theta;
     Side side;
   };
   struct Trial {
-    LengthQ1_30 x_m;
-    SpeedQ3_28 xd_mps;
-    AccelQ7_24 xdd_mps2;
+    LengthQ1_62 x_m;
+    SpeedQ3_60 xd_mps;
+    AccelQ7_56 xdd_mps2;
   };
   // The rest of the step from a point, on its side: length, and f, k at its start and their change to its end.
   struct SubStep {
-    DurationQ0_31 h_s;           // H_r = (1 − θ)·dt
-    Duration2Qm12_43 quarter_h2;  // H_r²/4
-    AccelQ7_24 f_start, f_delta;
-    StiffQ8_23 k_start, k_delta;
+    DurationQ0_63 h_s;           // H_r = (1 − θ)·dt
+    Duration2Qm12_75 quarter_h2;  // H_r²/4
+    AccelQ7_56 f_start, f_delta;
+    StiffQ8_55 k_start, k_delta;
   };
 
   // At rest from `at.theta`: if s·f rises above zero before the step end (input linear in time, so s·f is affine
   // in θ), start rocking towards s at the crossing. Returns true if moving.
-  bool try_start(const AccelQ7_24 f_end[2], MotionPoint& at, FixedStepReport& report) {
+  bool try_start(const AccelQ7_56 f_end[2], MotionPoint& at, FixedStepReport& report) {
     for (int candidate = 0; candidate < 2; ++candidate) {
       const Side s = candidate == 0 ? Side::positive : Side::negative;
       const int i = side_index(s);
-      const AccelQ7_24 drive_end = s == Side::positive ? f_end[i] : -f_end[i];
-      if (!(drive_end > AccelQ7_24{})) continue;
-      const AccelQ7_24 f_now = f_at(f_end, s, at.theta);
-      const AccelQ7_24 drive_now = s == Side::positive ? f_now : -f_now;
-      FractionQ1_30 theta = at.theta;
-      if (drive_now < AccelQ7_24{}) {
-        theta = theta + fixed_mul<FractionQ1_30>(FractionQ1_30(1) - theta,
-                                                 fixed_div<FractionQ1_30>(-drive_now, drive_end - drive_now));
+      const AccelQ7_56 drive_end = s == Side::positive ? f_end[i] : -f_end[i];
+      if (!(drive_end > AccelQ7_56{})) continue;
+      const AccelQ7_56 f_now = f_at(f_end, s, at.theta);
+      const AccelQ7_56 drive_now = s == Side::positive ? f_now : -f_now;
+      FractionQ1_62 theta = at.theta;
+      if (drive_now < AccelQ7_56{}) {
+        theta = theta + wide_mul<FractionQ1_62>(FractionQ1_62(1) - theta,
+                                                 wide_div<FractionQ1_62>(-drive_now, drive_end - drive_now));
       }
-      at = MotionPoint{LengthQ1_30{}, SpeedQ3_28{}, f_at(f_end, s, theta), theta, s};
-      x_ = LengthQ1_30{};
-      xd_ = SpeedQ3_28{};
+      at = MotionPoint{LengthQ1_62{}, SpeedQ3_60{}, f_at(f_end, s, theta), theta, s};
+      x_ = LengthQ1_62{};
+      xd_ = SpeedQ3_60{};
       xdd_ = at.xdd_mps2;
       side_ = s;
       moving_ = true;
@@ -269,19 +277,19 @@ class FixedRockingStepper {
 
   // From `at` to the step end on its side, stopping at the first impact or at collapse. Returns true when the
   // step is finished (end reached, collapsed or at rest), false after an impact that leaves the wall moving.
-  bool advance_segment(const AccelQ7_24 f_end[2], const StiffQ8_23 k_end[2], MotionPoint& at,
+  bool advance_segment(const AccelQ7_56 f_end[2], const StiffQ8_55 k_end[2], MotionPoint& at,
                        FixedStepReport& report) {
     const SubStep whole = sub_step(at, f_end, k_end);
-    const Trial end = trial(at, whole, FractionQ1_30(1));
+    const Trial end = trial(at, whole, FractionQ1_62(1));
     const int si = side_index(at.side);
-    const LengthQ1_30 x0 = signed_x(at.side, at.x_m), x1 = signed_x(at.side, end.x_m);
-    const bool on_hinge_inward = x0 == LengthQ1_30{} && signed_v(at.side, at.xd_mps) < SpeedQ3_28{};
-    if (x1 < LengthQ1_30{} || on_hinge_inward) {
-      const FractionQ1_30 tau = on_hinge_inward ? FractionQ1_30{} : locate(at, whole, LengthQ1_30{});
+    const LengthQ1_62 x0 = signed_x(at.side, at.x_m), x1 = signed_x(at.side, end.x_m);
+    const bool on_hinge_inward = x0 == LengthQ1_62{} && signed_v(at.side, at.xd_mps) < SpeedQ3_60{};
+    if (x1 < LengthQ1_62{} || on_hinge_inward) {
+      const FractionQ1_62 tau = on_hinge_inward ? FractionQ1_62{} : locate(at, whole, LengthQ1_62{});
       const Trial event = trial(at, whole, tau);
-      const FractionQ1_30 theta = at.theta + fixed_mul<FractionQ1_30>(tau, FractionQ1_30(1) - at.theta);
-      const SpeedQ3_28 v_before = on_hinge_inward ? at.xd_mps : event.xd_mps;
-      const SpeedQ3_28 v_after = fixed_mul<SpeedQ3_28>(setup_.sqrt_r, v_before);
+      const FractionQ1_62 theta = at.theta + wide_mul<FractionQ1_62>(tau, FractionQ1_62(1) - at.theta);
+      const SpeedQ3_60 v_before = on_hinge_inward ? at.xd_mps : event.xd_mps;
+      const SpeedQ3_60 v_after = wide_mul<SpeedQ3_60>(setup_.sqrt_r, v_before);
       if (report.impacts_total == 0) {
         report.first_impact_fraction = theta;
         report.first_impact_v_before_mps = v_before;
@@ -290,28 +298,28 @@ class FixedRockingStepper {
       ++report.impacts_total;
       if (abs(v_before) >= setup_.v_count_mps) ++report.impacts_counted;
       const Side s = opposite(at.side);
-      at = MotionPoint{LengthQ1_30{}, v_after, f_at(f_end, s, theta), theta, s};
-      x_ = LengthQ1_30{};
+      at = MotionPoint{LengthQ1_62{}, v_after, f_at(f_end, s, theta), theta, s};
+      x_ = LengthQ1_62{};
       xd_ = v_after;
       xdd_ = at.xdd_mps2;
       side_ = s;
-      const AccelQ7_24 drive = s == Side::positive ? at.xdd_mps2 : -at.xdd_mps2;
-      if (abs(v_after) < setup_.v_rest_mps && !(drive > AccelQ7_24{})) {
+      const AccelQ7_56 drive = s == Side::positive ? at.xdd_mps2 : -at.xdd_mps2;
+      if (abs(v_after) < setup_.v_rest_mps && !(drive > AccelQ7_56{})) {
         put_at_rest();
         report.came_to_rest = true;
-        if (report.impacts_total == 1) report.first_impact_v_after_mps = SpeedQ3_28{};
+        if (report.impacts_total == 1) report.first_impact_v_after_mps = SpeedQ3_60{};
       }
       return false;
     }
-    const LengthQ1_30 inst = setup_.x_inst_m[si];
-    const LengthQ1_30 limit = setup_.x_collapse_m[si];
+    const LengthQ1_62 inst = setup_.x_inst_m[si];
+    const LengthQ1_62 limit = setup_.x_collapse_m[si];
     if (x0 < inst && x1 >= inst && !report.exceeded) {
       report.exceeded = true;
-      const FractionQ1_30 tau = locate(at, whole, inst);
-      report.exceed_fraction = at.theta + fixed_mul<FractionQ1_30>(tau, FractionQ1_30(1) - at.theta);
+      const FractionQ1_62 tau = locate(at, whole, inst);
+      report.exceed_fraction = at.theta + wide_mul<FractionQ1_62>(tau, FractionQ1_62(1) - at.theta);
     }
     if (x1 >= limit) {
-      const FractionQ1_30 tau = locate(at, whole, limit);
+      const FractionQ1_62 tau = locate(at, whole, limit);
       const Trial event = trial(at, whole, tau);
       x_ = at.side == Side::positive ? limit : -limit;
       xd_ = event.xd_mps;
@@ -319,7 +327,7 @@ class FixedRockingStepper {
       moving_ = false;
       collapsed_ = true;
       report.collapsed = true;
-      report.collapse_fraction = at.theta + fixed_mul<FractionQ1_30>(tau, FractionQ1_30(1) - at.theta);
+      report.collapse_fraction = at.theta + wide_mul<FractionQ1_62>(tau, FractionQ1_62(1) - at.theta);
       return true;
     }
     x_ = end.x_m;
@@ -330,33 +338,33 @@ class FixedRockingStepper {
   }
 
   void put_at_rest() {
-    x_ = LengthQ1_30{};
-    xd_ = SpeedQ3_28{};
-    xdd_ = AccelQ7_24{};
+    x_ = LengthQ1_62{};
+    xd_ = SpeedQ3_60{};
+    xdd_ = AccelQ7_56{};
     moving_ = false;
   }
 
-  static LengthQ1_30 signed_x(Side s, LengthQ1_30 x) { return s == Side::positive ? x : -x; }
-  static SpeedQ3_28 signed_v(Side s, SpeedQ3_28 v) { return s == Side::positive ? v : -v; }
+  static LengthQ1_62 signed_x(Side s, LengthQ1_62 x) { return s == Side::positive ? x : -x; }
+  static SpeedQ3_60 signed_v(Side s, SpeedQ3_60 v) { return s == Side::positive ? v : -v; }
 
   // f and k of both sides for an input; false when G = g + v̈ ≤ 0.
-  // Scaling and overflow: products of GainQ4_27 by AccelQ7_24 (|G| < 256 with g < 100 and |v̈| < 128) stay
+  // Scaling and overflow: products of GainQ4_59 by AccelQ7_56 (|G| < 256 with g < 100 and |v̈| < 128) stay
   // below 16·256 before narrowing; the sums saturate (flagged through the state) only for |ü| beyond ~80 m/s².
-  bool coefficients(AccelQ7_24 ug, AccelQ7_24 vg, AccelQ7_24 f[2], StiffQ8_23 k[2]) const {
-    const AccelQ7_24 gravity = setup_.g_mps2 + vg;
-    const AccelQ7_24 f_gravity = fixed_mul<AccelQ7_24>(setup_.f_g, gravity);
-    const AccelQ7_24 f_push = fixed_mul<AccelQ7_24>(setup_.f_u, ug);
-    const StiffQ8_23 k_gravity = fixed_mul<StiffQ8_23>(setup_.k_g_pm, gravity);
-    const StiffQ8_23 k_push = fixed_mul<StiffQ8_23>(setup_.k_u_pm, ug);
+  bool coefficients(AccelQ7_56 ug, AccelQ7_56 vg, AccelQ7_56 f[2], StiffQ8_55 k[2]) const {
+    const AccelQ7_56 gravity = setup_.g_mps2 + vg;
+    const AccelQ7_56 f_gravity = wide_mul<AccelQ7_56>(setup_.f_g, gravity);
+    const AccelQ7_56 f_push = wide_mul<AccelQ7_56>(setup_.f_u, ug);
+    const StiffQ8_55 k_gravity = wide_mul<StiffQ8_55>(setup_.k_g_pm, gravity);
+    const StiffQ8_55 k_push = wide_mul<StiffQ8_55>(setup_.k_u_pm, ug);
     for (int i = 0; i < 2; ++i) {
-      const AccelQ7_24 restoring = setup_.f_fp_mps2[i] + f_gravity;
+      const AccelQ7_56 restoring = setup_.f_fp_mps2[i] + f_gravity;
       f[i] = (i == 1 ? -restoring : restoring) - f_push;
       k[i] = setup_.k_fp_ps2[i] + k_gravity + (i == 1 ? k_push : -k_push);
     }
-    return gravity > AccelQ7_24{};
+    return gravity > AccelQ7_56{};
   }
 
-  void keep_coefficients(const AccelQ7_24 f[2], const StiffQ8_23 k[2]) {
+  void keep_coefficients(const AccelQ7_56 f[2], const StiffQ8_55 k[2]) {
     for (int i = 0; i < 2; ++i) {
       f_prev_[i] = f[i];
       k_prev_[i] = k[i];
@@ -364,17 +372,16 @@ class FixedRockingStepper {
   }
 
   // f on side s at fraction θ of the step (input linear in time).
-  AccelQ7_24 f_at(const AccelQ7_24 f_end[2], Side s, FractionQ1_30 theta) const {
+  AccelQ7_56 f_at(const AccelQ7_56 f_end[2], Side s, FractionQ1_62 theta) const {
     const int i = side_index(s);
-    return f_prev_[i] + fixed_mul<AccelQ7_24>(theta, f_end[i] - f_prev_[i]);
+    return f_prev_[i] + wide_mul<AccelQ7_56>(theta, f_end[i] - f_prev_[i]);
   }
 
-  SubStep sub_step(const MotionPoint& p, const AccelQ7_24 f_end[2], const StiffQ8_23 k_end[2]) const {
+  SubStep sub_step(const MotionPoint& p, const AccelQ7_56 f_end[2], const StiffQ8_55 k_end[2]) const {
     const int i = side_index(p.side);
     SubStep s;
-    s.h_s = fixed_mul<DurationQ0_31>(FractionQ1_30(1) - p.theta, setup_.dt_s);
-    s.quarter_h2 = Duration2Qm12_43::from_raw(
-        fixed_detail::round_shift(std::int64_t{s.h_s.raw()} * s.h_s.raw(), 2 * 31 + 2 - 43));
+    s.h_s = wide_mul<DurationQ0_63>(FractionQ1_62(1) - p.theta, setup_.dt_s);
+    s.quarter_h2 = Duration2Qm12_75::from_raw(fixed64_detail::mul_round(s.h_s.raw(), s.h_s.raw(), 2 * 63 + 2 - 75));
     s.f_start = f_at(f_end, p.side, p.theta);
     s.f_delta = f_end[i] - s.f_start;
     s.k_start = k_start_at(k_end, i, p.theta);
@@ -382,96 +389,106 @@ class FixedRockingStepper {
     return s;
   }
 
-  StiffQ8_23 k_start_at(const StiffQ8_23 k_end[2], int i, FractionQ1_30 theta) const {
-    return k_prev_[i] + fixed_mul<StiffQ8_23>(theta, k_end[i] - k_prev_[i]);
+  StiffQ8_55 k_start_at(const StiffQ8_55 k_end[2], int i, FractionQ1_62 theta) const {
+    return k_prev_[i] + wide_mul<StiffQ8_55>(theta, k_end[i] - k_prev_[i]);
   }
 
   // Newmark from p over the fraction τ of its sub-step, with f and k at the sub-step's end.
   // Scaling and overflow: H ẋ < 0.24 m and H²/4 (ẍ₀ + f) < 0.06 m for |ẍ| < 128 and H ≤ 30 ms; D = 1 + H²k/4
   // is within 1 ± 0.06 for |k| < 256, so x₁ = N/D saturates only when the wall is far beyond collapse.
-  Trial trial(const MotionPoint& p, const SubStep& s, FractionQ1_30 tau) const {
-    const DurationQ0_31 h = fixed_mul<DurationQ0_31>(tau, s.h_s);
-    const Duration2Qm12_43 quarter_h2 = Duration2Qm12_43::from_raw(
-        fixed_detail::round_shift(std::int64_t{h.raw()} * h.raw(), 2 * 31 + 2 - 43));
-    const AccelQ7_24 f = s.f_start + fixed_mul<AccelQ7_24>(tau, s.f_delta);
-    const StiffQ8_23 k = s.k_start + fixed_mul<StiffQ8_23>(tau, s.k_delta);
-    const LengthQ1_30 numerator =
-        p.x_m + fixed_mul<LengthQ1_30>(h, p.xd_mps) + fixed_mul<LengthQ1_30>(quarter_h2, p.xdd_mps2 + f);
-    const FractionQ1_30 denominator = FractionQ1_30(1) + fixed_mul<FractionQ1_30>(quarter_h2, k);
+  Trial trial(const MotionPoint& p, const SubStep& s, FractionQ1_62 tau) const {
+    const DurationQ0_63 h = wide_mul<DurationQ0_63>(tau, s.h_s);
+    const Duration2Qm12_75 quarter_h2 = Duration2Qm12_75::from_raw(fixed64_detail::mul_round(h.raw(), h.raw(), 2 * 63 + 2 - 75));
+    const AccelQ7_56 f = s.f_start + wide_mul<AccelQ7_56>(tau, s.f_delta);
+    const StiffQ8_55 k = s.k_start + wide_mul<StiffQ8_55>(tau, s.k_delta);
+    const LengthQ1_62 numerator =
+        p.x_m + wide_mul<LengthQ1_62>(h, p.xd_mps) + wide_mul<LengthQ1_62>(quarter_h2, p.xdd_mps2 + f);
+    const FractionQ1_62 denominator = FractionQ1_62(1) + wide_mul<FractionQ1_62>(quarter_h2, k);
     Trial t;
-    t.x_m = fixed_div<LengthQ1_30>(numerator, denominator);
-    t.xdd_mps2 = f - fixed_mul<AccelQ7_24>(k, t.x_m);
-    const DurationQ0_31 half_h = DurationQ0_31::from_raw(fixed_detail::round_shift(h.raw(), 1));
-    t.xd_mps = p.xd_mps + fixed_mul<SpeedQ3_28>(half_h, p.xdd_mps2 + t.xdd_mps2);
+    t.x_m = wide_div<LengthQ1_62>(numerator, denominator);
+    t.xdd_mps2 = f - wide_mul<AccelQ7_56>(k, t.x_m);
+    const DurationQ0_63 half_h = DurationQ0_63::from_raw(fixed64_detail::convert_round(h.raw(), 1));
+    t.xd_mps = p.xd_mps + wide_mul<SpeedQ3_60>(half_h, p.xdd_mps2 + t.xdd_mps2);
     return t;
   }
 
   // τ in [0, 1] where the Newmark step from p reaches s·x = level: root of the exact residual
   //   r(τ) = c0 + c1 τ + c2 τ² + c3 τ³  [m],  c0 = s·x₀ − L,  c1 = H s·ẋ₀,  c2 = H²/4 (s·ẍ₀ + s·f₀ − L k₀),
   //   c3 = H²/4 (s·Δf − L Δk)
-  // (s times the numerator of x(τ) minus L times its denominator). The coefficients are formed exactly in int64
-  // Q60 and then brought to one common scale with the largest near 2^27 (block floating point, a clz and a
-  // shift: constant time), so a millimetre-per-second impact is located as precisely as a fast one. Secant start
-  // from r(0) and r(1), then kLocateIterations Newton steps, each clamped to [0, 1]. Always runs in full.
-  // Scaling and overflow: |c0| < 4 m → < 2^62 in Q60; |c1| < 0.24 m, |c2|, |c3| < 0.06 m; after scaling every
-  // |c| < 2^27 raw, so the Horner sums (τ ≤ 1) stay below 2^30; r' → 0 saturates the quotient, then clamped.
-  FractionQ1_30 locate(const MotionPoint& p, const SubStep& s, LengthQ1_30 level) const {
+  // (s times the numerator of x(τ) minus L times its denominator). Secant start from r(0) and r(1), then
+  // kLocateIterations Newton steps, each clamped to [0, 1]. Always runs in full.
+  // Scaling and overflow: |c0| < 4 m, |c1| < 0.24 m, |c2|, |c3| < 0.06 m for H ≤ 30 ms, so the Horner sums
+  // (τ ≤ 1) stay below 2 m; Q1.62 resolves a micrometre-scale residual to 1e-13 of itself. r' → 0 saturates the
+  // quotient, which is then clamped to the bracket.
+  FractionQ1_62 locate(const MotionPoint& p, const SubStep& s, LengthQ1_62 level) const {
     const bool pos = p.side == Side::positive;
-    const AccelQ7_24 level_k0 = fixed_mul<AccelQ7_24>(s.k_start, level);
-    const AccelQ7_24 level_dk = fixed_mul<AccelQ7_24>(s.k_delta, level);
-    const AccelQ7_24 a2 = (pos ? p.xdd_mps2 + s.f_start : -(p.xdd_mps2 + s.f_start)) - level_k0;
-    const AccelQ7_24 a3 = (pos ? s.f_delta : -s.f_delta) - level_dk;
-    const std::int64_t q60[4] = {
-        std::int64_t{(signed_x(p.side, p.x_m) - level).raw()} * (std::int64_t{1} << 30),  // Q30 → Q60
-        std::int64_t{s.h_s.raw()} * signed_v(p.side, p.xd_mps).raw() * 2,                // Q31·Q28 → Q60
-        wide_round_shift(std::int64_t{s.quarter_h2.raw()} * a2.raw(), 43 + 24 - 60),    // Q67 → Q60
-        wide_round_shift(std::int64_t{s.quarter_h2.raw()} * a3.raw(), 43 + 24 - 60)};
-    std::uint64_t magnitude = 0;
-    for (std::int64_t c : q60) magnitude |= c < 0 ? std::uint64_t(0) - std::uint64_t(c) : std::uint64_t(c);
-    const int lead = magnitude == 0 ? 64 : __builtin_clzll(magnitude);
-    const int shift = (64 - lead) - 27;  // puts the largest coefficient's top bit at bit 26
-    LengthQ1_30 c[4];
-    for (int i = 0; i < 4; ++i) c[i] = LengthQ1_30::from_raw(fixed_detail::round_shift(q60[i], shift));
+    const AccelQ7_56 level_k0 = wide_mul<AccelQ7_56>(s.k_start, level);
+    const AccelQ7_56 level_dk = wide_mul<AccelQ7_56>(s.k_delta, level);
+    const AccelQ7_56 a2 = (pos ? p.xdd_mps2 + s.f_start : -(p.xdd_mps2 + s.f_start)) - level_k0;
+    const AccelQ7_56 a3 = (pos ? s.f_delta : -s.f_delta) - level_dk;
+    const LengthQ1_62 c0 = signed_x(p.side, p.x_m) - level;
+    const LengthQ1_62 c1 = wide_mul<LengthQ1_62>(s.h_s, signed_v(p.side, p.xd_mps));
+    const LengthQ1_62 c2 = wide_mul<LengthQ1_62>(s.quarter_h2, a2);
+    const LengthQ1_62 c3 = wide_mul<LengthQ1_62>(s.quarter_h2, a3);
     // A start on the level (on the hinge after a start from rest) has the root τ = 0: divide it out, as the
     // double engine does.
-    const bool on_level = q60[0] == 0;
-    const LengthQ1_30 g0 = on_level ? c[1] : c[0];
-    const LengthQ1_30 g1 = on_level ? c[1] + c[2] + c[3] : c[0] + c[1] + c[2] + c[3];
-    FractionQ1_30 tau = clamp_fraction(fixed_div<FractionQ1_30>(g0, g0 - g1));
+    const bool on_level = c0 == LengthQ1_62{};
+    auto value_at = [&](FractionQ1_62 t) {
+      const LengthQ1_62 r1 = c1 + wide_mul<LengthQ1_62>(t, c2 + wide_mul<LengthQ1_62>(t, c3));
+      return on_level ? r1 : c0 + wide_mul<LengthQ1_62>(t, r1);
+    };
+    // Newton kept inside a bracket [lo, hi] that holds the root; a step that leaves it falls back to the
+    // bracket's Illinois secant (the end kept twice has its value halved), the double engine's method. The
+    // response can turn inside a step and touch the level almost tangentially, where Newton alone is slow.
+    FractionQ1_62 lo{}, hi(1);
+    LengthQ1_62 g_lo = value_at(lo), g_hi = value_at(hi);
+    const bool lo_positive = g_lo > LengthQ1_62{};
+    int kept = 0;  // −1: lo kept last time, +1: hi kept last time
+    FractionQ1_62 tau = clamp_fraction(wide_div<FractionQ1_62>(g_lo, g_lo - g_hi));
     for (int it = 0; it < kLocateIterations; ++it) {
-      const LengthQ1_30 r2 = c[2] + fixed_mul<LengthQ1_30>(tau, c[3]);
-      const LengthQ1_30 r1 = c[1] + fixed_mul<LengthQ1_30>(tau, r2);
-      const LengthQ1_30 value = on_level ? r1 : c[0] + fixed_mul<LengthQ1_30>(tau, r1);
-      const LengthQ1_30 slope =
-          on_level ? c[2] + fixed_mul<LengthQ1_30>(tau, c[3] + c[3])
-                   : c[1] + fixed_mul<LengthQ1_30>(tau, c[2] + c[2] + fixed_mul<LengthQ1_30>(tau, c[3] + c[3] + c[3]));
-      tau = clamp_fraction(tau - fixed_div<FractionQ1_30>(value, slope));
+      const LengthQ1_62 value = value_at(tau);
+      const LengthQ1_62 slope =
+          on_level ? c2 + wide_mul<LengthQ1_62>(tau, c3 + c3)
+                   : c1 + wide_mul<LengthQ1_62>(tau, c2 + c2 + wide_mul<LengthQ1_62>(tau, c3 + c3 + c3));
+      if ((value > LengthQ1_62{}) == lo_positive) {
+        lo = tau;
+        g_lo = value;
+        if (kept == 1) g_hi = LengthQ1_62::from_raw(g_hi.raw() / 2);
+        kept = 1;
+      } else {
+        hi = tau;
+        g_hi = value;
+        if (kept == -1) g_lo = LengthQ1_62::from_raw(g_lo.raw() / 2);
+        kept = -1;
+      }
+      const FractionQ1_62 newton = tau - wide_div<FractionQ1_62>(value, slope);
+      const FractionQ1_62 secant = lo + wide_mul<FractionQ1_62>(hi - lo, wide_div<FractionQ1_62>(g_lo, g_lo - g_hi));
+      tau = newton > lo && newton < hi ? newton : clamp_to(secant, lo, hi);
     }
     return tau;
   }
 
-  // v · 2^−shift (shift > 0) rounded to nearest, ties away, kept in int64. Scaling and overflow: |v| < 2^63.
-  static std::int64_t wide_round_shift(std::int64_t v, int shift) {
-    const std::uint64_t m = v < 0 ? std::uint64_t(0) - std::uint64_t(v) : std::uint64_t(v);
-    const std::uint64_t r = (m + (std::uint64_t{1} << (shift - 1))) >> shift;
-    return v < 0 ? -static_cast<std::int64_t>(r) : static_cast<std::int64_t>(r);
+  static FractionQ1_62 clamp_to(FractionQ1_62 t, FractionQ1_62 lo, FractionQ1_62 hi) {
+    if (t < lo) return lo;
+    if (t > hi) return hi;
+    return t;
   }
 
-  static FractionQ1_30 clamp_fraction(FractionQ1_30 t) {
-    if (t < FractionQ1_30{}) return FractionQ1_30{};
-    if (t > FractionQ1_30(1)) return FractionQ1_30(1);
+  static FractionQ1_62 clamp_fraction(FractionQ1_62 t) {
+    if (t < FractionQ1_62{}) return FractionQ1_62{};
+    if (t > FractionQ1_62(1)) return FractionQ1_62(1);
     return t;
   }
 
   FixedStepperSetup setup_{};
-  LengthQ1_30 x_{};
-  SpeedQ3_28 xd_{};
-  AccelQ7_24 xdd_{};
+  LengthQ1_62 x_{};
+  SpeedQ3_60 xd_{};
+  AccelQ7_56 xdd_{};
   Side side_ = Side::positive;
   bool moving_ = false;
   bool collapsed_ = false;
-  AccelQ7_24 f_prev_[2]{};  // f and k of both sides at the start of the next step
-  StiffQ8_23 k_prev_[2]{};
+  AccelQ7_56 f_prev_[2]{};  // f and k of both sides at the start of the next step
+  StiffQ8_55 k_prev_[2]{};
 };
 
 }  // namespace rockwatch::core
