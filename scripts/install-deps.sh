@@ -14,6 +14,9 @@ PACKAGES=(
   libmseed-dev           # miniSEED record reader (host_tools)
   liblcm-dev liblcm-bin libglib2.0-dev   # LCM transport (firmware); lcm.pc needs glib-2.0
   python3-matplotlib     # PNG plots (host_tools)
+  gcc-arm-none-eabi libstdc++-arm-none-eabi-newlib libnewlib-arm-none-eabi   # Cortex-M4 build (scripts/embedded-build.sh)
+  binutils               # nm, size (symbol audit: tests/tools/symbol_audit.sh)
+  valgrind               # callgrind instruction counts (tests/bench)
 )
 
 missing=()

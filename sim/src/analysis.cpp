@@ -4,6 +4,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "analysis_fixed.hpp"
+#include "rockwatch/core/instability_indicators.hpp"
 #include "rockwatch/core/rocking_stepper.hpp"
 
 namespace rockwatch::sim {
@@ -17,6 +19,26 @@ double peak_abs(const std::vector<double>& v) {
 }
 
 namespace {
+
+std::string number_text(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+// Each setting on its own, so the message names the one at fault (core::alarm_settings_valid is their conjunction).
+void check_alarm_settings(const core::AlarmSettings& a) {
+  if (!(a.lambda_warning > 0.0 && a.lambda_warning <= 1.0)) {
+    throw AnalysisError("alarm lambda_warning must be in (0, 1] (got " + number_text(a.lambda_warning) + ")");
+  }
+  if (!(a.hold_s >= 0.0 && a.hold_s <= 3600.0)) {
+    throw AnalysisError("alarm hold_s must be in [0, 3600] s (got " + number_text(a.hold_s) + ")");
+  }
+  if (!(a.energy_margin >= 1.0 && a.energy_margin <= 100.0)) {
+    throw AnalysisError("alarm energy_margin must be in [1, 100] (got " + number_text(a.energy_margin) + ")");
+  }
+  if (!core::alarm_settings_valid(a)) throw AnalysisError("alarm settings are invalid");  // a bound added in core
+}
 
 void check_options(const core::WallParameters& wall, const GroundMotion& motion, const AnalysisOptions& o) {
   const core::WallCheck wc = core::validate_wall(wall);
@@ -45,6 +67,10 @@ void check_options(const core::WallParameters& wall, const GroundMotion& motion,
         << " m/s2: G = g + v'' must stay > 0 (lift-off is outside the model)";
       throw AnalysisError(m.str());
     }
+  }
+  if (o.evaluate_alarm) check_alarm_settings(o.alarm);
+  if (o.arithmetic == Arithmetic::fixed_point && o.model != core::ModelKind::linear) {
+    throw AnalysisError("fixed-point arithmetic supports the linear model only");
   }
 }
 
@@ -105,12 +131,63 @@ class ResponseRecorder {
   AnalysisResult& result_;
 };
 
+// Runs the instability alarm on the stepper's state after each integration step and keeps its summary
+// (AnalysisResult::alarm). Allocates only when a transition is kept (max_alarm_transitions_kept > 0).
+class AlarmRecorder {
+ public:
+  AlarmRecorder(const core::StepperSetup<double>& setup, double h_s, const AnalysisOptions& o, AlarmSummary& summary)
+      : enabled_(o.evaluate_alarm), keep_(o.max_alarm_transitions_kept), summary_(summary) {
+    if (!enabled_) return;
+    constants_ = core::make_instability_constants(setup, o.alarm);
+    alarm_.init(core::hold_samples(o.alarm, h_s));
+    summary_.evaluated = true;
+  }
+
+  // After a step: `t_s` is where the state stands (the step end, or the collapse point).
+  void step(double t_s, const core::RockingStepper<double>& stepper, const core::StepReport<double>& rep) {
+    if (!enabled_) return;
+    const core::InstabilityIndicators<double> ind = core::evaluate_instability(constants_, stepper, rep);
+    const core::AlarmUpdate u = alarm_.update(ind.conditions);
+    if (u.level > summary_.max_level) summary_.max_level = u.level;
+    if (u.level >= core::AlarmLevel::warning && !summary_.t_first_warning_s) summary_.t_first_warning_s = t_s;
+    if (u.level >= core::AlarmLevel::imminent && !summary_.t_first_imminent_s) summary_.t_first_imminent_s = t_s;
+    if (u.level >= core::AlarmLevel::collapsed && !summary_.t_first_collapsed_s) summary_.t_first_collapsed_s = t_s;
+    if (!u.changed) return;
+    ++summary_.n_transitions;
+    if (summary_.transitions.size() >= keep_) return;
+    const auto& st = stepper.state();
+    AlarmTransition t;
+    t.t_s = t_s;
+    t.level = u.level;
+    t.previous = u.previous;
+    t.reasons = u.reasons;
+    t.x_m = st.x_m;
+    t.xd_mps = st.xd_mps;
+    if (ind.t_valid) t.t_to_instability_s = ind.t_to_instability_s;
+    t.energy_ratio = ind.energy_ratio;
+    summary_.transitions.push_back(t);
+  }
+
+ private:
+  bool enabled_;
+  std::size_t keep_;
+  AlarmSummary& summary_;
+  core::InstabilityConstants<double> constants_{};
+  core::InstabilityAlarm alarm_;
+};
+
 }  // namespace
 
 AnalysisResult analyse(const core::WallParameters& wall, const GroundMotion& motion, const AnalysisOptions& o) {
   check_options(wall, motion, o);
+  if (o.arithmetic == Arithmetic::fixed_point) {
+    AnalysisResult fixed = detail::analyse_fixed(wall, motion, o);
+    fixed.arithmetic = Arithmetic::fixed_point;
+    return fixed;
+  }
 
   AnalysisResult result;
+  result.arithmetic = Arithmetic::double_precision;
   const auto n_sub = static_cast<std::size_t>(std::max(1.0, std::ceil(motion.dt_s / o.max_step_s - 1e-9)));
   const double h = motion.dt_s / double(n_sub);
   result.dt_s = h;
@@ -133,13 +210,16 @@ AnalysisResult analyse(const core::WallParameters& wall, const GroundMotion& mot
   stepper.reset(input.ug(0), input.vg(0));
   ResponseRecorder recorder(wall, o, result);
   recorder.row(0.0, input.ug(0), input.vg(0), stepper);
+  AlarmRecorder alarm(setup, h, o, result.alarm);
 
   const auto forced_steps = static_cast<std::size_t>(std::llround(result.t_end_s / h));
   std::size_t k = 0;
   for (; k < forced_steps && !stepper.collapsed(); ++k) {
     const double ug = input.ug(k + 1), vg = input.vg(k + 1);
     const core::StepReport<double> rep = stepper.step(ug, vg);
-    recorder.row(recorder.events(double(k) * h, h, rep), ug, vg, stepper);
+    const double t_s = recorder.events(double(k) * h, h, rep);
+    recorder.row(t_s, ug, vg, stepper);
+    alarm.step(t_s, stepper, rep);
   }
   result.collapsed = stepper.collapsed();
 
@@ -159,7 +239,9 @@ AnalysisResult analyse(const core::WallParameters& wall, const GroundMotion& mot
   std::size_t free = 0;
   for (; !stepper.collapsed() && !safe() && free < free_steps; ++free, ++k) {
     const core::StepReport<double> rep = stepper.step(0.0, 0.0);
-    recorder.row(recorder.events(double(k) * h, h, rep), 0.0, 0.0, stepper);
+    const double t_s = recorder.events(double(k) * h, h, rep);
+    recorder.row(t_s, 0.0, 0.0, stepper);
+    alarm.step(t_s, stepper, rep);
   }
   result.t_final_s = double(k) * h;
   if (!result.collapsed && stepper.collapsed()) result.collapse_after_end = true;

@@ -3,7 +3,9 @@
 // with the number of runs. A plain program, not a CppUTest suite: it replaces the global allocation functions,
 // which CppUTest also does for its leak bookkeeping. Registered with CTest (tests/bench/CMakeLists.txt).
 //
-// Also checks that 1 and 2 jobs give identical results.
+// Also with the instability alarm evaluated in every analysis (AnalysisOptions::evaluate_alarm; the batch engine keeps
+// no transitions) and with the fixed-point engine (each run also analysed by the double engine), and checks that 1 and
+// 2 jobs give identical results.
 //
 // Usage: bench_study_allocations   (prints one line per case: runs, allocations, bytes)
 #include <atomic>
@@ -99,7 +101,8 @@ study::StudyRecord make_record(const char* name, double f_hz, double cycles, dou
 }
 
 // 2 records × 2 restitutions × 2 vertical settings × n_levels PGA levels.
-study::StudyPlan make_plan(std::size_t n_levels, bool dt_check) {
+study::StudyPlan make_plan(std::size_t n_levels, bool dt_check, bool alarms,
+                          sim::Arithmetic arithmetic = sim::Arithmetic::double_precision) {
   study::StudyPlan plan;
   plan.records.push_back(make_record("pulse3hz", 3.0, 3.0, 4.0, 5.0));
   plan.records.push_back(make_record("pulse1.5hz", 1.5, 1.0, 6.0, 7.0));
@@ -110,11 +113,13 @@ study::StudyPlan make_plan(std::size_t n_levels, bool dt_check) {
                        {core::Restitution{core::RestitutionKind::exp, 0.0}, "exp"}};
   plan.vertical = {false, true};
   plan.dt_check = dt_check;
+  plan.analysis.evaluate_alarm = alarms;
+  plan.analysis.arithmetic = arithmetic;
   return plan;
 }
 
 struct Count {
-  std::size_t runs = 0, allocations = 0, bytes = 0, collapsed = 0, errors = 0;
+  std::size_t runs = 0, allocations = 0, bytes = 0, collapsed = 0, errors = 0, imminent = 0;
 };
 
 // Allocations made inside run_study only (the plan and the results vector's owner are outside the window; the
@@ -132,6 +137,7 @@ Count count_study(const study::StudyPlan& plan, std::size_t jobs) {
   for (const study::RunResult& r : results) {
     c.collapsed += r.collapsed ? 1U : 0U;
     c.errors += r.error.empty() ? 0U : 1U;
+    c.imminent += r.t_first_imminent_s ? 1U : 0U;
   }
   if (progress_calls != c.runs) {
     std::fprintf(stderr, "progress was called %zu times for %zu runs\n", progress_calls, c.runs);
@@ -140,25 +146,28 @@ Count count_study(const study::StudyPlan& plan, std::size_t jobs) {
   return c;
 }
 
-bool check(const char* label, std::size_t jobs, bool dt_check) {
-  const study::StudyPlan small = make_plan(3, dt_check);   //  24 runs
-  const study::StudyPlan large = make_plan(25, dt_check);  // 200 runs
+bool check(const char* label, std::size_t jobs, bool dt_check, bool alarms = false,
+           sim::Arithmetic arithmetic = sim::Arithmetic::double_precision) {
+  const study::StudyPlan small = make_plan(3, dt_check, alarms, arithmetic);   //  24 runs
+  const study::StudyPlan large = make_plan(25, dt_check, alarms, arithmetic);  // 200 runs
   const Count s = count_study(small, jobs);
   const Count l = count_study(large, jobs);
   const long extra_allocations = static_cast<long>(l.allocations) - static_cast<long>(s.allocations);
   const double per_run = double(extra_allocations) / double(l.runs - s.runs);
-  const bool ok = extra_allocations <= 0 && s.errors == 0 && l.errors == 0;
+  // With alarms the study must really have evaluated them: some runs reach IMMINENT (the collapses at least).
+  const bool alarms_seen = !alarms || (l.imminent > 0 && l.imminent >= l.collapsed);
+  const bool ok = extra_allocations <= 0 && s.errors == 0 && l.errors == 0 && alarms_seen;
   std::printf("%-22s jobs %zu: %3zu runs -> %3zu allocations (%6zu bytes), %3zu runs -> %3zu allocations (%6zu bytes);"
-              " per extra run %.3f; collapses %zu/%zu, %zu/%zu  %s\n",
+              " per extra run %.3f; collapses %zu/%zu, %zu/%zu; IMMINENT %zu/%zu  %s\n",
               label, jobs, s.runs, s.allocations, s.bytes, l.runs, l.allocations, l.bytes, per_run, s.collapsed,
-              s.runs, l.collapsed, l.runs, ok ? "ok" : "FAIL");
+              s.runs, l.collapsed, l.runs, l.imminent, l.runs, ok ? "ok" : "FAIL");
   return ok;
 }
 
 // Not an allocation figure, but cheap here and outside CppUTest (which must not see threads): the results of 1 and 2
 // jobs are identical, bit for bit.
 bool same_results_for_one_and_two_jobs() {
-  const study::StudyPlan plan = make_plan(25, true);
+  const study::StudyPlan plan = make_plan(25, true, true);
   std::vector<study::RunResult> one, two;
   study::run_study(plan, one, 1);
   study::run_study(plan, two, 2);
@@ -168,7 +177,8 @@ bool same_results_for_one_and_two_jobs() {
     const study::RunResult& b = two[i];
     const bool same = a.done && b.done && a.collapsed == b.collapsed && a.max_abs_x_m == b.max_abs_x_m &&
                       a.t_collapse_s == b.t_collapse_s && a.t_exceed_s == b.t_exceed_s && a.n_impacts == b.n_impacts &&
-                      a.collapsed_half_step == b.collapsed_half_step && a.error == b.error;
+                      a.collapsed_half_step == b.collapsed_half_step && a.error == b.error &&
+                      a.t_first_imminent_s == b.t_first_imminent_s;
     differ += same ? 0U : 1U;
   }
   std::printf("jobs 1 vs 2: %zu of %zu results differ  %s\n", differ, one.size(), differ == 0 ? "ok" : "FAIL");
@@ -183,6 +193,10 @@ int main() {
   ok = check("study with dt check", 1, true) && ok;
   ok = check("study", 2, false) && ok;
   ok = check("study with dt check", 2, true) && ok;
+  ok = check("study with alarms", 1, false, true) && ok;
+  ok = check("alarms with dt check", 2, true, true) && ok;
+  ok = check("fixed point, alarms", 1, true, true, sim::Arithmetic::fixed_point) && ok;
+  ok = check("fixed point, alarms", 2, true, true, sim::Arithmetic::fixed_point) && ok;
   if (!same_results_for_one_and_two_jobs()) {
     std::fprintf(stderr, "run_study's results depend on the number of jobs\n");
     return 1;

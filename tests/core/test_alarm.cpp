@@ -232,7 +232,7 @@ TEST(AlarmStateMachine, EveryConditionHasItsReasonBit) {
 
 TEST_GROUP(InstabilityIndicators) {
   StepperSetup<double> wall_setup = paper_setup(0.001);
-  InstabilityConstants<double> constants = make_instability_constants(wall_setup, AlarmSettings{});
+  InstabilityConstants<double> constants = make_instability_constants(wall_setup, AlarmSettings{0.4, 1.0, 1.0});
   RockingStepper<double> stepper;
   void setup() override { stepper.init(wall_setup); }
 };
@@ -405,9 +405,9 @@ TEST(InstabilityIndicators, PredictionIsCappedAtTMax) {
 TEST(InstabilityIndicators, CollapseSetsTheCollapseCondition) {
   const StepperSetup<double> s = paper_setup(0.005, ModelKind::linear, 1.2);
   stepper.init(s);
-  const InstabilityConstants<double> c = make_instability_constants(s, AlarmSettings{});
+  const InstabilityConstants<double> c = make_instability_constants(s, AlarmSettings{0.4, 1.0, 1.0});
   stepper.set_state(0.05, outward_speed(1.3, 0.05, c.x_inst_m[1], c.omega_rps[1]), 0.0, 0.0);
-  InstabilityAlarm alarm = make_alarm(hold_samples(AlarmSettings{}, s.dt_s));
+  InstabilityAlarm alarm = make_alarm(hold_samples(AlarmSettings{0.4, 1.0, 1.0}, s.dt_s));
   AlarmLevel highest = AlarmLevel::quiet;
   bool imminent_before_collapse = false;
   for (int n = 0; n < 2000 && !stepper.collapsed(); ++n) {

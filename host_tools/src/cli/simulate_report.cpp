@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "alarm_options.hpp"
 #include "option_values.hpp"
 #include "record_selection.hpp"
 #include "rockwatch/core/model.hpp"
@@ -76,6 +77,56 @@ std::string verdict_line(const sim::AnalysisResult& r) {
   return "SURVIVED";
 }
 
+nlohmann::ordered_json alarm_json(const SimulateRequest& q, const sim::AlarmSummary& a) {
+  nlohmann::ordered_json j;
+  const core::AlarmSettings& s = q.analysis.alarm;
+  j["settings"] = {{"lambda_warning", s.lambda_warning}, {"hold_s", s.hold_s}, {"energy_margin", s.energy_margin}};
+  j["max_level"] = core::alarm_level_name(a.max_level);
+  j["t_first_warning_s"] = number_or_null(a.t_first_warning_s);
+  j["t_first_imminent_s"] = number_or_null(a.t_first_imminent_s);
+  j["t_first_collapsed_s"] = number_or_null(a.t_first_collapsed_s);
+  j["n_transitions"] = a.n_transitions;
+  nlohmann::ordered_json transitions = nlohmann::ordered_json::array();
+  for (const sim::AlarmTransition& t : a.transitions) {
+    transitions.push_back({{"t_s", t.t_s},
+                           {"level", core::alarm_level_name(t.level)},
+                           {"previous", core::alarm_level_name(t.previous)},
+                           {"reasons", alarm_reason_list(t.reasons)},
+                           {"reason_bits", t.reasons},
+                           {"x_m", t.x_m},
+                           {"xd_mps", t.xd_mps},
+                           {"t_to_instability_s", number_or_null(t.t_to_instability_s)},
+                           {"energy_ratio", t.energy_ratio}});
+  }
+  j["transitions"] = transitions;
+  return j;
+}
+
+void alarm_text(std::string& out, const SimulateRequest& q, const sim::AlarmSummary& a) {
+  const core::AlarmSettings& s = q.analysis.alarm;
+  out += "\nInstability alarm\n";
+  line(out, "settings", format("WARNING at |x| >= %s x_inst; IMMINENT at |x| >= x_inst or E >= %s E_barrier moving "
+                               "outward; hold %s s",
+                               number_text(s.lambda_warning).c_str(), number_text(s.energy_margin).c_str(),
+                               number_text(s.hold_s).c_str()));
+  line(out, "highest level", core::alarm_level_name(a.max_level));
+  line(out, "first WARNING", time_text(a.t_first_warning_s, "never"));
+  line(out, "first IMMINENT", time_text(a.t_first_imminent_s, "never"));
+  line(out, "first COLLAPSED", time_text(a.t_first_collapsed_s, "never"));
+  std::string count = std::to_string(a.n_transitions);
+  if (a.transitions.size() < a.n_transitions) count += format(" (the first %zu listed)", a.transitions.size());
+  line(out, "transitions", count);
+  if (a.transitions.empty()) return;
+  out += format("  %10s  %-9s  %11s  %11s  %7s  %s\n", "t [s]", "level", "x [m]", "t_inst [s]", "E/E_b", "reasons");
+  for (const sim::AlarmTransition& t : a.transitions) {
+    const std::string predicted = t.t_to_instability_s ? format("%.4f", *t.t_to_instability_s) : std::string("-");
+    out += format("  %10.4f  %-9s  %11.7f  %11s  %7.3f  %s\n", t.t_s, core::alarm_level_name(t.level), t.x_m,
+                  predicted.c_str(), t.energy_ratio, alarm_reason_names(t.reasons).c_str());
+  }
+  out += "  (t_inst: predicted time to reach |x| = x_inst with no further input, linear model; - when the wall would "
+         "turn back)\n";
+}
+
 }  // namespace
 
 const char* verdict_word(const sim::AnalysisResult& r) {
@@ -104,6 +155,11 @@ nlohmann::ordered_json result_json(const SimulateRequest& q, const sim::Analysis
   j["duration_s"] = r.duration_s;
   j["model"] = model_name(q.analysis.model);
   j["kappa"] = q.analysis.kappa;
+  if (q.arith_given) {
+    j["arithmetic"] = arithmetic_name(r.arithmetic);
+    if (r.arithmetic == sim::Arithmetic::fixed_point) j["saturated"] = r.saturated;
+  }
+  if (q.analysis.evaluate_alarm) j["alarm"] = alarm_json(q, r.alarm);
   add_selection_json(j, q.record);
   return j;
 }
@@ -166,6 +222,9 @@ std::string summary_text(const SimulateRequest& q, const InputMotion& in, const 
   out += "\nAnalysis\n";
   line(out, "model", std::string(model_name(q.analysis.model)) +
                          (q.analysis.model == core::ModelKind::linear ? " (the paper's)" : " (all terms of SPEC 1)"));
+  line(out, "arithmetic", r.arithmetic == sim::Arithmetic::fixed_point
+                              ? "fixed point (the monitor's engine)"
+                              : "double precision (the verified engine)");
   line(out, "restitution", restitution_text(q, r));
   const double kappa = q.analysis.kappa;
   if (sides.differ) {
@@ -199,6 +258,10 @@ std::string summary_text(const SimulateRequest& q, const InputMotion& in, const 
   line(out, "t_exceed (|x| >= x_inst)", time_text(r.t_exceed_s, "never"));
   line(out, "first motion", time_text(r.t_first_motion_s, "never: the input stayed below the rocking threshold"));
   line(out, "impacts", format("%d with |xd-| >= 1 mm/s (%d in all)", r.n_impacts, r.n_impacts_total));
+  if (r.saturated) {
+    line(out, "SATURATED", "a fixed-point quantity reached its range limit: the result is unreliable");
+  }
+  if (q.analysis.evaluate_alarm) alarm_text(out, q, r.alarm);
   return out;
 }
 

@@ -7,6 +7,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "alarm_options.hpp"
 #include "command_line.hpp"
 #include "option_values.hpp"
 #include "usage_error.hpp"
@@ -21,6 +22,7 @@ namespace {
 struct RawOptions {
   RecordOptionTexts record;
   WallOptionTexts wall;
+  AlarmOptionTexts alarm;
   std::string scale_pga;
   std::string r = "exp", model = "linear", kappa, max_step, t_end, out;
   bool json = false;
@@ -40,7 +42,14 @@ const char* const kFooter =
     "the channel of a multi-channel miniSEED file, whose counts --gain converts to m/s2.\n"
     "--json prints one object with exactly the documented keys; only with --suite also suite (dir, name, set,\n"
     "component, file, vertical_component), with --component on a --record file component, with --channel\n"
-    "channel, with --vertical-channel vertical_channel, with --gain gain_counts_per_mps2.\n"
+    "channel, with --vertical-channel vertical_channel, with --gain gain_counts_per_mps2, with --arith arithmetic\n"
+    "(and saturated for fixed), with --alarms alarm (settings, max_level, first times, transitions).\n"
+    "\n"
+    "Instability alarm (--alarms), evaluated after every integration step: ROCKING while the wall moves; WARNING\n"
+    "at |x| >= lambda_w x_inst; IMMINENT at |x| >= x_inst or when the energy of the linear model reaches\n"
+    "M E_barrier while moving outward; COLLAPSED at kappa x_inst (latched). Levels rise at once and fall after the\n"
+    "conditions stayed below for the hold time. Each transition lists the time, level, reasons, x and the predicted\n"
+    "time to reach x_inst with no further input (linear model; none when the wall would turn back).\n"
     "\n"
     "Examples:\n"
     "  rockwatch simulate --record RSN6_IMPVALL.I_I-ELC180-hor1.AT2 --scale-pga 0.25 --r ana --out history.csv\n"
@@ -62,6 +71,7 @@ void add_options(CLI::App& app, RawOptions& raw) {
   app.add_option("--t-end", raw.t_end, "End of the forced phase [s] (default: record duration; zero input after it)")
       ->type_name("S");
   app.add_option("--out", raw.out, "Write the time history (one row per integration step) as CSV")->type_name("FILE.csv");
+  add_alarm_options(app, raw.alarm);
   app.add_flag("--json", raw.json, "Print the result as one JSON object on stdout");
   app.footer(kFooter);
 }
@@ -89,6 +99,9 @@ SimulateParse parse_simulate_arguments(int argc, const char* const* argv) {
   q.analysis.restitution = parse_restitution("--r", raw.r);
   q.analysis.model = parse_model("--model", raw.model);
   check_computable(q.wall, q.analysis);
+  parse_alarm_options(app, raw.alarm, q.analysis);
+  q.arith_given = given(app, "--arith");
+  if (q.analysis.evaluate_alarm) q.analysis.max_alarm_transitions_kept = kMaxAlarmTransitionsListed;
   if (given(app, "--kappa")) q.analysis.kappa = parse_kappa("--kappa", raw.kappa);
   if (given(app, "--max-step")) q.analysis.max_step_s = parse_positive_number("--max-step", raw.max_step, " s");
   if (given(app, "--t-end")) {

@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "alarm_options.hpp"
 #include "option_values.hpp"
 #include "rockwatch/core/design_spectrum.hpp"
 #include "rockwatch/core/restitution.hpp"
@@ -139,6 +140,13 @@ nlohmann::ordered_json plan_json(const study::StudyPlan& plan) {
   j["kappa"] = plan.analysis.kappa;
   j["max_step_s"] = plan.analysis.max_step_s;
   j["dt_check"] = plan.dt_check;
+  j["arithmetic"] = arithmetic_name(plan.analysis.arithmetic);
+  const core::AlarmSettings& a = plan.analysis.alarm;
+  j["alarm"] = plan.analysis.evaluate_alarm
+                   ? nlohmann::ordered_json{{"lambda_warning", a.lambda_warning},
+                                            {"hold_s", a.hold_s},
+                                            {"energy_margin", a.energy_margin}}
+                   : nlohmann::ordered_json(nullptr);
   return j;
 }
 

@@ -12,6 +12,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "alarm_options.hpp"
 #include "command_line.hpp"
 #include "option_values.hpp"
 #include "usage_error.hpp"
@@ -25,6 +26,7 @@ namespace {
 struct RawOptions {
   std::string suite, records, sets;
   WallOptionTexts wall;
+  AlarmOptionTexts alarm;
   std::string pga = kDefaultStudyPga, r = "ana,exp", vertical = "without,with";
   std::string model = "linear", kappa, max_step;
   std::string units, dt, channel, vertical_channel, gain;
@@ -55,16 +57,31 @@ const char* const kFooter =
     "  runs.csv      one row per analysis: record, component, vertical, r, pga_g, collapsed, t_collapse_s,\n"
     "                t_exceed_s, max_abs_x_m, n_impacts, run (its index), with --dt-check collapsed_half_step, and\n"
     "                error (why the engine refused the input, e.g. lift-off; such runs have no verdict)\n"
+    "                with --alarms also t_first_imminent_s; with --arith fixed also saturated, collapsed_double,\n"
+    "                t_collapse_double_s, max_abs_x_double_m, [t_first_imminent_double_s,] verdict_differs\n"
     "  summary.json  the plan, the capacities, the dt check and per case vertical, r, r_value, n_runs,\n"
     "                min_pga_collapse_g, fit_mean_g, fit_std_g, survival [{pga_g, survival_rate}],\n"
     "                p_collapse_ntc2008, p_collapse_nzsee2016 (from the normal fit; also _lognormal and _empirical),\n"
-    "                lognormal {median_g, beta, median_ci90_g, ...}, resurrections (null where undetermined)\n"
+    "                lognormal {median_g, beta, median_ci90_g, ...}, resurrections (null where undetermined); with\n"
+    "                --alarms alarm, with --arith fixed fixed_vs_double (below)\n"
     "  table3.md     the paper's Table 3 with this study's numbers beside the paper's\n"
     "  study.json    the plan and its digest, and the state (running, interrupted, complete): what --resume reads\n"
     "  with --plots  fig6_collapse_map_R_V.png (record x PGA: collapsed or survived) and fig7_max_displacement_R_V.png\n"
     "                (max |x| per run, survival rate per PGA and the fitted curve), per case: R the restitution,\n"
     "                V H (horizontal only) or HV (with the vertical); matplotlib as for rockwatch static --sweep\n"
     "Numbers are written in shortest round-trip form, so the files do not depend on --jobs.\n"
+    "\n"
+    "--arith fixed runs every analysis on the monitor's fixed-point engine (linear model only) and again on the\n"
+    "double engine, whose verdict is the verdict of record: summary.json's fixed_vs_double compares them (verdict\n"
+    "flips, which of them also flip at half the step with --dt-check, the largest difference of max |x| over runs\n"
+    "that survive in both, of the first IMMINENT in integration steps). The statistics per case are the fixed\n"
+    "engine's; --dt-check then runs the double engine at half the step.\n"
+    "--alarms runs the instability alarm in every analysis (see rockwatch simulate --help; --lambda-w,\n"
+    "--alarm-hold, --energy-margin) and adds summary.json's alarm: recall (collapsed runs, by the double verdict,\n"
+    "flagged IMMINENT strictly before t_collapse, over the collapsed runs), false_alarm_rate (surviving runs ever\n"
+    "flagged IMMINENT, over the survivors), lead_time_s_median and lead_time_s_p05 (t_collapse - first IMMINENT\n"
+    "over the collapsed runs flagged in time; percentiles by linear interpolation between order statistics,\n"
+    "Hyndman-Fan type 7), with the counts and the settings.\n"
     "\n"
     "Progress goes to stderr (a bar on a terminal, else a line every 10 %). Ctrl-C (SIGINT) or SIGTERM lets the\n"
     "analyses in flight finish, writes runs.csv and study.json and exits with status 130; run the same command with\n"
@@ -103,6 +120,7 @@ void add_options(CLI::App& app, RawOptions& raw) {
   app.add_option("--max-step", raw.max_step,
                  "Longest integration step; larger record steps are sub-stepped [s] (default 0.005)")
       ->type_name("S");
+  add_alarm_options(app, raw.alarm);
   app.add_option("--units", raw.units, "Acceleration units of --records files: g|mps2|cmps2|mmps2 (overrides the file)")
       ->type_name("U");
   app.add_option("--dt", raw.dt, "Sample interval of one-column plain --records files [s]")->type_name("S");
@@ -207,6 +225,7 @@ void parse_analysis(const CLI::App& app, const RawOptions& raw, StudyRequest& q)
   q.analysis.model = parse_model("--model", raw.model);
   if (given(app, "--kappa")) q.analysis.kappa = parse_kappa("--kappa", raw.kappa);
   if (given(app, "--max-step")) q.analysis.max_step_s = parse_positive_number("--max-step", raw.max_step, " s");
+  parse_alarm_options(app, raw.alarm, q.analysis);
   q.restitutions = parse_restitution_list(raw.r);
   for (const sim::study::RestitutionCase& c : q.restitutions) {
     sim::AnalysisOptions options = q.analysis;

@@ -1,9 +1,11 @@
 #include "study_runs_csv.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cstddef>
 #include <fstream>
+#include <iterator>
 #include <optional>
 #include <string>
 #include <system_error>
@@ -21,6 +23,29 @@ namespace study = sim::study;
 
 const char* const kColumns[] = {"record", "component", "vertical", "r", "pga_g", "collapsed", "t_collapse_s",
                                 "t_exceed_s", "max_abs_x_m", "n_impacts", "run"};
+
+bool fixed_point(const study::StudyPlan& plan) { return plan.analysis.arithmetic == sim::Arithmetic::fixed_point; }
+bool alarms(const study::StudyPlan& plan) { return plan.analysis.evaluate_alarm; }
+
+// The columns of the plan, in file order: the fixed ones, then those of the options that add some.
+std::vector<std::string> columns(const study::StudyPlan& plan) {
+  std::vector<std::string> c(std::begin(kColumns), std::end(kColumns));
+  if (alarms(plan)) c.emplace_back("t_first_imminent_s");
+  if (fixed_point(plan)) {
+    for (const char* name : {"saturated", "collapsed_double", "t_collapse_double_s", "max_abs_x_double_m"}) {
+      c.emplace_back(name);
+    }
+    if (alarms(plan)) c.emplace_back("t_first_imminent_double_s");
+    c.emplace_back("verdict_differs");
+  }
+  if (plan.dt_check) c.emplace_back("collapsed_half_step");
+  c.emplace_back("error");
+  return c;
+}
+
+std::size_t column_of(const std::vector<std::string>& header, const char* name) {
+  return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
+}
 
 std::string csv_field(const std::string& text) {
   if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
@@ -149,9 +174,8 @@ void check_row_identity(const RowReader& row, const std::string& where, const st
 
 std::string runs_csv_header(const study::StudyPlan& plan) {
   std::string header;
-  for (const char* column : kColumns) header += (header.empty() ? "" : ",") + std::string(column);
-  if (plan.dt_check) header += ",collapsed_half_step";
-  return header + ",error";
+  for (const std::string& column : columns(plan)) header += (header.empty() ? "" : ",") + column;
+  return header;
 }
 
 void write_runs_csv(std::ostream& out, const study::StudyPlan& plan, const std::vector<study::RunResult>& results) {
@@ -173,6 +197,18 @@ void write_runs_csv(std::ostream& out, const study::StudyPlan& plan, const std::
       row += ",,,,";
     }
     row += ',' + std::to_string(index);
+    if (alarms(plan)) row += ',' + (verdict ? optional_number(r.t_first_imminent_s) : std::string());
+    if (fixed_point(plan)) {
+      if (verdict && r.reference) {
+        const study::DoubleReference& d = *r.reference;
+        row += std::string(",") + bool_text(r.saturated) + ',' + bool_text(d.collapsed) + ',' +
+               optional_number(d.t_collapse_s) + ',' + number_text(d.max_abs_x_m);
+        if (alarms(plan)) row += ',' + optional_number(d.t_first_imminent_s);
+        row += std::string(",") + bool_text(d.collapsed != r.collapsed);
+      } else {
+        row += alarms(plan) ? ",,,,,," : ",,,,,";
+      }
+    }
     if (plan.dt_check) row += std::string(",") + (r.collapsed_half_step ? bool_text(*r.collapsed_half_step) : "");
     row += ',' + csv_field(one_line(r.error)) + '\n';
     out << row;
@@ -190,11 +226,14 @@ std::size_t read_runs_csv(const std::string& path, const study::StudyPlan& plan,
   const std::string expected_header = runs_csv_header(plan);
   if (!std::getline(in, line) || line != expected_header) {
     throw UsageError(path + ":1: expected the header " + expected_header + " (got " + quoted(line) +
-                     "): the file belongs to another study (with or without --dt-check?)");
+                     "): the file belongs to another study (with or without --dt-check, --alarms, --arith fixed?)");
   }
-  std::vector<std::string> header;
-  split_csv(expected_header, header);
+  const std::vector<std::string> header = columns(plan);
   const std::size_t run_column = 10, error_column = header.size() - 1;
+  const std::size_t imminent_column = column_of(header, "t_first_imminent_s");
+  const std::size_t saturated_column = column_of(header, "saturated");
+  const std::size_t differs_column = column_of(header, "verdict_differs");
+  const std::size_t half_step_column = column_of(header, "collapsed_half_step");
   std::size_t read = 0;
   std::vector<std::string> fields;
   for (int number = 2; std::getline(in, line); ++number) {
@@ -220,8 +259,22 @@ std::size_t read_runs_csv(const std::string& path, const study::StudyPlan& plan,
       r.t_exceed_s = row.optional_number(7);
       r.max_abs_x_m = row.number(8);
       r.n_impacts = static_cast<int>(row.whole(9));
+      if (alarms(plan)) r.t_first_imminent_s = row.optional_number(imminent_column);
+      if (fixed_point(plan)) {
+        r.saturated = row.boolean(saturated_column);
+        study::DoubleReference d;
+        d.collapsed = row.boolean(saturated_column + 1);
+        d.t_collapse_s = row.optional_number(saturated_column + 2);
+        d.max_abs_x_m = row.number(saturated_column + 3);
+        if (alarms(plan)) d.t_first_imminent_s = row.optional_number(saturated_column + 4);
+        if (row.boolean(differs_column) != (d.collapsed != r.collapsed)) {
+          throw row.error(differs_column, std::string(bool_text(d.collapsed != r.collapsed)) +
+                                              " (collapsed and collapsed_double say so)");
+        }
+        r.reference = d;
+      }
     }
-    if (plan.dt_check) r.collapsed_half_step = row.optional_boolean(11);
+    if (plan.dt_check) r.collapsed_half_step = row.optional_boolean(half_step_column);
     if (results[index].done) throw UsageError(where + ": run " + std::to_string(index) + " appears twice");
     results[index] = r;
     ++read;

@@ -1,11 +1,13 @@
 #include "study_summary.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "alarm_options.hpp"
 #include "option_values.hpp"
 #include "rockwatch/core/restitution.hpp"
 #include "study_suite_dir.hpp"
@@ -87,6 +89,51 @@ nlohmann::ordered_json case_json(const study::StudyPlan& plan, const CaseOutcome
   return j;
 }
 
+nlohmann::ordered_json runs_json(const std::vector<std::size_t>& runs) {
+  nlohmann::ordered_json j = nlohmann::ordered_json::array();
+  for (const std::size_t index : runs) j.push_back(index);
+  return j;
+}
+
+nlohmann::ordered_json alarm_json(const study::StudyPlan& plan, const AlarmOutcome& a) {
+  const core::AlarmSettings& s = plan.analysis.alarm;
+  nlohmann::ordered_json j;
+  j["recall"] = number_or_null(a.recall);
+  j["false_alarm_rate"] = number_or_null(a.false_alarm_rate);
+  j["lead_time_s_median"] = number_or_null(a.lead_time_s_median);
+  j["lead_time_s_p05"] = number_or_null(a.lead_time_s_p05);
+  j["lead_time_s_min"] = number_or_null(a.lead_time_s_min);
+  j["counts"] = {{"runs", a.runs},
+                 {"collapsed", a.collapsed},
+                 {"collapsed_flagged", a.collapsed_flagged},
+                 {"survivors", a.survivors},
+                 {"survivors_flagged", a.survivors_flagged}};
+  j["settings"] = {{"lambda_warning", s.lambda_warning}, {"hold_s", s.hold_s}, {"energy_margin", s.energy_margin}};
+  j["alarm_engine"] = arithmetic_name(plan.analysis.arithmetic);
+  j["definitions"] = {
+      {"verdict", "the double engine's (collapsed or collapsed after the record)"},
+      {"recall", "collapsed runs flagged IMMINENT strictly before t_collapse / collapsed runs"},
+      {"false_alarm_rate", "surviving runs ever flagged IMMINENT / surviving runs"},
+      {"lead_time", "t_collapse - first IMMINENT over the collapsed runs flagged before t_collapse"},
+      {"percentile", "linear interpolation between order statistics (Hyndman-Fan type 7, NumPy's default)"}};
+  return j;
+}
+
+nlohmann::ordered_json fixed_json(const study::StudyPlan& plan, const FixedComparison& f) {
+  nlohmann::ordered_json j;
+  j["runs_compared"] = f.runs_compared;
+  j["verdicts_same"] = f.verdicts_same;
+  j["verdict_flips"] = runs_json(f.verdict_flips);
+  j["flips_also_at_half_step"] =
+      plan.dt_check ? runs_json(f.flips_also_at_half_step) : nlohmann::ordered_json(nullptr);
+  j["max_abs_x_diff_m_max"] = number_or_null(f.max_abs_x_diff_m_max);
+  j["first_imminent_diff_samples_max"] = f.first_imminent_diff_samples_max
+                                             ? nlohmann::ordered_json(*f.first_imminent_diff_samples_max)
+                                             : nlohmann::ordered_json(nullptr);
+  j["runs_saturated"] = f.runs_saturated;
+  return j;
+}
+
 std::string g_text(double value_g) { return format("%.3f g", value_g); }
 
 std::string optional_g_text(const std::optional<double>& value_g, const char* when_absent) {
@@ -161,6 +208,69 @@ std::string run_text(const study::StudyPlan& plan, std::size_t index) {
   return text;
 }
 
+std::optional<double> quantile_type7(const std::vector<double>& ascending, double p) {
+  if (ascending.empty()) return std::nullopt;
+  const double h = static_cast<double>(ascending.size() - 1) * p;
+  const auto lo = static_cast<std::size_t>(std::floor(h));
+  const std::size_t hi = std::min(lo + 1, ascending.size() - 1);
+  return ascending[lo] + (h - static_cast<double>(lo)) * (ascending[hi] - ascending[lo]);
+}
+
+AlarmOutcome alarm_outcome(const std::vector<study::RunResult>& results) {
+  AlarmOutcome a;
+  for (const study::RunResult& r : results) {
+    if (!r.done || !r.error.empty()) continue;
+    ++a.runs;
+    if (study::double_collapsed(r)) {
+      ++a.collapsed;
+      const std::optional<double> t_collapse = study::double_t_collapse_s(r);
+      if (r.t_first_imminent_s && t_collapse && *r.t_first_imminent_s < *t_collapse) {
+        ++a.collapsed_flagged;
+        a.lead_times_s.push_back(*t_collapse - *r.t_first_imminent_s);
+      }
+    } else {
+      ++a.survivors;
+      if (r.t_first_imminent_s) ++a.survivors_flagged;
+    }
+  }
+  if (a.collapsed > 0) a.recall = double(a.collapsed_flagged) / double(a.collapsed);
+  if (a.survivors > 0) a.false_alarm_rate = double(a.survivors_flagged) / double(a.survivors);
+  std::sort(a.lead_times_s.begin(), a.lead_times_s.end());
+  a.lead_time_s_median = quantile_type7(a.lead_times_s, 0.5);
+  a.lead_time_s_p05 = quantile_type7(a.lead_times_s, 0.05);
+  if (!a.lead_times_s.empty()) a.lead_time_s_min = a.lead_times_s.front();
+  return a;
+}
+
+FixedComparison fixed_comparison(const study::StudyPlan& plan, const std::vector<study::RunResult>& results) {
+  FixedComparison f;
+  for (std::size_t index = 0; index < results.size(); ++index) {
+    const study::RunResult& r = results[index];
+    if (!r.done || !r.error.empty() || !r.reference) continue;
+    const study::DoubleReference& d = *r.reference;
+    ++f.runs_compared;
+    f.runs_saturated += r.saturated ? 1U : 0U;
+    if (r.collapsed == d.collapsed) {
+      ++f.verdicts_same;
+    } else {
+      f.verdict_flips.push_back(index);
+      if (r.collapsed_half_step && *r.collapsed_half_step != d.collapsed) f.flips_also_at_half_step.push_back(index);
+    }
+    if (!r.collapsed && !d.collapsed) {
+      const double diff = std::fabs(r.max_abs_x_m - d.max_abs_x_m);
+      f.max_abs_x_diff_m_max = std::max(f.max_abs_x_diff_m_max.value_or(0.0), diff);
+    }
+    if (r.t_first_imminent_s && d.t_first_imminent_s) {
+      const double h = study::integration_step_s(plan, plan.records[study::run_key(plan, index).record_index]);
+      // Both times are step ends (a collapse point only when IMMINENT comes with the collapse): a whole number of steps.
+      const auto steps =
+          static_cast<std::size_t>(std::llround(std::fabs(*r.t_first_imminent_s - *d.t_first_imminent_s) / h));
+      f.first_imminent_diff_samples_max = std::max(f.first_imminent_diff_samples_max.value_or(0), steps);
+    }
+  }
+  return f;
+}
+
 StudyOutcome summarise_study(const study::StudyPlan& plan, const std::vector<study::RunResult>& results,
                              const StaticCapacities& capacities) {
   StudyOutcome o;
@@ -178,10 +288,12 @@ StudyOutcome summarise_study(const study::StudyPlan& plan, const std::vector<stu
   }
   for (std::size_t index = 0; index < results.size(); ++index) {
     const study::RunResult& r = results[index];
-    if (r.error.empty() && r.collapsed_half_step && *r.collapsed_half_step != r.collapsed) {
+    if (r.error.empty() && r.collapsed_half_step && *r.collapsed_half_step != study::double_collapsed(r)) {
       o.flipped_runs.push_back(index);
     }
   }
+  if (plan.analysis.evaluate_alarm) o.alarm = alarm_outcome(results);
+  if (plan.analysis.arithmetic == sim::Arithmetic::fixed_point) o.fixed_vs_double = fixed_comparison(plan, results);
   return o;
 }
 
@@ -219,7 +331,7 @@ nlohmann::ordered_json summary_json(const study::StudyPlan& plan, const StudyRec
                        {"vertical", static_cast<bool>(plan.vertical[key.vertical_index])},
                        {"r", restitution_json(plan.restitutions[key.restitution_index])},
                        {"pga_g", plan.pga_g[key.pga_index]},
-                       {"collapsed", results[index].collapsed},
+                       {"collapsed", study::double_collapsed(results[index])},
                        {"collapsed_half_step", *results[index].collapsed_half_step}});
   }
   const nlohmann::ordered_json flips =
@@ -228,6 +340,8 @@ nlohmann::ordered_json summary_json(const study::StudyPlan& plan, const StudyRec
   nlohmann::ordered_json cases = nlohmann::ordered_json::array();
   for (const CaseOutcome& c : o.cases) cases.push_back(case_json(plan, c));
   j["cases"] = cases;
+  if (o.alarm) j["alarm"] = alarm_json(plan, *o.alarm);
+  if (o.fixed_vs_double) j["fixed_vs_double"] = fixed_json(plan, *o.fixed_vs_double);
   return j;
 }
 
@@ -272,6 +386,35 @@ std::string study_summary_text(const StudyRequest& q, const study::StudyPlan& pl
     for (std::size_t i = 0; i < shown; ++i) text += (i == 0 ? ": " : "; ") + run_text(plan, o.flipped_runs[i]);
     if (shown < o.flipped_runs.size()) text += "; ... (summary.json lists them all)";
     line(out, "dt check", text);
+  }
+  if (o.alarm) {
+    const AlarmOutcome& a = *o.alarm;
+    const core::AlarmSettings& st = plan.analysis.alarm;
+    line(out, "alarm", format("lambda_w %s, hold %s s, energy margin %s (%s engine; verdicts of the double engine)",
+                              number_text(st.lambda_warning).c_str(), number_text(st.hold_s).c_str(),
+                              number_text(st.energy_margin).c_str(), arithmetic_name(plan.analysis.arithmetic)));
+    line(out, "", format("recall %s: %zu of %zu collapses flagged IMMINENT before t_collapse",
+                         probability_text(a.recall).c_str(), a.collapsed_flagged, a.collapsed));
+    line(out, "", format("false alarms %s: %zu of %zu survivors flagged IMMINENT",
+                         probability_text(a.false_alarm_rate).c_str(), a.survivors_flagged, a.survivors));
+    if (a.lead_time_s_median) {
+      line(out, "", format("lead time median %.3f s, 5th percentile %.3f s, min %.3f s", *a.lead_time_s_median,
+                           *a.lead_time_s_p05, *a.lead_time_s_min));
+    }
+  }
+  if (o.fixed_vs_double) {
+    const FixedComparison& f = *o.fixed_vs_double;
+    std::string text = format("%zu of %zu verdicts the same", f.verdicts_same, f.runs_compared);
+    if (!f.verdict_flips.empty()) {
+      text += format(", %zu flip%s", f.verdict_flips.size(), f.verdict_flips.size() == 1 ? "" : "s");
+      if (plan.dt_check) text += format(" (%zu also flip at half the step)", f.flips_also_at_half_step.size());
+    }
+    if (f.max_abs_x_diff_m_max) text += format("; max |x| differs by up to %.3g m", *f.max_abs_x_diff_m_max);
+    if (f.first_imminent_diff_samples_max) {
+      text += format("; first IMMINENT by up to %zu steps", *f.first_imminent_diff_samples_max);
+    }
+    if (f.runs_saturated > 0) text += format("; %zu runs saturated", f.runs_saturated);
+    line(out, "fixed vs double", text);
   }
   std::string file_list;
   for (const std::string& f : files) file_list += (file_list.empty() ? "" : ", ") + f;

@@ -56,6 +56,7 @@ class Worker {
     options.restitution = plan_.restitutions[key.restitution_index].restitution;
     options.keep_history = false;
     options.max_impacts_kept = 0;
+    options.max_alarm_transitions_kept = 0;
 
     RunResult out;
     out.done = true;
@@ -66,8 +67,16 @@ class Worker {
       out.t_exceed_s = a.t_exceed_s;
       out.max_abs_x_m = a.max_abs_x_m;
       out.n_impacts = a.n_impacts;
+      out.t_first_imminent_s = a.alarm.t_first_imminent_s;
+      out.saturated = a.saturated;
+      options.arithmetic = Arithmetic::double_precision;  // the reference and the half-step check: double
+      if (plan_.analysis.arithmetic != Arithmetic::double_precision) {
+        const AnalysisResult d = analyse(plan_.wall, motion_, options);
+        out.reference = DoubleReference{d.verdict_collapse(), d.t_collapse_s, d.max_abs_x_m, d.alarm.t_first_imminent_s};
+      }
       if (plan_.dt_check) {
         options.max_step_s = plan_.analysis.max_step_s / 2.0;
+        options.evaluate_alarm = false;  // only the verdict is kept
         out.collapsed_half_step = analyse(plan_.wall, motion_, options).verdict_collapse();
       }
     } catch (const AnalysisError& e) {
@@ -84,6 +93,11 @@ class Worker {
 };
 
 }  // namespace
+
+double integration_step_s(const StudyPlan& plan, const StudyRecord& record) {
+  const double n_sub = std::max(1.0, std::ceil(record.dt_s / plan.analysis.max_step_s - 1e-9));  // as analyse()
+  return record.dt_s / n_sub;
+}
 
 std::size_t run_count(const StudyPlan& plan) {
   return plan.vertical.size() * plan.restitutions.size() * plan.records.size() * plan.pga_g.size();
@@ -130,6 +144,14 @@ void validate_plan(const StudyPlan& plan) {
   if (!(std::isfinite(plan.analysis.max_step_s) && plan.analysis.max_step_s > 0.0)) reject("max step must be > 0 s");
   if (plan.analysis.t_end_s && !(std::isfinite(*plan.analysis.t_end_s) && *plan.analysis.t_end_s >= 0.0)) {
     reject("t_end must be >= 0 s");
+  }
+  if (plan.analysis.evaluate_alarm && !core::alarm_settings_valid(plan.analysis.alarm)) {
+    const core::AlarmSettings& a = plan.analysis.alarm;
+    reject("alarm settings: lambda_warning " + number_text(a.lambda_warning) + " must be in (0, 1], hold_s " +
+           number_text(a.hold_s) + " in [0, 3600] s, energy_margin " + number_text(a.energy_margin) + " in [1, 100]");
+  }
+  if (plan.analysis.arithmetic == Arithmetic::fixed_point && plan.analysis.model != core::ModelKind::linear) {
+    reject("fixed-point arithmetic supports the linear model only");
   }
   for (std::size_t i = 0; i < plan.restitutions.size(); ++i) {
     if (!core::restitution_valid(plan.restitutions[i].restitution)) {

@@ -7,8 +7,13 @@
 // A record is scaled so its peak |ü| equals the PGA level (times g of the wall), its vertical partner by the
 // same factor (as `rockwatch simulate --scale-pga` does).
 //
-// No per-run heap churn: each worker owns one scaled-input buffer, sized once, and analyses keep no history or
-// impact list (AnalysisOptions::keep_history = false, max_impacts_kept = 0).
+// No per-run heap churn: each worker owns one scaled-input buffer, sized once, and analyses keep no history,
+// impact list or alarm transitions (keep_history = false, max_impacts_kept = 0, max_alarm_transitions_kept = 0).
+//
+// Arithmetic: the plan's engine (AnalysisOptions::arithmetic) gives each run's results. With fixed point, every run
+// is also analysed by the double engine on the same input (RunResult::reference): the double verdict is the verdict
+// of record, against which the fixed engine and its alarm are judged; the --dt-check half-step run is then also
+// the double engine's (it tells whether the double verdict itself is sensitive to the step).
 #pragma once
 
 #include <atomic>
@@ -46,7 +51,8 @@ struct StudyPlan {
   std::vector<double> pga_g;                  // PGA levels [g], ascending
   std::vector<RestitutionCase> restitutions;  // e.g. ana, exp
   std::vector<bool> vertical;                 // false = horizontal only, true = with the vertical partner
-  AnalysisOptions analysis;                   // model, kappa, max step (restitution, history, impacts are set per run)
+  AnalysisOptions analysis;                   // arithmetic, model, kappa, max step, alarm (restitution, history,
+                                              // impacts and transitions kept are set per run)
   bool dt_check = false;                      // also run every analysis at half the max step
 };
 
@@ -61,19 +67,41 @@ std::size_t run_count(const StudyPlan& plan);
 RunKey run_key(const StudyPlan& plan, std::size_t index);
 std::size_t run_index(const StudyPlan& plan, const RunKey& key);
 
+// The double engine's results for a run of a fixed-point study.
+struct DoubleReference {
+  bool collapsed = false;                    // AnalysisResult::verdict_collapse()
+  std::optional<double> t_collapse_s;        // [s]
+  double max_abs_x_m = 0.0;                  // [m]
+  std::optional<double> t_first_imminent_s;  // with evaluate_alarm [s]
+};
+
 struct RunResult {
   bool done = false;                    // false: not run yet (a resumed study runs only these)
-  bool collapsed = false;               // AnalysisResult::verdict_collapse()
+  bool collapsed = false;               // AnalysisResult::verdict_collapse() of the plan's engine
   std::optional<double> t_collapse_s;   // [s]
   std::optional<double> t_exceed_s;     // [s]
   double max_abs_x_m = 0.0;             // [m]
   int n_impacts = 0;
-  std::optional<bool> collapsed_half_step;  // with dt_check: the verdict at half the max step
+  std::optional<double> t_first_imminent_s;  // with evaluate_alarm: first step end at IMMINENT or above [s]
+  bool saturated = false;               // fixed point: a quantity reached its range limit
+  std::optional<DoubleReference> reference;  // fixed point: the double engine on the same input
+  std::optional<bool> collapsed_half_step;  // with dt_check: the (double) verdict at half the max step
   std::string error;                    // non-empty when the analysis refused the input (e.g. G ≤ 0); no verdict
 };
 
+// The verdict of record of a run: the double engine's (the reference's in a fixed-point study) and its time.
+inline bool double_collapsed(const RunResult& r) { return r.reference ? r.reference->collapsed : r.collapsed; }
+inline std::optional<double> double_t_collapse_s(const RunResult& r) {
+  return r.reference ? r.reference->t_collapse_s : r.t_collapse_s;
+}
+
+// The integration step of a record in the plan, as sim::analyse chooses it: the record's dt divided into the fewest
+// equal sub-steps of at most the plan's max step [s].
+double integration_step_s(const StudyPlan& plan, const StudyRecord& record);
+
 // Throws AnalysisError for an inconsistent plan (no records/levels/cases, a record without samples or peak,
-// vertical = true for a record without a partner, a vertical of another length, a PGA level ≤ 0).
+// vertical = true for a record without a partner, a vertical of another length, a PGA level ≤ 0, invalid alarm
+// settings, fixed point with the full model).
 void validate_plan(const StudyPlan& plan);
 
 // Called after each finished run with (runs done, runs in this call), from the worker threads, serialised.

@@ -1,0 +1,92 @@
+#!/usr/bin/env bash
+# Embedded build proof (issue 6): compiles core (core/core_compile_check.cpp: every core header, explicit
+# instantiations) and the firmware's per-sample engine (firmware/src/wall_engine.cpp) for a Cortex-M4F with
+# arm-none-eabi-g++, no exceptions, no RTTI, the project's warning flags as errors; links a minimal image
+# (firmware/embedded/embedded_main.cpp: a WallEngine for the paper wall over a short built-in input; newlib-nano,
+# nosys stubs, --gc-sections) and prints arm-none-eabi-size for the objects and the image.
+#
+#   scripts/embedded-build.sh [OUT_DIR]        (default build/embedded)
+#   scripts/embedded-build.sh --objects-only [OUT_DIR]   compile only (used by the symbol audit)
+# Exit status: 0 built; 1 compile/link failure; 77 arm-none-eabi-g++ not installed (ctest SKIP_RETURN_CODE).
+# Environment: ARM_GXX, ARM_SIZE, ARM_NM override the tools.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+
+objects_only=0
+if [[ ${1:-} == --objects-only ]]; then
+  objects_only=1
+  shift
+fi
+out_dir=${1:-$root/build/embedded}
+
+gxx=${ARM_GXX:-arm-none-eabi-g++}
+size_tool=${ARM_SIZE:-arm-none-eabi-size}
+nm_tool=${ARM_NM:-arm-none-eabi-nm}
+if ! command -v "$gxx" >/dev/null; then
+  echo "embedded-build: SKIPPED: $gxx not found (Debian: gcc-arm-none-eabi libstdc++-arm-none-eabi-newlib" \
+       "libnewlib-arm-none-eabi; scripts/install-deps.sh installs them)" >&2
+  exit 77
+fi
+command -v pkg-config >/dev/null || { echo "embedded-build: pkg-config not found" >&2; exit 1; }
+
+# Eigen as a system include (as CMake does), so -Werror applies to project code only.
+eigen_flags=()
+for f in $(pkg-config --cflags eigen3); do
+  case $f in
+    -I*) eigen_flags+=("-isystem" "${f#-I}") ;;
+    *) eigen_flags+=("$f") ;;
+  esac
+done
+
+# The project's warning flags, read from rockwatch_warnings in the top-level CMakeLists.txt (one source of truth).
+mapfile -t warnings < <(sed -n '/target_compile_options(rockwatch_warnings INTERFACE/,/)/p' "$root/CMakeLists.txt" |
+  sed -e 's/target_compile_options(rockwatch_warnings INTERFACE//' -e 's/)//' | tr -s ' \t' '\n' | sed '/^$/d')
+if [[ ${#warnings[@]} -eq 0 ]]; then
+  echo "embedded-build: could not read the warning flags of rockwatch_warnings from CMakeLists.txt" >&2
+  exit 1
+fi
+for w in "${warnings[@]}"; do
+  [[ $w == -W* ]] || { echo "embedded-build: unexpected token '$w' in rockwatch_warnings" >&2; exit 1; }
+done
+
+target_flags=(-mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16)
+cxx_flags=(-std=c++17 "${target_flags[@]}" -fno-exceptions -fno-rtti -Os -ffunction-sections -fdata-sections
+           "${warnings[@]}" "${eigen_flags[@]}" -I"$root/core/include" -I"$root/firmware/include")
+
+mkdir -p "$out_dir"
+echo "embedded-build: $("$gxx" --version | head -n 1)"
+echo "embedded-build: flags: ${cxx_flags[*]}"
+compile() {
+  local src=$1 obj=$2
+  echo "embedded-build: compile ${src#"$root"/}"
+  "$gxx" "${cxx_flags[@]}" -c "$src" -o "$obj"
+}
+compile "$root/core/core_compile_check.cpp" "$out_dir/core_compile_check.o"
+compile "$root/firmware/src/wall_engine.cpp" "$out_dir/wall_engine.o"
+compile "$root/firmware/embedded/embedded_main.cpp" "$out_dir/embedded_main.o"
+objects=("$out_dir/core_compile_check.o" "$out_dir/wall_engine.o" "$out_dir/embedded_main.o")
+if [[ $objects_only -eq 1 ]]; then
+  exit 0
+fi
+
+image=$out_dir/rockwatch_embedded.elf
+echo "embedded-build: link ${image#"$root"/}"
+"$gxx" "${target_flags[@]}" -Os --specs=nano.specs --specs=nosys.specs -Wl,--gc-sections \
+  -Wl,-Map="$out_dir/rockwatch_embedded.map" "$out_dir/embedded_main.o" "$out_dir/wall_engine.o" -o "$image"
+
+echo
+echo "== arm-none-eabi-size (objects: all sections before --gc-sections; image: what is linked)"
+"$size_tool" "${objects[@]}" "$image" | sed "s|$out_dir/||"
+
+# What the image holds besides the engine: the heap and stdio must not be in it (the audit checks the objects).
+echo
+echo "== image: allocation / stdio symbols linked in (expected: none)"
+linked=$("$nm_tool" "$image" | awk '$2 ~ /^[TtWw]$/ { print $3 }' |
+  grep -E '^(_?(malloc|free|calloc|realloc)(_r)?|_sbrk(_r)?|(f|s)?i?printf|_v?f?i?printf_r|puts|_?fwrite(_r)?)$' || true)
+if [[ -n $linked ]]; then
+  echo "$linked"
+else
+  echo "(none)"
+fi
+echo "== image: largest functions"
+"$nm_tool" --size-sort -C -r "$image" | awk '$2 ~ /^[Tt]$/' | head -n 12

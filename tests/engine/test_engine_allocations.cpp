@@ -1,0 +1,184 @@
+// No allocation per sample in firmware::WallEngine: replaces malloc/calloc/realloc/free (and the aligned
+// variants), forwarding to glibc's __libc_* implementations, and every global operator new/delete, counting each
+// call; initialises a WallEngine (allocation allowed), then counts around 100 000 process() calls (with impacts,
+// collapses and reset()) and exits 1 unless the count is 0. A self-check first makes sure that a deliberate
+// malloc and operator new in a window are counted.
+//
+// A plain program, not a CppUTest suite (CppUTest replaces operator new for its leak bookkeeping), and not built
+// with sanitizers (ASan replaces malloc itself): tests/engine/CMakeLists.txt registers it as `engine_allocations`
+// only in builds without -fsanitize.
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <new>
+#include <vector>
+
+#include "engine_test_input.hpp"
+
+extern "C" {
+// glibc's own implementations, which its malloc/free are aliases of.
+void* __libc_malloc(std::size_t size) noexcept;
+void* __libc_calloc(std::size_t n, std::size_t size) noexcept;
+void* __libc_realloc(void* p, std::size_t size) noexcept;
+void __libc_free(void* p) noexcept;
+void* __libc_memalign(std::size_t alignment, std::size_t size) noexcept;
+}
+
+namespace {
+
+// Every call of an allocation function, including free() and delete (also of nullptr).
+std::uint64_t g_calls = 0;
+
+void* counted_malloc(std::size_t size) {
+  ++g_calls;
+  return __libc_malloc(size == 0 ? 1 : size);
+}
+
+void* counted_memalign(std::size_t alignment, std::size_t size) {
+  ++g_calls;
+  return __libc_memalign(alignment < sizeof(void*) ? sizeof(void*) : alignment, size == 0 ? 1 : size);
+}
+
+void counted_free(void* p) noexcept {
+  ++g_calls;
+  __libc_free(p);
+}
+
+}  // namespace
+
+extern "C" {
+void* malloc(std::size_t size) noexcept {
+  ++g_calls;
+  return __libc_malloc(size);
+}
+void* calloc(std::size_t n, std::size_t size) noexcept {
+  ++g_calls;
+  return __libc_calloc(n, size);
+}
+void* realloc(void* p, std::size_t size) noexcept {
+  ++g_calls;
+  return __libc_realloc(p, size);
+}
+void free(void* p) noexcept {
+  ++g_calls;
+  __libc_free(p);
+}
+void* aligned_alloc(std::size_t alignment, std::size_t size) noexcept {
+  ++g_calls;
+  return __libc_memalign(alignment, size);
+}
+void* memalign(std::size_t alignment, std::size_t size) noexcept {
+  ++g_calls;
+  return __libc_memalign(alignment, size);
+}
+int posix_memalign(void** out, std::size_t alignment, std::size_t size) noexcept {
+  ++g_calls;
+  void* p = __libc_memalign(alignment, size);
+  if (p == nullptr) return 12;  // ENOMEM
+  *out = p;
+  return 0;
+}
+}
+
+void* operator new(std::size_t size) {
+  if (void* p = counted_malloc(size)) return p;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t size) {
+  if (void* p = counted_malloc(size)) return p;
+  throw std::bad_alloc();
+}
+void* operator new(std::size_t size, const std::nothrow_t&) noexcept { return counted_malloc(size); }
+void* operator new[](std::size_t size, const std::nothrow_t&) noexcept { return counted_malloc(size); }
+void* operator new(std::size_t size, std::align_val_t a) {
+  if (void* p = counted_memalign(static_cast<std::size_t>(a), size)) return p;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t size, std::align_val_t a) {
+  if (void* p = counted_memalign(static_cast<std::size_t>(a), size)) return p;
+  throw std::bad_alloc();
+}
+void* operator new(std::size_t size, std::align_val_t a, const std::nothrow_t&) noexcept {
+  return counted_memalign(static_cast<std::size_t>(a), size);
+}
+void* operator new[](std::size_t size, std::align_val_t a, const std::nothrow_t&) noexcept {
+  return counted_memalign(static_cast<std::size_t>(a), size);
+}
+void operator delete(void* p) noexcept { counted_free(p); }
+void operator delete[](void* p) noexcept { counted_free(p); }
+void operator delete(void* p, std::size_t) noexcept { counted_free(p); }
+void operator delete[](void* p, std::size_t) noexcept { counted_free(p); }
+void operator delete(void* p, const std::nothrow_t&) noexcept { counted_free(p); }
+void operator delete[](void* p, const std::nothrow_t&) noexcept { counted_free(p); }
+void operator delete(void* p, std::align_val_t) noexcept { counted_free(p); }
+void operator delete[](void* p, std::align_val_t) noexcept { counted_free(p); }
+void operator delete(void* p, std::size_t, std::align_val_t) noexcept { counted_free(p); }
+void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { counted_free(p); }
+void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept { counted_free(p); }
+void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcept { counted_free(p); }
+
+namespace {
+
+namespace et = rockwatch::engine_test;
+
+// Through volatile function pointers, so the optimiser can neither drop nor merge the deliberate allocations.
+void* (*volatile g_malloc)(std::size_t) = std::malloc;
+void (*volatile g_free)(void*) = std::free;
+
+// The counters must see a deliberate allocation, else a 0 below would prove nothing.
+bool self_check() {
+  const std::uint64_t before = g_calls;
+  void* p = g_malloc(24);
+  g_free(p);
+  const std::uint64_t c_malloc = g_calls - before;
+  const std::uint64_t before_new = g_calls;
+  std::vector<int>* volatile v = new std::vector<int>(16, 1);  // operator new twice (object, buffer)
+  delete v;
+  const std::uint64_t c_new = g_calls - before_new;
+  std::printf("self-check: malloc+free counted %llu calls (expect 2), new+delete of a vector counted %llu (expect 4)\n",
+              static_cast<unsigned long long>(c_malloc), static_cast<unsigned long long>(c_new));
+  return c_malloc == 2 && c_new == 4;
+}
+
+}  // namespace
+
+int main() {
+  if (!self_check()) {
+    std::fprintf(stderr, "FAIL: the allocation counters do not see deliberate allocations\n");
+    return 1;
+  }
+  const std::vector<rockwatch::firmware::SensorSampleQ> cycle = et::make_cycle();
+  rockwatch::firmware::WallEngine engine;
+  const std::uint64_t before_init = g_calls;
+  const rockwatch::firmware::WallEngineError e = engine.init(et::paper_config());
+  const std::uint64_t init_calls = g_calls - before_init;
+  if (e != rockwatch::firmware::WallEngineError::ok) {
+    std::fprintf(stderr, "FAIL: WallEngine::init: %s\n", rockwatch::firmware::wall_engine_error_message(e));
+    return 1;
+  }
+
+  const std::uint64_t before = g_calls;
+  const et::RunCounts c = et::run_engine(engine, cycle, et::kMeasuredSamples);
+  const std::uint64_t calls = g_calls - before;
+
+  std::printf("init: %llu allocation calls (allowed)\n", static_cast<unsigned long long>(init_calls));
+  std::printf("process: %llu samples, %llu impacts, %llu collapses (each followed by reset), %llu moving samples,"
+              " %llu IMMINENT samples, %llu saturated samples\n",
+              static_cast<unsigned long long>(c.samples), static_cast<unsigned long long>(c.impacts),
+              static_cast<unsigned long long>(c.collapses), static_cast<unsigned long long>(c.moving_samples),
+              static_cast<unsigned long long>(c.imminent_samples),
+              static_cast<unsigned long long>(c.saturated_samples));
+  std::printf("allocation calls during process()/reset(): %llu\n", static_cast<unsigned long long>(calls));
+  if (!et::run_was_eventful(c)) {
+    std::fprintf(stderr, "FAIL: the input did not produce impacts and a collapse; the count would prove nothing\n");
+    return 1;
+  }
+  if (calls != 0) {
+    std::fprintf(stderr, "FAIL: WallEngine::process/reset allocated (%llu calls)\n",
+                 static_cast<unsigned long long>(calls));
+    return 1;
+  }
+  std::printf("ok\n");
+  return 0;
+}
