@@ -148,24 +148,12 @@ class AlarmRecorder {
     if (!enabled_) return;
     const core::InstabilityIndicators<double> ind = core::evaluate_instability(constants_, stepper, rep);
     const core::AlarmUpdate u = alarm_.update(ind.conditions);
-    if (u.level > summary_.max_level) summary_.max_level = u.level;
-    if (u.level >= core::AlarmLevel::warning && !summary_.t_first_warning_s) summary_.t_first_warning_s = t_s;
-    if (u.level >= core::AlarmLevel::imminent && !summary_.t_first_imminent_s) summary_.t_first_imminent_s = t_s;
-    if (u.level >= core::AlarmLevel::collapsed && !summary_.t_first_collapsed_s) summary_.t_first_collapsed_s = t_s;
-    if (!u.changed) return;
-    ++summary_.n_transitions;
-    if (summary_.transitions.size() >= keep_) return;
-    const auto& st = stepper.state();
-    AlarmTransition t;
-    t.t_s = t_s;
-    t.level = u.level;
-    t.previous = u.previous;
-    t.reasons = u.reasons;
-    t.x_m = st.x_m;
-    t.xd_mps = st.xd_mps;
-    if (ind.t_valid) t.t_to_instability_s = ind.t_to_instability_s;
-    t.energy_ratio = ind.energy_ratio;
-    summary_.transitions.push_back(t);
+    detail::AlarmSample sample;
+    sample.x_m = stepper.state().x_m;
+    sample.xd_mps = stepper.state().xd_mps;
+    if (ind.t_valid) sample.t_to_instability_s = ind.t_to_instability_s;
+    sample.energy_ratio = ind.energy_ratio;
+    detail::record_alarm_update(summary_, keep_, t_s, u, sample);
   }
 
  private:

@@ -103,6 +103,35 @@ TEST(FixedEngine, FreeRockingTracksTheDoubleEngineThroughImpacts) {
   CHECK(worst < 1e-10);
 }
 
+TEST(FixedEngine, IterationCountsAreFixedAndSegmentsBounded) {
+  // Every located event runs all kLocateIterations Newton steps; no step runs more than kMaxSegmentsPerStep
+  // segments. Set 1 X at 0.2 g rocks with impacts, chatters to rest at the segment cap (t ≈ 18.6 s) and, at
+  // 0.5 g, collapses.
+  const records::SuiteRecordFile rec = records::read_suite_record(records::suite_set_path(ROCKWATCH_SUITE_DIR, 1));
+  long events = 0, capped_steps = 0, impacts = 0;
+  bool collapsed = false;
+  for (double pga_g : {0.2, 0.5}) {
+    const sim::GroundMotion m = scaled(rec.components_mps2[0], rec.dt_s, pga_g * 9.81);
+    core::FixedRockingStepper f;
+    CHECK(f.init(paper_setup(0.894142)) == core::FixedSetupError::ok);
+    f.reset(core::AccelQ7_56(m.ug_mps2[0]), core::AccelQ7_56{});
+    for (std::size_t k = 1; k < m.ug_mps2.size() && !f.collapsed(); ++k) {
+      const core::FixedStepReport rep = f.step(core::AccelQ7_56(m.ug_mps2[k]), core::AccelQ7_56{});
+      LONGS_EQUAL(rep.events_located * core::FixedRockingStepper::kLocateIterations, rep.locate_iterations);
+      CHECK(rep.segments <= core::FixedRockingStepper::kMaxSegmentsPerStep);
+      CHECK(rep.impacts_total <= core::FixedRockingStepper::kMaxSegmentsPerStep);
+      events += rep.events_located;
+      impacts += rep.impacts_total;
+      if (rep.rest_forced) ++capped_steps;
+    }
+    collapsed = collapsed || f.collapsed();
+  }
+  CHECK(events > 100);
+  CHECK(impacts > 100);
+  CHECK(capped_steps >= 1);  // the bound is reached on a shipped record (docs/BENCHMARKS.md: the worst sample)
+  CHECK_TRUE(collapsed);
+}
+
 TEST(FixedEngine, RefusesWhatItsFormatsCannotHold) {
   core::FixedRockingStepper f;
   core::StepperOptions so;

@@ -145,6 +145,10 @@ struct FixedStepReport {
   bool collapsed = false;          // |x| reached κ·x_inst; the stepper stops
   FractionQ1_62 collapse_fraction{};
   bool saturated = false;          // a state quantity reached the end of its format: results unreliable
+  // Work done, for the constant-iteration proofs and worst-case accounting (tests/sim/test_fixed_engine.cpp):
+  std::uint16_t segments = 0;           // trials to the step end (≤ kMaxSegmentsPerStep)
+  std::uint16_t events_located = 0;     // impacts, collapse and x_inst passages located inside the step
+  std::uint16_t locate_iterations = 0;  // always events_located · kLocateIterations
 };
 
 class FixedRockingStepper {
@@ -279,13 +283,14 @@ class FixedRockingStepper {
   // step is finished (end reached, collapsed or at rest), false after an impact that leaves the wall moving.
   bool advance_segment(const AccelQ7_56 f_end[2], const StiffQ8_55 k_end[2], MotionPoint& at,
                        FixedStepReport& report) {
+    ++report.segments;
     const SubStep whole = sub_step(at, f_end, k_end);
     const Trial end = trial(at, whole, FractionQ1_62(1));
     const int si = side_index(at.side);
     const LengthQ1_62 x0 = signed_x(at.side, at.x_m), x1 = signed_x(at.side, end.x_m);
     const bool on_hinge_inward = x0 == LengthQ1_62{} && signed_v(at.side, at.xd_mps) < SpeedQ3_60{};
     if (x1 < LengthQ1_62{} || on_hinge_inward) {
-      const FractionQ1_62 tau = on_hinge_inward ? FractionQ1_62{} : locate(at, whole, LengthQ1_62{});
+      const FractionQ1_62 tau = on_hinge_inward ? FractionQ1_62{} : locate(at, whole, LengthQ1_62{}, report);
       const Trial event = trial(at, whole, tau);
       const FractionQ1_62 theta = at.theta + wide_mul<FractionQ1_62>(tau, FractionQ1_62(1) - at.theta);
       const SpeedQ3_60 v_before = on_hinge_inward ? at.xd_mps : event.xd_mps;
@@ -315,11 +320,11 @@ class FixedRockingStepper {
     const LengthQ1_62 limit = setup_.x_collapse_m[si];
     if (x0 < inst && x1 >= inst && !report.exceeded) {
       report.exceeded = true;
-      const FractionQ1_62 tau = locate(at, whole, inst);
+      const FractionQ1_62 tau = locate(at, whole, inst, report);
       report.exceed_fraction = at.theta + wide_mul<FractionQ1_62>(tau, FractionQ1_62(1) - at.theta);
     }
     if (x1 >= limit) {
-      const FractionQ1_62 tau = locate(at, whole, limit);
+      const FractionQ1_62 tau = locate(at, whole, limit, report);
       const Trial event = trial(at, whole, tau);
       x_ = at.side == Side::positive ? limit : -limit;
       xd_ = event.xd_mps;
@@ -420,7 +425,8 @@ class FixedRockingStepper {
   // Scaling and overflow: |c0| < 4 m, |c1| < 0.24 m, |c2|, |c3| < 0.06 m for H ≤ 30 ms, so the Horner sums
   // (τ ≤ 1) stay below 2 m; Q1.62 resolves a micrometre-scale residual to 1e-13 of itself. r' → 0 saturates the
   // quotient, which is then clamped to the bracket.
-  FractionQ1_62 locate(const MotionPoint& p, const SubStep& s, LengthQ1_62 level) const {
+  FractionQ1_62 locate(const MotionPoint& p, const SubStep& s, LengthQ1_62 level, FixedStepReport& report) const {
+    ++report.events_located;
     const bool pos = p.side == Side::positive;
     const AccelQ7_56 level_k0 = wide_mul<AccelQ7_56>(s.k_start, level);
     const AccelQ7_56 level_dk = wide_mul<AccelQ7_56>(s.k_delta, level);
@@ -446,6 +452,7 @@ class FixedRockingStepper {
     int kept = 0;  // −1: lo kept last time, +1: hi kept last time
     FractionQ1_62 tau = clamp_fraction(wide_div<FractionQ1_62>(g_lo, g_lo - g_hi));
     for (int it = 0; it < kLocateIterations; ++it) {
+      ++report.locate_iterations;
       const LengthQ1_62 value = value_at(tau);
       const LengthQ1_62 slope =
           on_level ? c2 + wide_mul<LengthQ1_62>(tau, c3 + c3)
