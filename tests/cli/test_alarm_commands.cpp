@@ -412,9 +412,13 @@ TEST(StudyAlarm, FixedPointStudyIsComparedWithTheDoubleEngine) {
                lines.front().c_str());
   LONGS_EQUAL(19, lines.size());
   std::vector<std::size_t> flips, flips_at_half_step;
-  std::size_t collapsed_double = 0;
+  std::size_t collapsed_double = 0, survivors_both = 0, survivors_within = 0;
   for (std::size_t i = 1; i < lines.size(); ++i) {
     const std::vector<std::string> f = split_fields(lines[i], ',');
+    if (f[5] == "false" && f[13] == "false") {
+      ++survivors_both;
+      if (std::fabs(std::stod(f[8]) - std::stod(f[15])) <= 5e-4) ++survivors_within;
+    }
     LONGS_EQUAL(20, f.size());
     CHECK_TRUE(f[19].empty());
     CHECK_EQUAL(f[5] != f[13], f[17] == "true");
@@ -435,6 +439,9 @@ TEST(StudyAlarm, FixedPointStudyIsComparedWithTheDoubleEngine) {
   CHECK_TRUE(c["flips_also_at_half_step"] == nlohmann::json(flips_at_half_step));
   CHECK_TRUE(c["max_abs_x_diff_m_max"].get<double>() >= 0.0);
   CHECK_TRUE(c["first_imminent_diff_samples_max"].is_number_unsigned());
+  LONGS_EQUAL(survivors_both, c["survivors_compared"].get<std::size_t>());
+  LONGS_EQUAL(survivors_within, c["survivors_within_0_5_mm"].get<std::size_t>());
+  CHECK_TRUE(c["imminent_within_one_step"].get<std::size_t>() <= c["imminent_compared"].get<std::size_t>());
   LONGS_EQUAL(collapsed_double, summary["alarm"]["counts"]["collapsed"].get<std::size_t>());
   STRCMP_EQUAL("fixed", summary["alarm"]["alarm_engine"].get<std::string>().c_str());
 

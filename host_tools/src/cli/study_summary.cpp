@@ -127,9 +127,13 @@ nlohmann::ordered_json fixed_json(const study::StudyPlan& plan, const FixedCompa
   j["flips_also_at_half_step"] =
       plan.dt_check ? runs_json(f.flips_also_at_half_step) : nlohmann::ordered_json(nullptr);
   j["max_abs_x_diff_m_max"] = number_or_null(f.max_abs_x_diff_m_max);
+  j["survivors_compared"] = f.survivors_compared;
+  j["survivors_within_0_5_mm"] = f.survivors_within_half_mm;
   j["first_imminent_diff_samples_max"] = f.first_imminent_diff_samples_max
                                              ? nlohmann::ordered_json(*f.first_imminent_diff_samples_max)
                                              : nlohmann::ordered_json(nullptr);
+  j["imminent_compared"] = f.imminent_compared;
+  j["imminent_within_one_step"] = f.imminent_within_one_step;
   j["runs_saturated"] = f.runs_saturated;
   return j;
 }
@@ -259,6 +263,8 @@ FixedComparison fixed_comparison(const study::StudyPlan& plan, const std::vector
     if (!r.collapsed && !d.collapsed) {
       const double diff = std::fabs(r.max_abs_x_m - d.max_abs_x_m);
       f.max_abs_x_diff_m_max = std::max(f.max_abs_x_diff_m_max.value_or(0.0), diff);
+      ++f.survivors_compared;
+      if (diff <= 5e-4) ++f.survivors_within_half_mm;
     }
     if (r.t_first_imminent_s && d.t_first_imminent_s) {
       const double h = study::integration_step_s(plan, plan.records[study::run_key(plan, index).record_index]);
@@ -266,6 +272,8 @@ FixedComparison fixed_comparison(const study::StudyPlan& plan, const std::vector
       const auto steps =
           static_cast<std::size_t>(std::llround(std::fabs(*r.t_first_imminent_s - *d.t_first_imminent_s) / h));
       f.first_imminent_diff_samples_max = std::max(f.first_imminent_diff_samples_max.value_or(0), steps);
+      ++f.imminent_compared;
+      if (steps <= 1) ++f.imminent_within_one_step;
     }
   }
   return f;
@@ -409,9 +417,13 @@ std::string study_summary_text(const StudyRequest& q, const study::StudyPlan& pl
       text += format(", %zu flip%s", f.verdict_flips.size(), f.verdict_flips.size() == 1 ? "" : "s");
       if (plan.dt_check) text += format(" (%zu also flip at half the step)", f.flips_also_at_half_step.size());
     }
-    if (f.max_abs_x_diff_m_max) text += format("; max |x| differs by up to %.3g m", *f.max_abs_x_diff_m_max);
+    if (f.max_abs_x_diff_m_max) {
+      text += format("; survivors' max |x| within 0.5 mm on %zu of %zu (worst %.3g m)", f.survivors_within_half_mm,
+                     f.survivors_compared, *f.max_abs_x_diff_m_max);
+    }
     if (f.first_imminent_diff_samples_max) {
-      text += format("; first IMMINENT by up to %zu steps", *f.first_imminent_diff_samples_max);
+      text += format("; first IMMINENT within one step on %zu of %zu (worst %zu steps)", f.imminent_within_one_step,
+                     f.imminent_compared, *f.first_imminent_diff_samples_max);
     }
     if (f.runs_saturated > 0) text += format("; %zu runs saturated", f.runs_saturated);
     line(out, "fixed vs double", text);

@@ -47,8 +47,12 @@ struct FixedComparison {
   std::vector<std::size_t> verdict_flips;            // run indices where the verdicts differ
   std::vector<std::size_t> flips_also_at_half_step;  // --dt-check: flips whose double verdict changes at half the step
   std::optional<double> max_abs_x_diff_m_max;        // over runs that survive in both engines [m]
+  std::size_t survivors_compared = 0;                // runs that survive in both engines
+  std::size_t survivors_within_half_mm = 0;          //   of which max|x| differs by at most 0.5 mm (issue 6's bound)
   std::optional<std::size_t> first_imminent_diff_samples_max;  // --alarms: over runs where both reach IMMINENT
                                                               // [integration steps]
+  std::size_t imminent_compared = 0;                 // --alarms: runs where both engines reach IMMINENT
+  std::size_t imminent_within_one_step = 0;          //   of which the first IMMINENT is at most one step apart
   std::size_t runs_saturated = 0;
 };
 
