@@ -54,4 +54,19 @@ const WallEngineOutput& WallEngine::process(const SensorSampleQ& sensor_mps2) {
   return out_;
 }
 
+const WallEngineOutput& WallEngine::process_wall(core::AccelQ7_56 ug_mps2, core::AccelQ7_56 vg_mps2) {
+  out_.ug_mps2 = core::wide_convert<core::AccelQ7_24>(ug_mps2);
+  out_.vg_mps2 = core::wide_convert<core::AccelQ7_24>(vg_mps2);
+  out_.step = stepper_.step(ug_mps2, vg_mps2);
+  out_.indicators = core::evaluate_instability(constants_, stepper_, out_.step);
+  out_.alarm = alarm_.update(out_.indicators.conditions);
+  return out_;
+}
+
+void WallEngine::reset_wall(core::AccelQ7_56 ug_mps2, core::AccelQ7_56 vg_mps2) {
+  stepper_.reset(ug_mps2, vg_mps2);
+  alarm_.reset();
+  out_ = WallEngineOutput{};
+}
+
 }  // namespace rockwatch::firmware

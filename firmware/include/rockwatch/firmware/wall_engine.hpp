@@ -58,8 +58,12 @@ class WallEngine {
   WallEngineError init(const WallEngineConfig& config);
   // Wall at rest, alarm QUIET, with the given sample as the current input.
   void reset(const SensorSampleQ& sensor_mps2);
-  // One sample. Constant work; no allocation.
+  // One sample. Bounded work; no allocation.
   const WallEngineOutput& process(const SensorSampleQ& sensor_mps2);
+  // One sample already in the wall's frame at the engine's precision (the monitor's LCM input carries ü and v̈ as
+  // doubles: converting them straight to Q7.56 keeps the monitor bit-identical to `rockwatch simulate --arith fixed`).
+  const WallEngineOutput& process_wall(core::AccelQ7_56 ug_mps2, core::AccelQ7_56 vg_mps2);
+  void reset_wall(core::AccelQ7_56 ug_mps2, core::AccelQ7_56 vg_mps2);
 
   const core::FixedRockingStepper& stepper() const { return stepper_; }
   const WallEngineOutput& last() const { return out_; }
