@@ -69,4 +69,11 @@ void WallEngine::reset_wall(core::AccelQ7_56 ug_mps2, core::AccelQ7_56 vg_mps2) 
   out_ = WallEngineOutput{};
 }
 
+void WallEngine::restart_motion(core::AccelQ7_56 ug_mps2, core::AccelQ7_56 vg_mps2) {
+  stepper_.reset(ug_mps2, vg_mps2);
+  out_.step = core::FixedStepReport{};
+  out_.indicators = core::evaluate_instability(constants_, stepper_, out_.step);
+  out_.alarm = alarm_.update(out_.indicators.conditions);
+}
+
 }  // namespace rockwatch::firmware

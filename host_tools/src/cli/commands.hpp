@@ -22,5 +22,7 @@ int static_main(int argc, const char* const* argv);
 int spectrum_main(int argc, const char* const* argv);
 int generate_main(int argc, const char* const* argv);
 int study_main(int argc, const char* const* argv);
+int replay_main(int argc, const char* const* argv);
+int demo_main(int argc, const char* const* argv);
 
 }  // namespace rockwatch::cli

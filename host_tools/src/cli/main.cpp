@@ -23,6 +23,10 @@ constexpr Command kCommands[] = {
      generate_main},
     {"study", "collapse-probability study of the design paper (Table 3): a wall through a suite at many PGA levels",
      study_main},
+    {"replay", "send a record as the monitor's sensor would: LCM messages paced in real time, sensor model, LCM log",
+     replay_main},
+    {"demo", "the live monitor on two suite records over LCM, its alarm timeline beside the offline simulation",
+     demo_main},
 };
 
 void print_usage(std::ostream& out) {

@@ -7,17 +7,31 @@
 // published state and status (monitor_status_t QUALITY_* bits), and the loop goes on.
 //
 // Input handling, per sample (ground_accel_t, or each sample of a ground_accel_batch_t):
-// - seq == last + 1: processed.
-// - seq ≤ last, same sample again: duplicate, dropped. seq < last − restart_window: the publisher restarted —
-//   counted, flagged, the wall state restarts from rest and the sequence follows the new numbering. Other seq < last:
-//   out of order, dropped.
+// - the first sample (and the first after a reset below): the engine restarts from rest with this sample as its
+//   current input (no step: bit-identical to `rockwatch simulate --arith fixed`, which starts from sample 0).
+// - seq == last + 1: processed (one engine step).
+// - seq == last, or seq < last and received before (the last 64 seqs are remembered): duplicate, dropped.
+//   seq < last − restart_window: the publisher restarted — counted, flagged, the wall state restarts from rest at
+//   this sample and the sequence follows the new numbering. Other seq < last (never received: bridged over or
+//   older than the remembered 64): out of order, dropped.
 // - seq > last + 1: a gap of (seq − last − 1) samples. Up to max_bridge_samples: bridged by holding the last good
-//   input for the missing samples (counted, flagged QUALITY_GAP_BRIDGED), then the sample is processed. Longer:
-//   the state is unknown — the engine restarts from rest (QUALITY_STATE_UNKNOWN, counted in state_resets).
-// - NaN/Inf or |value| > sensor_range_mps2: counted, flagged, the last good input is used instead.
-// - G = g + v̈ ≤ 0: counted (lift_off), flagged; the engine holds its state (SPEC §1).
-// - receive time − sample time > late_limit_s: counted as late (still processed).
-// - a message on an input channel that does not decode as its type: decode_errors, flagged; ignored.
+//   input for the missing samples (each one engine step and one published state with input_seq = the missing seq;
+//   counted in samples_bridged, flagged QUALITY_GAP_BRIDGED, as is the sample that ends the gap), then the sample is
+//   processed. Longer: the state is unknown — the engine restarts from rest at this sample (QUALITY_STATE_UNKNOWN,
+//   counted in state_resets). At most max_bridge_samples bridged steps per message: bounded work.
+// - NaN/Inf (rejected_not_finite) or |value| > sensor_range_mps2 (rejected_out_of_range): counted once per sample,
+//   flagged; each bad component is replaced by the last good value of that component (0 before any).
+// - G = g + v̈ ≤ 0 (or the engine reports its input invalid): counted (lift_off), flagged; the engine holds its
+//   state (SPEC §1) and sets REASON_INPUT_INVALID.
+// - receive time − sample time > late_limit_s: counted as late (still processed); for a batch the time of its newest
+//   sample counts for all its samples (a batch cannot be sent before its last sample). Only processed samples are
+//   checked for lateness, sensor flags, range and lift-off; dropped ones count only as duplicate / out of order.
+// - a message on an input channel that does not decode as its type (fingerprint, length: decode() must consume
+//   exactly `size` bytes), or with schema_version != 1, batch count outside 1..MAX_SAMPLES, sample_period_us ≤ 0:
+//   decode_errors, QUALITY_DECODE_ERROR in the status; ignored. Messages on other channels: messages_ignored.
+// Outputs: one wall_state_t per processed sample (received or bridged); an alarm_event_t per alarm level change,
+// including the change to QUIET when a reset (long gap, publisher restart) restarts the alarm from a higher level;
+// the listener is called after each alarm_event_t is published.
 #pragma once
 
 #include <cstddef>
@@ -61,7 +75,8 @@ enum class MonitorError : std::uint8_t {
   bridge_out_of_range = 3,   // max_bridge_samples in [0, 1000]
   sensor_range_out_of_range = 4,  // (0, 80] m/s²
   late_limit_out_of_range = 5,    // (0, 60] s
-  channel_name_invalid = 6,  // empty or not NUL-terminated
+  channel_name_invalid = 6,  // empty, not NUL-terminated, or an input channel equal to another channel
+  restart_window_out_of_range = 7,  // restart_window in [1, 10⁹] samples
 };
 
 const char* monitor_error_message(MonitorError e);
@@ -80,6 +95,9 @@ class MonitorListener {
   virtual void on_alarm(const rockwatch::alarm_event_t& event) = 0;
 };
 
+// As in monitor_status_t. samples_processed: samples the engine took (steps, and restarts from rest at the first
+// sample or after a reset), received or bridged: one wall_state_t each (states_published counts those the transport
+// accepted). alarm_events: level changes (published or not).
 struct MonitorCounters {
   std::int64_t samples_received = 0, samples_processed = 0, samples_bridged = 0, gaps = 0, state_resets = 0;
   std::int64_t duplicates = 0, out_of_order = 0, late = 0, rejected_not_finite = 0, rejected_out_of_range = 0;
@@ -97,7 +115,7 @@ class MonitorLoop {
   WallEngineError engine_error() const { return engine_error_; }
 
   // One received message. receive_utime: the monitor's clock at reception [µs since 1970-01-01 UTC].
-  // step_clock_ns (optional): a monotonic clock for worst_step_ns; null = not measured.
+  // Ignored (nothing counted) before a successful init().
   void on_message(const char* channel, const std::uint8_t* data, std::size_t size, std::int64_t receive_utime);
 
   // Encodes and publishes monitor_status_t (the adapter calls it once per second and on exit).
@@ -108,14 +126,26 @@ class MonitorLoop {
   const MonitorSettings& settings() const { return settings_; }
   core::AlarmLevel alarm_level() const;
 
-  // Monotonic clock used for worst_step_ns; the Linux adapter installs clock_gettime, tests a fake or nothing.
+  // Monotonic clock used for worst_step_ns (the time of one engine step, WallEngine::process_wall or reset_wall,
+  // without encoding and publishing); the Linux adapter installs clock_gettime, tests a fake or nothing (null = not
+  // measured, worst_step_ns stays 0).
   using ClockNs = std::int64_t (*)();
   void set_step_clock(ClockNs clock) { step_clock_ = clock; }
 
  private:
+  void on_accel(const std::uint8_t* data, std::size_t size, std::int64_t receive_utime);
+  void on_accel_batch(const std::uint8_t* data, std::size_t size, std::int64_t receive_utime);
+  void decode_error();
+  // delay_us: receive time − sample time (for a batch: − the time of its newest sample).
   void process_sample(std::int64_t utime, std::int64_t seq, double ug, double vg, std::int32_t sensor_status,
-                      std::int64_t receive_utime);
+                      std::int64_t delay_us);
+  // Engine step or reset with timing; then publishes the state (and the alarm event on a level change).
+  // bridged: a held input for a missing sample (not counted again as an input fault).
+  void step_and_publish(std::int64_t utime, std::int64_t seq, core::AccelQ7_56 ug, core::AccelQ7_56 vg,
+                        std::int32_t quality, bool reset, bool bridged);
+  bool publish(const char* channel, int size);
 
+  bool ready_ = false;  // init() succeeded
   MonitorSettings settings_{};
   Transport* transport_ = nullptr;
   MonitorListener* listener_ = nullptr;
@@ -127,7 +157,10 @@ class MonitorLoop {
   bool have_last_ = false;
   std::int64_t last_seq_ = 0;
   std::int64_t last_utime_ = 0;
-  double last_ug_ = 0.0, last_vg_ = 0.0;
+  std::uint64_t seen_mask_ = 0;  // bit k: seq last_seq_ − k was a received, processed sample
+  double last_ug_ = 0.0, last_vg_ = 0.0;  // last good value of each component [m/s²]
+  std::int64_t period_us_ = 5000;  // 1/sample_rate_hz [µs] (times of bridged samples)
+  std::int64_t late_limit_us_ = 50000;
   std::int64_t state_seq_ = 0, alarm_seq_ = 0, status_seq_ = 0;
   std::int32_t quality_since_status_ = 0;
   // Encode buffers, sized for the largest message (ground_accel_batch_t is the largest type).

@@ -64,6 +64,9 @@ class WallEngine {
   // doubles: converting them straight to Q7.56 keeps the monitor bit-identical to `rockwatch simulate --arith fixed`).
   const WallEngineOutput& process_wall(core::AccelQ7_56 ug_mps2, core::AccelQ7_56 vg_mps2);
   void reset_wall(core::AccelQ7_56 ug_mps2, core::AccelQ7_56 vg_mps2);
+  // The wall's state restarts from rest (state unknown after a long gap or a publisher restart) but the alarm keeps
+  // its level: a latched COLLAPSED stays latched, any other level falls only through the hold time.
+  void restart_motion(core::AccelQ7_56 ug_mps2, core::AccelQ7_56 vg_mps2);
 
   const core::FixedRockingStepper& stepper() const { return stepper_; }
   const WallEngineOutput& last() const { return out_; }

@@ -1,0 +1,655 @@
+#include "monitor_config.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "command_line.hpp"
+#include "option_values.hpp"
+#include "rockwatch/core/model.hpp"
+#include "rockwatch/core/wall.hpp"
+#include "rockwatch/sim/analysis.hpp"
+#include "usage_error.hpp"
+#include "wall_options.hpp"
+
+#ifndef ROCKWATCH_VERSION
+#define ROCKWATCH_VERSION "unknown"
+#endif
+
+namespace rockwatch::monitor {
+
+using cli::number_text;
+using cli::UsageError;
+using nlohmann::json;
+
+namespace {
+
+// ---------------------------------------------------------------------------------------------------------------
+// Command line
+
+struct RawOptions {
+  std::string config, lcm_url, arith = "fixed", rate, offline_in, offline_out;
+  cli::WallOptionTexts wall;
+  std::string r = "exp", model = "linear", kappa;
+  std::string lambda_w, hold, margin;
+  bool print_config = false, version = false;
+};
+
+const char* const kFooter =
+    "Reads ground_accel_t / ground_accel_batch_t samples from LCM, runs the fixed-point rocking engine and the\n"
+    "instability alarm once per sample, and publishes wall_state_t (every sample), alarm_event_t (every alarm level\n"
+    "change) and monitor_status_t (once per second and on exit). Each alarm change is also printed on stdout as one\n"
+    "JSON line: utime, seq, input_seq, level, previous (QUIET, ROCKING, WARNING, IMMINENT, COLLAPSED), reason (names)\n"
+    "and reason_bits, x_m, xd_mps, energy_ratio, t_to_instability_s (null: the wall would turn back). On SIGINT or\n"
+    "SIGTERM (or the end of an offline log) it publishes a final status, prints {\"summary\": {...}} as the last\n"
+    "line on stdout and a human summary on stderr, and exits 0.\n"
+    "\n"
+    "Configuration file (--config, JSON; every key optional, unknown keys refused; the command line overrides it):\n"
+    "  wall {b, h1, h2, rho, fp, a, a_prime, g}   fields replacing the paper wall's (as --b ... --g)\n"
+    "  r \"ana\"|\"exp\"|\"impulse\"|number   model \"linear\"   kappa K\n"
+    "  alarm {lambda_w, hold_s, energy_margin}   (as --lambda-w, --alarm-hold, --energy-margin)\n"
+    "  sample_rate_hz (--rate, 200)   max_bridge_samples (10)   sensor_range_mps2 (80)   late_limit_s (0.05)\n"
+    "  channels {accel, accel_batch, wall_state, alarm, status}   (ROCKWATCH_ACCEL, ...)\n"
+    "  lcm_url (--lcm-url; default $LCM_DEFAULT_URL, else udpm://239.255.76.67:7667?ttl=0)\n"
+    "\n"
+    "Offline mode (--offline-in LOG --offline-out LOG): every event of the input log on the two input channels is\n"
+    "fed to the loop in order with its log timestamp as the receive time; the messages published go to the output\n"
+    "log with the timestamp of the input event that caused them; a status at the first event, at each whole second\n"
+    "of log time after it and at the last event. Deterministic: the same input gives the same output, byte for byte.\n"
+    "\n"
+    "Exit status: 0 stopped by SIGINT/SIGTERM or end of the offline log, 2 invalid options, configuration or\n"
+    "files (message naming the option or key), 1 runtime failure (LCM, writing the output log).\n"
+    "\n"
+    "Examples:\n"
+    "  rockwatch-monitor --config wall.json\n"
+    "  rockwatch-monitor --h1 1.5 --h2 1.5 --r ana --rate 100 --lcm-url 'udpm://239.255.76.67:7667?ttl=0'\n"
+    "  rockwatch-monitor --offline-in sensor.lcmlog --offline-out monitor.lcmlog\n";
+
+void add_options(CLI::App& app, RawOptions& raw) {
+  app.add_option("--config", raw.config, "JSON configuration file (keys below); the command line overrides it")
+      ->type_name("FILE");
+  app.add_option("--lcm-url", raw.lcm_url, "LCM URL (default: the file's lcm_url, $LCM_DEFAULT_URL, "
+                                           "udpm://239.255.76.67:7667?ttl=0)")
+      ->type_name("URL");
+  app.add_option("--arith", raw.arith,
+                 "Engine arithmetic: fixed (default; the monitor's engine) | double (not implemented in the monitor "
+                 "loop yet)")
+      ->type_name("fixed|double");
+  cli::add_wall_options(app, raw.wall);
+  app.add_option("--r", raw.r, "Energy ratio at impact: ana | exp (default, 0.9 ana) | impulse | a value in [0, 1]")
+      ->type_name("R");
+  app.add_option("--model", raw.model, "Equation of motion: linear (default, the paper's; the fixed-point engine's "
+                                       "only model) | full")
+      ->type_name("linear|full");
+  app.add_option("--kappa", raw.kappa, "Collapse at |x| >= kappa * x_inst (default 2, >= 1)")->type_name("K");
+  app.add_option("--lambda-w", raw.lambda_w, "WARNING when |x| >= lambda_w * x_inst, 0 < lambda_w <= 1 (default 0.4)")
+      ->type_name("X");
+  app.add_option("--alarm-hold", raw.hold,
+                 "Time the conditions must stay below a level before it falls [s], 0 to 3600 (default 1)")
+      ->type_name("S");
+  app.add_option("--energy-margin", raw.margin,
+                 "IMMINENT when E >= M * E_barrier moving outward, 1 <= M <= 100 (default 1.5)")
+      ->type_name("M");
+  app.add_option("--rate", raw.rate, "Expected input sample rate [Hz] (default 200); the engine steps once per sample")
+      ->type_name("HZ");
+  app.add_option("--offline-in", raw.offline_in, "Offline mode: read this LCM log instead of listening")
+      ->type_name("LOG");
+  app.add_option("--offline-out", raw.offline_out, "Offline mode: write the published messages to this LCM log")
+      ->type_name("LOG");
+  app.add_flag("--print-config", raw.print_config,
+               "Print the normalised settings and their digest as one JSON object and exit");
+  app.add_flag("--version", raw.version, "Print the version and exit");
+  app.footer(kFooter);
+}
+
+// As cli::parse_command_line, with this program's name in the hint.
+std::optional<std::string> parse_arguments(CLI::App& app, int argc, const char* const* argv) {
+  const std::string hint = " (see rockwatch-monitor --help)";
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.help();
+    const std::vector<std::string> extras = app.remaining();
+    if (dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr && !extras.empty()) {
+      const std::string& first = extras.front();
+      const bool is_option = first.size() > 1 && first.front() == '-';
+      throw UsageError(std::string(is_option ? "unknown option " : "unexpected argument ") + cli::quoted(first) + hint);
+    }
+    throw UsageError(e.what() + hint);
+  }
+  return std::nullopt;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Configuration file
+
+// What the file set; absent keys keep the defaults.
+struct FileValues {
+  std::optional<double> wall[8];  // in kWallFields order
+  std::optional<core::Restitution> r;
+  std::optional<core::ModelKind> model;
+  std::optional<double> kappa, lambda_w, hold_s, energy_margin, sample_rate_hz, sensor_range_mps2, late_limit_s;
+  std::optional<std::int32_t> max_bridge_samples;
+  std::optional<std::string> channels[5];
+  std::optional<std::string> lcm_url;
+};
+
+struct WallField {
+  const char* key;     // the file's key under "wall" (core::validate_wall's field name)
+  const char* option;  // the command-line option
+  double core::WallParameters::*member;
+  std::string cli::WallOptionTexts::*text;
+  const char* unit;
+};
+
+constexpr WallField kWallFields[8] = {
+    {"b", "--b", &core::WallParameters::b_m, &cli::WallOptionTexts::b, "m"},
+    {"h1", "--h1", &core::WallParameters::h1_m, &cli::WallOptionTexts::h1, "m"},
+    {"h2", "--h2", &core::WallParameters::h2_m, &cli::WallOptionTexts::h2, "m"},
+    {"rho", "--rho", &core::WallParameters::rho_kgpm3, &cli::WallOptionTexts::rho, "kg/m3"},
+    {"fp", "--fp", &core::WallParameters::fp_npm, &cli::WallOptionTexts::fp, "N/m"},
+    {"a", "--a", &core::WallParameters::a, &cli::WallOptionTexts::a, "fraction of b"},
+    {"a_prime", "--a-prime", &core::WallParameters::a_prime, &cli::WallOptionTexts::a_prime, "fraction of b"},
+    {"g", "--g", &core::WallParameters::g_mps2, &cli::WallOptionTexts::g, "m/s2"},
+};
+
+constexpr const char* kChannelKeys[5] = {"accel", "accel_batch", "wall_state", "alarm", "status"};
+
+std::string json_type(const json& v) {
+  if (v.is_null()) return "null";
+  if (v.is_boolean()) return "a boolean (" + v.dump() + ")";
+  if (v.is_number()) return "a number (" + v.dump() + ")";
+  if (v.is_string()) return "a string (" + cli::quoted(v.get<std::string>()) + ")";
+  if (v.is_array()) return "an array";
+  if (v.is_object()) return "an object";
+  return v.type_name();
+}
+
+std::string join(const std::vector<std::string>& items, const char* separator) {
+  std::string text;
+  for (const std::string& s : items) text += (text.empty() ? "" : separator) + s;
+  return text;
+}
+
+class ConfigReader {
+ public:
+  explicit ConfigReader(std::string path) : path_(std::move(path)), label_("--config " + path_) {}
+
+  FileValues read() {
+    const json root = parse();
+    if (!root.is_object()) fail("the top level", "expected a JSON object {...}, got " + json_type(root));
+    check_keys(root, "", {"wall", "r", "model", "kappa", "alarm", "sample_rate_hz", "max_bridge_samples",
+                          "sensor_range_mps2", "late_limit_s", "channels", "lcm_url"});
+    FileValues v;
+    if (root.contains("wall")) read_wall(root.at("wall"), v);
+    if (root.contains("r")) v.r = read_restitution(root.at("r"));
+    if (root.contains("model")) v.model = read_model(root.at("model"));
+    if (root.contains("kappa")) v.kappa = number(root.at("kappa"), "kappa", "");
+    if (root.contains("alarm")) {
+      const json& a = root.at("alarm");
+      object(a, "alarm");
+      check_keys(a, "alarm.", {"lambda_w", "hold_s", "energy_margin"});
+      if (a.contains("lambda_w")) v.lambda_w = number(a.at("lambda_w"), "alarm.lambda_w", "");
+      if (a.contains("hold_s")) v.hold_s = number(a.at("hold_s"), "alarm.hold_s", " [s]");
+      if (a.contains("energy_margin")) v.energy_margin = number(a.at("energy_margin"), "alarm.energy_margin", "");
+    }
+    if (root.contains("sample_rate_hz")) v.sample_rate_hz = number(root.at("sample_rate_hz"), "sample_rate_hz", " [Hz]");
+    if (root.contains("max_bridge_samples")) v.max_bridge_samples = bridge(root.at("max_bridge_samples"));
+    if (root.contains("sensor_range_mps2")) {
+      v.sensor_range_mps2 = number(root.at("sensor_range_mps2"), "sensor_range_mps2", " [m/s2]");
+    }
+    if (root.contains("late_limit_s")) v.late_limit_s = number(root.at("late_limit_s"), "late_limit_s", " [s]");
+    if (root.contains("channels")) {
+      const json& c = root.at("channels");
+      object(c, "channels");
+      check_keys(c, "channels.", {kChannelKeys[0], kChannelKeys[1], kChannelKeys[2], kChannelKeys[3], kChannelKeys[4]});
+      for (int i = 0; i < 5; ++i) {
+        if (c.contains(kChannelKeys[i])) v.channels[i] = string(c.at(kChannelKeys[i]), std::string("channels.") + kChannelKeys[i]);
+      }
+    }
+    if (root.contains("lcm_url")) {
+      v.lcm_url = string(root.at("lcm_url"), "lcm_url");
+      if (v.lcm_url->empty()) fail("lcm_url", "expected an LCM URL such as \"udpm://239.255.76.67:7667?ttl=0\", got \"\"");
+    }
+    return v;
+  }
+
+  // "--config FILE: KEY" for messages about values.
+  std::string key_label(const std::string& key) const { return label_ + ": " + key; }
+
+ private:
+  [[noreturn]] void fail(const std::string& key, const std::string& what) const {
+    throw UsageError(label_ + ": " + key + ": " + what);
+  }
+
+  json parse() const {
+    std::ifstream in(path_, std::ios::binary);
+    if (!in) throw UsageError(label_ + ": cannot read the file (" + std::strerror(errno) + ")");
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (in.bad()) throw UsageError(label_ + ": cannot read the file");
+
+    // nlohmann keeps the last of duplicate keys silently; a configuration with two values for one key is a mistake.
+    struct Level {
+      std::vector<std::string> seen;
+      std::string current;
+    };
+    std::vector<Level> levels;
+    std::optional<std::string> duplicate;
+    const json::parser_callback_t callback = [&](int, json::parse_event_t event, json& parsed) {
+      if (event == json::parse_event_t::object_start) {
+        levels.emplace_back();
+      } else if (event == json::parse_event_t::object_end) {
+        if (!levels.empty()) levels.pop_back();
+      } else if (event == json::parse_event_t::key && !levels.empty()) {
+        Level& level = levels.back();
+        level.current = parsed.get<std::string>();
+        for (const std::string& s : level.seen) {
+          if (s == level.current && !duplicate) {
+            std::vector<std::string> path;
+            for (const Level& l : levels) path.push_back(l.current);
+            duplicate = join(path, ".");
+          }
+        }
+        level.seen.push_back(level.current);
+      }
+      return true;
+    };
+    json root;
+    try {
+      root = json::parse(text, callback);
+    } catch (const json::parse_error& e) {
+      std::string what = e.what();
+      const std::size_t bracket = what.find("] ");
+      if (what.rfind("[json.exception", 0) == 0 && bracket != std::string::npos) what = what.substr(bracket + 2);
+      throw UsageError(label_ + ": not valid JSON: " + what);
+    }
+    if (duplicate) fail(*duplicate, "the key appears twice; give each key once");
+    return root;
+  }
+
+  void object(const json& v, const std::string& key) const {
+    if (!v.is_object()) fail(key, "expected an object {...}, got " + json_type(v));
+  }
+
+  void check_keys(const json& object_value, const std::string& prefix, const std::vector<std::string>& allowed) const {
+    for (auto it = object_value.begin(); it != object_value.end(); ++it) {
+      bool known = false;
+      for (const std::string& a : allowed) known = known || a == it.key();
+      if (!known) {
+        throw UsageError(label_ + ": unknown key " + cli::quoted(prefix + it.key()) + " (expected " +
+                         (prefix.empty() ? "" : "under " + prefix.substr(0, prefix.size() - 1) + ": ") +
+                         join(allowed, ", ") + ")");
+      }
+    }
+  }
+
+  double number(const json& v, const std::string& key, const std::string& unit) const {
+    if (!v.is_number()) fail(key, "expected a number" + unit + ", got " + json_type(v));
+    const double d = v.get<double>();
+    if (!std::isfinite(d)) fail(key, "expected a finite number" + unit + ", got " + v.dump());
+    return d;
+  }
+
+  std::string string(const json& v, const std::string& key) const {
+    if (!v.is_string()) fail(key, "expected a string, got " + json_type(v));
+    return v.get<std::string>();
+  }
+
+  std::int32_t bridge(const json& v) const {
+    const char* key = "max_bridge_samples";
+    if (!v.is_number_integer()) fail(key, "expected a whole number of samples in [0, 1000], got " + json_type(v));
+    if (v.is_number_unsigned() ? v.get<std::uint64_t>() > 1000u : (v.get<std::int64_t>() < 0 || v.get<std::int64_t>() > 1000)) {
+      fail(key, "must be in [0, 1000] samples (got " + v.dump() + ")");
+    }
+    return static_cast<std::int32_t>(v.get<std::int64_t>());
+  }
+
+  void read_wall(const json& w, FileValues& v) const {
+    object(w, "wall");
+    std::vector<std::string> keys;
+    for (const WallField& f : kWallFields) keys.emplace_back(f.key);
+    check_keys(w, "wall.", keys);
+    for (int i = 0; i < 8; ++i) {
+      const WallField& f = kWallFields[i];
+      if (w.contains(f.key)) v.wall[i] = number(w.at(f.key), std::string("wall.") + f.key, std::string(" [") + f.unit + "]");
+    }
+  }
+
+  core::Restitution read_restitution(const json& v) const {
+    const std::string expected = "expected \"ana\", \"exp\", \"impulse\" or an energy ratio in [0, 1], got ";
+    core::Restitution r;
+    if (v.is_string()) {
+      const std::string s = v.get<std::string>();
+      if (s != "ana" && s != "exp" && s != "impulse") fail("r", expected + json_type(v));
+      return cli::parse_restitution(key_label("r"), s);
+    }
+    if (!v.is_number()) fail("r", expected + json_type(v));
+    const double value = v.get<double>();
+    if (!(value >= 0.0 && value <= 1.0)) fail("r", expected + v.dump());
+    r.kind = core::RestitutionKind::value;
+    r.value = value;
+    return r;
+  }
+
+  core::ModelKind read_model(const json& v) const {
+    if (!v.is_string()) fail("model", "expected \"linear\", got " + json_type(v));
+    return cli::parse_model(key_label("model"), v.get<std::string>());
+  }
+
+  std::string path_;
+  std::string label_;
+};
+
+// ---------------------------------------------------------------------------------------------------------------
+// Merging and validation
+
+// A value and where it came from ("--kappa", "--config FILE: kappa", or "" for the default).
+template <typename T>
+struct Sourced {
+  T value;
+  std::string origin;
+};
+
+template <typename T>
+Sourced<T> pick(const T& fallback, const std::optional<T>& from_file, const std::string& file_label) {
+  if (from_file) return {*from_file, file_label};
+  return {fallback, ""};
+}
+
+std::string name_of(const std::string& origin, const char* default_name) {
+  return origin.empty() ? std::string(default_name) + " (default)" : origin;
+}
+
+void check_range(bool ok, const std::string& name, const std::string& expected, double got) {
+  if (!ok) throw UsageError(name + " must be " + expected + " (got " + number_text(got) + ")");
+}
+
+// The wall: the command line's when the file has none (exactly `rockwatch simulate`'s parsing and messages);
+// otherwise the file's fields with the options given on the command line replacing them.
+core::WallParameters merge_wall(const CLI::App& app, const RawOptions& raw, const FileValues& file,
+                                const ConfigReader* reader, std::string& origin) {
+  bool file_wall = false;
+  for (const auto& f : file.wall) file_wall = file_wall || f.has_value();
+  if (!file_wall || cli::given(app, "--wall")) {
+    const cli::WallChoice choice = cli::parse_wall_options(app, raw.wall);
+    origin = choice.options_given.empty() ? "paper wall" : "paper wall with " + join(choice.options_given, ", ");
+    return choice.wall;
+  }
+  core::WallParameters wall = core::paper_wall();
+  std::string sources[8];
+  std::vector<std::string> given_names;
+  for (int i = 0; i < 8; ++i) {
+    const WallField& f = kWallFields[i];
+    if (cli::given(app, f.option)) {
+      wall.*f.member = cli::parse_finite_number(f.option, raw.wall.*f.text);
+      sources[i] = f.option;
+      given_names.emplace_back(f.option);
+    } else if (file.wall[i]) {
+      wall.*f.member = *file.wall[i];
+      sources[i] = reader->key_label(std::string("wall.") + f.key);
+      given_names.push_back(std::string("wall.") + f.key);
+    } else {
+      sources[i] = std::string(f.option) + " (the paper wall's value)";
+    }
+  }
+  origin = "paper wall with " + join(given_names, ", ");
+  const core::WallCheck check = core::validate_wall(wall);
+  if (check.ok()) return wall;
+  for (int i = 0; i < 8; ++i) {
+    const WallField& f = kWallFields[i];
+    if (std::string(check.field) != f.key) continue;
+    std::string message = sources[i] + " " + check.message + " (got " + number_text(wall.*f.member);
+    if (check.code == core::WallError::h1_not_above_b || check.code == core::WallError::h2_not_above_b) {
+      message += "; b = " + number_text(wall.b_m) + " from " + sources[0];
+    }
+    throw UsageError(message + ")");
+  }
+  throw UsageError(std::string("wall parameter ") + check.field + " " + check.message);
+}
+
+void check_wall_computable(const core::WallParameters& wall, const core::Restitution& r, const std::string& origin) {
+  sim::AnalysisOptions options;
+  options.restitution = r;
+  options.model = core::ModelKind::linear;
+  try {
+    cli::check_computable(wall, options);
+  } catch (const UsageError& e) {
+    throw UsageError(std::string(e.what()) + " (wall: " + origin + ")");
+  }
+}
+
+bool channel_text_ok(const std::string& name) {
+  if (name.empty() || name.size() >= firmware::kChannelNameMax) return false;
+  for (const char c : name) {
+    if (c <= ' ' || c > '~') return false;  // printable ASCII, no spaces
+  }
+  return true;
+}
+
+}  // namespace
+
+bool set_channel(char (&field)[firmware::kChannelNameMax], const std::string& name) {
+  if (name.size() >= firmware::kChannelNameMax) return false;
+  std::memset(field, 0, sizeof field);
+  std::memcpy(field, name.data(), name.size());
+  return true;
+}
+
+std::uint64_t fnv1a64(const std::string& bytes, std::uint64_t hash) {
+  for (const char c : bytes) {
+    hash ^= static_cast<std::uint8_t>(c);
+    hash *= 1099511628211ull;
+  }
+  return hash;
+}
+
+std::string digest_hex(std::int64_t digest) {
+  static const char* const kDigits = "0123456789abcdef";
+  const auto u = static_cast<std::uint64_t>(digest);
+  std::string text = "0x";
+  for (int shift = 60; shift >= 0; shift -= 4) text += kDigits[(u >> shift) & 0xFu];
+  return text;
+}
+
+json normalised_settings(const MonitorConfig& config) {
+  const firmware::MonitorSettings& s = config.settings;
+  const core::WallParameters& w = s.engine.wall;
+  json r;
+  if (config.restitution.kind == core::RestitutionKind::value) {
+    r = config.restitution.value;
+  } else {
+    r = core::restitution_name(config.restitution.kind);
+  }
+  return json{
+      {"format", "rockwatch-monitor settings 1"},
+      {"arith", "fixed"},
+      {"wall", {{"b", w.b_m}, {"h1", w.h1_m}, {"h2", w.h2_m}, {"rho", w.rho_kgpm3}, {"fp", w.fp_npm}, {"a", w.a},
+                {"a_prime", w.a_prime}, {"g", w.g_mps2}}},
+      {"r", r},
+      {"r_energy_ratio", s.engine.r_energy},
+      {"model", "linear"},
+      {"kappa", s.engine.kappa},
+      {"alarm",
+       {{"lambda_w", s.engine.alarm.lambda_warning}, {"hold_s", s.engine.alarm.hold_s},
+        {"energy_margin", s.engine.alarm.energy_margin}}},
+      {"sample_rate_hz", s.sample_rate_hz},
+      {"max_bridge_samples", s.max_bridge_samples},
+      {"sensor_range_mps2", s.sensor_range_mps2},
+      {"late_limit_s", s.late_limit_s},
+      {"restart_window", s.restart_window},
+      {"channels",
+       {{"accel", s.channels.accel}, {"accel_batch", s.channels.accel_batch}, {"wall_state", s.channels.wall_state},
+        {"alarm", s.channels.alarm}, {"status", s.channels.status}}},
+  };
+}
+
+MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
+  CLI::App app{"Real-time monitor of an unreinforced masonry wall rocking out of plane: LCM ground-acceleration "
+               "samples in, predicted wall state, alarm transitions and status out.",
+               "rockwatch-monitor"};
+  RawOptions raw;
+  add_options(app, raw);
+  if (std::optional<std::string> help = parse_arguments(app, argc, argv)) return MonitorParse{std::nullopt, *help};
+  if (raw.version) return MonitorParse{std::nullopt, std::string("rockwatch-monitor ") + ROCKWATCH_VERSION + "\n"};
+
+  MonitorConfig config;
+  FileValues file;
+  std::optional<ConfigReader> reader;
+  if (cli::given(app, "--config")) {
+    if (raw.config.empty()) throw UsageError("--config needs a file name");
+    config.config_path = raw.config;
+    reader.emplace(raw.config);
+    file = reader->read();
+  }
+  const auto file_label = [&](const char* key) { return reader ? reader->key_label(key) : std::string(); };
+
+  // --arith first: double is refused whatever else is given.
+  if (raw.arith == "double") {
+    throw UsageError("--arith double is not implemented in the monitor loop yet: the monitor's WallEngine runs the "
+                     "fixed-point engine only (use --arith fixed, the default; `rockwatch simulate --arith double` "
+                     "runs the double engine offline)");
+  }
+  if (raw.arith != "fixed") throw UsageError("--arith must be fixed or double (got " + cli::quoted(raw.arith) + ")");
+
+  // Model: the fixed-point engine integrates the linear equation of motion only.
+  Sourced<core::ModelKind> model = pick(core::ModelKind::linear, file.model, file_label("model"));
+  if (cli::given(app, "--model")) model = {cli::parse_model("--model", raw.model), "--model"};
+  if (model.value != core::ModelKind::linear) {
+    throw UsageError(name_of(model.origin, "--model") +
+                     " must be linear: the monitor's fixed-point engine supports the linear model only (got full)");
+  }
+
+  // Restitution.
+  Sourced<core::Restitution> r = pick(core::Restitution{}, file.r, file_label("r"));
+  if (cli::given(app, "--r")) r = {cli::parse_restitution("--r", raw.r), "--r"};
+  config.restitution = r.value;
+
+  // Wall.
+  firmware::WallEngineConfig& engine = config.settings.engine;
+  engine.wall = merge_wall(app, raw, file, reader ? &*reader : nullptr, config.wall_origin);
+  check_wall_computable(engine.wall, r.value, config.wall_origin);
+  engine.r_energy = core::restitution_energy_ratio(engine.wall, r.value);
+
+  // Kappa (the engine takes [1, 100)).
+  Sourced<double> kappa = pick(2.0, file.kappa, file_label("kappa"));
+  if (cli::given(app, "--kappa")) kappa = {cli::parse_kappa("--kappa", raw.kappa), "--kappa"};
+  check_range(kappa.value >= 1.0, name_of(kappa.origin, "kappa"), ">= 1: collapse cannot come before x_inst",
+              kappa.value);
+  check_range(kappa.value < 100.0, name_of(kappa.origin, "kappa"), "< 100 (the fixed-point engine's range)",
+              kappa.value);
+  engine.kappa = kappa.value;
+
+  // Alarm.
+  const core::AlarmSettings alarm_defaults{};
+  Sourced<double> lambda_w = pick(alarm_defaults.lambda_warning, file.lambda_w, file_label("alarm.lambda_w"));
+  Sourced<double> hold = pick(alarm_defaults.hold_s, file.hold_s, file_label("alarm.hold_s"));
+  Sourced<double> margin = pick(alarm_defaults.energy_margin, file.energy_margin, file_label("alarm.energy_margin"));
+  if (cli::given(app, "--lambda-w")) lambda_w = {cli::parse_finite_number("--lambda-w", raw.lambda_w), "--lambda-w"};
+  if (cli::given(app, "--alarm-hold")) hold = {cli::parse_finite_number("--alarm-hold", raw.hold), "--alarm-hold"};
+  if (cli::given(app, "--energy-margin")) {
+    margin = {cli::parse_finite_number("--energy-margin", raw.margin), "--energy-margin"};
+  }
+  check_range(lambda_w.value > 0.0 && lambda_w.value <= 1.0, name_of(lambda_w.origin, "lambda_w"),
+              "in (0, 1], a fraction of x_inst", lambda_w.value);
+  check_range(hold.value >= 0.0 && hold.value <= 3600.0, name_of(hold.origin, "hold_s"), "in [0, 3600] s",
+              hold.value);
+  check_range(margin.value >= 1.0 && margin.value <= 100.0, name_of(margin.origin, "energy_margin"),
+              "in [1, 100], a multiple of the energy barrier", margin.value);
+  engine.alarm.lambda_warning = lambda_w.value;
+  engine.alarm.hold_s = hold.value;
+  engine.alarm.energy_margin = margin.value;
+
+  // Timing and input checks.
+  firmware::MonitorSettings& s = config.settings;
+  Sourced<double> rate = pick(s.sample_rate_hz, file.sample_rate_hz, file_label("sample_rate_hz"));
+  if (cli::given(app, "--rate")) rate = {cli::parse_positive_number("--rate", raw.rate, " Hz"), "--rate"};
+  check_range(rate.value > 0.0 && rate.value <= 10000.0 && 1.0 / rate.value <= 0.03,
+              name_of(rate.origin, "sample_rate_hz"),
+              "in (0, 10000] Hz with 1/rate <= 0.03 s, the engine's largest step (so at least 33.34 Hz)", rate.value);
+  s.sample_rate_hz = rate.value;
+  config.rate_origin = name_of(rate.origin, "sample_rate_hz");
+  if (file.max_bridge_samples) s.max_bridge_samples = *file.max_bridge_samples;
+  if (file.sensor_range_mps2) {
+    check_range(*file.sensor_range_mps2 > 0.0 && *file.sensor_range_mps2 <= 80.0, file_label("sensor_range_mps2"),
+                "in (0, 80] m/s2 (80: the fixed-point engine's input limit)", *file.sensor_range_mps2);
+    s.sensor_range_mps2 = *file.sensor_range_mps2;
+  }
+  if (file.late_limit_s) {
+    check_range(*file.late_limit_s > 0.0 && *file.late_limit_s <= 60.0, file_label("late_limit_s"), "in (0, 60] s",
+                *file.late_limit_s);
+    s.late_limit_s = *file.late_limit_s;
+  }
+
+  // Channels: printable names that fit the firmware's buffers, all five different.
+  std::string channel_names[5] = {s.channels.accel, s.channels.accel_batch, s.channels.wall_state, s.channels.alarm,
+                                  s.channels.status};
+  for (int i = 0; i < 5; ++i) {
+    if (!file.channels[i]) continue;
+    const std::string key = std::string("channels.") + kChannelKeys[i];
+    if (!channel_text_ok(*file.channels[i])) {
+      throw UsageError(reader->key_label(key) + " must be 1 to " + std::to_string(firmware::kChannelNameMax - 1) +
+                       " printable ASCII characters without spaces (got " + cli::quoted(*file.channels[i]) + ")");
+    }
+    channel_names[i] = *file.channels[i];
+  }
+  for (int i = 0; i < 5; ++i) {
+    for (int j = 0; j < i; ++j) {
+      if (channel_names[i] == channel_names[j]) {
+        throw UsageError((reader ? reader->key_label(std::string("channels.") + kChannelKeys[i])
+                                 : std::string("channels.") + kChannelKeys[i]) +
+                         " is " + cli::quoted(channel_names[i]) + ", the same as channels." + kChannelKeys[j] +
+                         ": every channel must be different");
+      }
+    }
+  }
+  char(*fields[5])[firmware::kChannelNameMax] = {&s.channels.accel, &s.channels.accel_batch, &s.channels.wall_state,
+                                                 &s.channels.alarm, &s.channels.status};
+  for (int i = 0; i < 5; ++i) set_channel(*fields[i], channel_names[i]);
+
+  // LCM URL and mode.
+  if (const char* env = std::getenv("LCM_DEFAULT_URL"); env != nullptr && *env != '\0') {
+    config.lcm_url = env;
+    config.lcm_url_origin = "$LCM_DEFAULT_URL";
+  }
+  if (file.lcm_url) {
+    config.lcm_url = *file.lcm_url;
+    config.lcm_url_origin = file_label("lcm_url");
+  }
+  if (cli::given(app, "--lcm-url")) {
+    if (raw.lcm_url.empty()) throw UsageError("--lcm-url needs a URL, e.g. udpm://239.255.76.67:7667?ttl=0");
+    config.lcm_url = raw.lcm_url;
+    config.lcm_url_origin = "--lcm-url";
+  }
+  const bool in_given = cli::given(app, "--offline-in"), out_given = cli::given(app, "--offline-out");
+  if (in_given != out_given) {
+    throw UsageError(in_given ? "--offline-in needs --offline-out (the log the published messages go to)"
+                              : "--offline-out needs --offline-in (the log to read)");
+  }
+  if (in_given) {
+    if (raw.offline_in.empty()) throw UsageError("--offline-in needs a file name");
+    if (raw.offline_out.empty()) throw UsageError("--offline-out needs a file name");
+    if (raw.offline_in == raw.offline_out) {
+      throw UsageError("--offline-out must differ from --offline-in (got " + cli::quoted(raw.offline_out) + " for both)");
+    }
+    if (cli::given(app, "--lcm-url")) throw UsageError("--lcm-url has no effect in offline mode (--offline-in)");
+    config.offline_in = raw.offline_in;
+    config.offline_out = raw.offline_out;
+  }
+  config.print_config = raw.print_config;
+
+  config.normalised = normalised_settings(config);
+  config.settings.config_digest = static_cast<std::int64_t>(fnv1a64(config.normalised.dump()));
+  return MonitorParse{std::move(config), {}};
+}
+
+}  // namespace rockwatch::monitor

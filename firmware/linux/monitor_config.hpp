@@ -1,0 +1,59 @@
+// The settings of `rockwatch-monitor`: a JSON configuration file (--config) merged with the command line, which
+// overrides it. Every value is validated at start; a mistake throws cli::UsageError naming the option or the key path
+// in the file ("--config FILE: alarm.lambda_w ...") and what was expected.
+//
+// Configuration file keys (all optional; the defaults are the command line's):
+//   wall {b, h1, h2, rho, fp, a, a_prime, g}     fields of the paper wall to replace (m, kg/m3, N/m, -, m/s2)
+//   r            "ana" | "exp" | "impulse" | a number in [0, 1]     (--r; default exp)
+//   model        "linear" (the fixed-point engine's only model)       (--model)
+//   kappa        number in [1, 100)                                   (--kappa; default 2)
+//   alarm {lambda_w, hold_s, energy_margin}                           (--lambda-w, --alarm-hold, --energy-margin)
+//   sample_rate_hz (--rate), max_bridge_samples, sensor_range_mps2, late_limit_s
+//   channels {accel, accel_batch, wall_state, alarm, status}
+//   lcm_url      (--lcm-url)
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "rockwatch/core/restitution.hpp"
+#include "rockwatch/firmware/monitor_loop.hpp"
+
+namespace rockwatch::monitor {
+
+// The LCM URL when neither --lcm-url nor lcm_url nor $LCM_DEFAULT_URL gives one: multicast that stays on this machine.
+inline constexpr const char* kDefaultLcmUrl = "udpm://239.255.76.67:7667?ttl=0";
+
+struct MonitorConfig {
+  firmware::MonitorSettings settings{};  // everything the loop needs; settings.config_digest set
+  core::Restitution restitution{};       // the choice behind settings.engine.r_energy
+  std::string lcm_url = kDefaultLcmUrl;
+  std::string lcm_url_origin = "default";  // "--lcm-url", "--config FILE: lcm_url", "$LCM_DEFAULT_URL", "default"
+  std::string config_path;               // empty without --config
+  std::optional<std::string> offline_in, offline_out;  // offline mode: read one LCM log, write another
+  bool print_config = false;             // --print-config: print the normalised settings and exit
+  std::string rate_origin = "default";   // where sample_rate_hz came from, for the engine's messages
+  std::string wall_origin = "paper wall";
+  nlohmann::json normalised;             // the settings that determine the outputs (config_digest hashes them)
+};
+
+struct MonitorParse {
+  std::optional<MonitorConfig> config;  // empty when --help or --version was asked for
+  std::string text;                     // the help or version text
+};
+
+// Parses the command line (and the --config file it names). Throws cli::UsageError.
+MonitorParse parse_monitor_arguments(int argc, const char* const* argv);
+
+// The normalised settings as one JSON object with sorted keys, and its FNV-1a 64 digest (over the compact dump).
+nlohmann::json normalised_settings(const MonitorConfig& config);
+std::uint64_t fnv1a64(const std::string& bytes, std::uint64_t hash = 14695981039346656037ull);
+std::string digest_hex(std::int64_t digest);  // "0x0123456789abcdef"
+
+// Copies a channel name into a fixed MonitorChannels field; false when it does not fit (64 bytes with the NUL).
+bool set_channel(char (&field)[firmware::kChannelNameMax], const std::string& name);
+
+}  // namespace rockwatch::monitor

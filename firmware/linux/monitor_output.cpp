@@ -1,0 +1,64 @@
+#include "monitor_output.hpp"
+
+#include <string>
+
+#include "alarm_options.hpp"
+
+namespace rockwatch::monitor {
+
+using nlohmann::json;
+
+std::string level_name(std::int64_t level) {
+  if (level >= 0 && level <= static_cast<std::int64_t>(core::AlarmLevel::collapsed)) {
+    return core::alarm_level_name(static_cast<core::AlarmLevel>(level));
+  }
+  return "LEVEL" + std::to_string(level);
+}
+
+json alarm_json(const rockwatch::alarm_event_t& e) {
+  const auto bits = static_cast<std::uint32_t>(e.reasons);
+  json j;
+  j["utime"] = e.utime;
+  j["seq"] = e.seq;
+  j["input_seq"] = e.input_seq;
+  j["level"] = level_name(e.level);
+  j["previous"] = level_name(e.previous_level);
+  j["reason"] = cli::alarm_reason_list(bits);
+  j["reason_bits"] = bits;
+  j["x_m"] = e.x_m;
+  j["xd_mps"] = e.xd_mps;
+  j["energy_ratio"] = e.energy_ratio;
+  j["t_to_instability_s"] = e.t_to_instability_s < 0.0 ? json(nullptr) : json(e.t_to_instability_s);
+  return j;
+}
+
+json counters_json(const firmware::MonitorCounters& c) {
+  return json{{"samples_received", c.samples_received},
+              {"samples_processed", c.samples_processed},
+              {"samples_bridged", c.samples_bridged},
+              {"gaps", c.gaps},
+              {"state_resets", c.state_resets},
+              {"duplicates", c.duplicates},
+              {"out_of_order", c.out_of_order},
+              {"late", c.late},
+              {"rejected_not_finite", c.rejected_not_finite},
+              {"rejected_out_of_range", c.rejected_out_of_range},
+              {"lift_off", c.lift_off},
+              {"publisher_restarts", c.publisher_restarts},
+              {"decode_errors", c.decode_errors},
+              {"saturated", c.saturated},
+              {"sensor_flags", c.sensor_flags},
+              {"publish_failures", c.publish_failures},
+              {"messages_ignored", c.messages_ignored},
+              {"worst_step_ns", c.worst_step_ns},
+              {"alarm_events", c.alarm_events},
+              {"states_published", c.states_published}};
+}
+
+void AlarmPrinter::on_alarm(const rockwatch::alarm_event_t& event) {
+  ++events_;
+  if (event.level > max_level_) max_level_ = event.level;
+  out_ << alarm_json(event).dump() << '\n' << std::flush;
+}
+
+}  // namespace rockwatch::monitor

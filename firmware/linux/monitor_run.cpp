@@ -1,0 +1,363 @@
+#include "monitor_run.hpp"
+
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <csignal>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <lcm/lcm-cpp.hpp>
+#include <nlohmann/json.hpp>
+
+#include "lcm_transport.hpp"
+#include "monitor_config.hpp"
+#include "monitor_output.hpp"
+#include "option_values.hpp"
+#include "usage_error.hpp"
+
+namespace rockwatch::monitor {
+
+using nlohmann::json;
+
+namespace {
+
+constexpr const char* kPrefix = "rockwatch-monitor: ";
+
+// ---------------------------------------------------------------------------------------------------------------
+// SIGINT / SIGTERM: a flag the loops check (every ≤ 100 ms live, every event offline).
+
+volatile std::sig_atomic_t g_stop_signal = 0;
+
+extern "C" void on_stop_signal(int signal_number) { g_stop_signal = signal_number; }
+
+class StopSignals {
+ public:
+  StopSignals() {
+    g_stop_signal = 0;
+    struct sigaction action {};
+    action.sa_handler = on_stop_signal;
+    sigemptyset(&action.sa_mask);
+    action.sa_flags = 0;  // no SA_RESTART: the signal interrupts LCM's select() at once
+    sigaction(SIGINT, &action, &old_int_);
+    sigaction(SIGTERM, &action, &old_term_);
+    // A reader of stdout that goes away must not kill the monitor: it keeps publishing on LCM.
+    struct sigaction ignore {};
+    ignore.sa_handler = SIG_IGN;
+    sigemptyset(&ignore.sa_mask);
+    sigaction(SIGPIPE, &ignore, &old_pipe_);
+  }
+  ~StopSignals() {
+    sigaction(SIGINT, &old_int_, nullptr);
+    sigaction(SIGTERM, &old_term_, nullptr);
+    sigaction(SIGPIPE, &old_pipe_, nullptr);
+  }
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+
+  static bool stopped() { return g_stop_signal != 0; }
+  static std::string stopped_by() {
+    const int s = g_stop_signal;
+    if (s == SIGINT) return "SIGINT";
+    if (s == SIGTERM) return "SIGTERM";
+    return "signal " + std::to_string(s);
+  }
+
+ private:
+  struct sigaction old_int_ {};
+  struct sigaction old_term_ {};
+  struct sigaction old_pipe_ {};
+};
+
+// ---------------------------------------------------------------------------------------------------------------
+
+class NullTransport final : public firmware::Transport {
+ public:
+  bool publish(const char*, const std::uint8_t*, std::size_t) override { return true; }
+};
+
+// Starts the loop; on refusal prints a message naming the settings at fault and returns false.
+bool init_loop(firmware::MonitorLoop& loop, const MonitorConfig& config, firmware::Transport& transport,
+               firmware::MonitorListener& listener, std::ostream& err) {
+  const firmware::MonitorError e = loop.init(config.settings, transport, &listener);
+  if (e == firmware::MonitorError::ok) return true;
+  err << kPrefix << "error: ";
+  if (e == firmware::MonitorError::engine) {
+    const firmware::WallEngineError w = loop.engine_error();
+    if (w == firmware::WallEngineError::fixed_point_setup) {
+      err << "the wall (" << config.wall_origin << ") at the sample rate " << cli::number_text(config.settings.sample_rate_hz)
+          << " Hz (" << config.rate_origin << ") is outside the fixed-point engine's formats: "
+          << firmware::wall_engine_error_message(w);
+    } else if (w == firmware::WallEngineError::indicator_constants) {
+      err << "the wall (" << config.wall_origin << ") is outside the alarm's formats: "
+          << firmware::wall_engine_error_message(w);
+    } else {
+      err << "the wall engine refused the settings: " << firmware::wall_engine_error_message(w);
+    }
+  } else {
+    err << "the monitor loop refused the settings: " << firmware::monitor_error_message(e);
+  }
+  err << '\n';
+  return false;
+}
+
+json common_summary(const MonitorConfig& config, const firmware::MonitorLoop& loop, const AlarmPrinter& printer,
+                    std::int64_t statuses) {
+  json s;
+  s["config_digest"] = digest_hex(config.settings.config_digest);
+  s["alarm_level"] = level_name(static_cast<std::int64_t>(loop.alarm_level()));
+  s["max_alarm_level"] = level_name(printer.max_level());
+  s["alarm_events"] = printer.events();
+  s["status_published"] = statuses;
+  s["counters"] = counters_json(loop.counters());
+  return s;
+}
+
+void human_summary(std::ostream& err, const std::string& first_line, const firmware::MonitorLoop& loop,
+                   const AlarmPrinter& printer, std::int64_t statuses) {
+  const firmware::MonitorCounters& c = loop.counters();
+  err << kPrefix << first_line << '\n'
+      << "  samples: " << c.samples_received << " received, " << c.samples_processed << " processed ("
+      << c.samples_bridged << " bridged), " << c.gaps << " gaps, " << c.state_resets << " state resets, "
+      << c.duplicates << " duplicates, " << c.out_of_order << " out of order, " << c.late << " late\n"
+      << "  faults: " << c.rejected_not_finite << " not finite, " << c.rejected_out_of_range << " out of range, "
+      << c.lift_off << " lift-off, " << c.sensor_flags << " sensor flags, " << c.decode_errors << " decode errors, "
+      << c.saturated << " saturated, " << c.publisher_restarts << " publisher restarts, " << c.publish_failures
+      << " publish failures\n"
+      << "  alarm: " << printer.events() << " transitions, highest " << level_name(printer.max_level()) << ", now "
+      << level_name(static_cast<std::int64_t>(loop.alarm_level())) << "; " << c.states_published
+      << " wall states, " << statuses << " status messages; worst step " << c.worst_step_ns << " ns\n";
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Live: LCM in, LCM out.
+
+int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) {
+  lcm::LCM lcm(config.lcm_url);
+  if (!lcm.good()) {
+    err << kPrefix << "error: " << config.lcm_url_origin << ": LCM could not start with "
+        << cli::quoted(config.lcm_url)
+        << " (a malformed URL, or no multicast route: see `ip route` for 224.0.0.0/4)\n";
+    return kExitUsage;
+  }
+  LcmTransport transport(lcm);
+  AlarmPrinter printer(out);
+  const auto loop = std::make_unique<firmware::MonitorLoop>();
+  if (!init_loop(*loop, config, transport, printer, err)) return kExitUsage;
+  loop->set_step_clock(&monotonic_ns);
+  const LcmInput input(lcm, *loop);
+  if (!input.good()) {
+    err << kPrefix << "error: LCM refused the subscription to the input channels\n";
+    return kExitRuntime;
+  }
+
+  std::int64_t statuses = 0;
+  loop->publish_status(realtime_utime());
+  ++statuses;
+  const firmware::MonitorChannels& ch = config.settings.channels;
+  err << kPrefix << "listening on " << config.lcm_url << " (" << config.lcm_url_origin << "): " << ch.accel << ", "
+      << ch.accel_batch << " -> " << ch.wall_state << ", " << ch.alarm << ", " << ch.status << "; "
+      << cli::number_text(config.settings.sample_rate_hz) << " Hz; config digest "
+      << digest_hex(config.settings.config_digest) << std::endl;
+
+  constexpr std::int64_t kSecondNs = 1000000000;
+  const std::int64_t start_ns = monotonic_ns();
+  std::int64_t next_status_ns = start_ns + kSecondNs;
+  int consecutive_errors = 0;
+  bool failed = false;
+  while (!StopSignals::stopped()) {
+    const std::int64_t now_ns = monotonic_ns();
+    if (now_ns >= next_status_ns) {
+      loop->publish_status(realtime_utime());
+      ++statuses;
+      next_status_ns += kSecondNs;
+      if (next_status_ns <= now_ns) next_status_ns = now_ns + kSecondNs;  // the process was stopped for a while
+    }
+    const std::int64_t wait_ms = std::clamp<std::int64_t>((next_status_ns - now_ns + 999999) / 1000000, 0, 100);
+    errno = 0;
+    const int rc = lcm.handleTimeout(static_cast<int>(wait_ms));
+    if (rc >= 0) {
+      consecutive_errors = 0;
+      continue;
+    }
+    if (StopSignals::stopped()) break;
+    if (errno == EINTR) continue;
+    if (++consecutive_errors > 100) {
+      err << kPrefix << "error: LCM failed " << consecutive_errors << " times in a row while receiving ("
+          << std::strerror(errno) << "); stopping\n";
+      failed = true;
+      break;
+    }
+  }
+  loop->publish_status(realtime_utime());
+  ++statuses;
+  const double run_time_s = static_cast<double>(monotonic_ns() - start_ns) * 1e-9;
+
+  json s = common_summary(config, *loop, printer, statuses);
+  s["mode"] = "live";
+  s["stopped_by"] = failed ? std::string("LCM failure") : StopSignals::stopped_by();
+  s["lcm_url"] = config.lcm_url;
+  s["lcm_messages"] = input.messages();
+  s["run_time_s"] = run_time_s;
+  out << json{{"summary", s}}.dump() << '\n' << std::flush;
+  char seconds[32];
+  std::snprintf(seconds, sizeof seconds, "%.1f", run_time_s);
+  human_summary(err, "stopped by " + s["stopped_by"].get<std::string>() + " after " + seconds + " s", *loop, printer,
+                statuses);
+  return failed ? kExitRuntime : kExitOk;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Offline: an LCM log in, an LCM log out, in log time.
+
+int run_offline(const MonitorConfig& config, std::ostream& out, std::ostream& err) {
+  const std::string& in_path = *config.offline_in;
+  const std::string& out_path = *config.offline_out;
+  struct stat in_stat {};
+  if (stat(in_path.c_str(), &in_stat) != 0) {
+    err << kPrefix << "error: --offline-in " << cli::quoted(in_path) << ": " << std::strerror(errno) << '\n';
+    return kExitUsage;
+  }
+  if (!S_ISREG(in_stat.st_mode)) {
+    err << kPrefix << "error: --offline-in " << cli::quoted(in_path) << ": not a regular file\n";
+    return kExitUsage;
+  }
+  lcm::LogFile in(in_path, "r");
+  if (!in.good()) {
+    err << kPrefix << "error: --offline-in " << cli::quoted(in_path) << ": cannot open the log\n";
+    return kExitUsage;
+  }
+  const lcm::LogEvent* event = in.readNextEvent();
+  if (event == nullptr && in_stat.st_size > 0) {
+    err << kPrefix << "error: --offline-in " << cli::quoted(in_path) << ": not an LCM log (no event found in "
+        << in_stat.st_size << " bytes)\n";
+    return kExitUsage;
+  }
+  lcm::LogFile log_out(out_path, "w");
+  if (!log_out.good()) {
+    err << kPrefix << "error: --offline-out " << cli::quoted(out_path) << ": cannot create the log ("
+        << std::strerror(errno) << ")\n";
+    return kExitUsage;
+  }
+  LogTransport transport(log_out);
+  AlarmPrinter printer(out);
+  const auto loop = std::make_unique<firmware::MonitorLoop>();
+  if (!init_loop(*loop, config, transport, printer, err)) return kExitUsage;
+  // No step clock: worst_step_ns would make the output depend on the machine.
+
+  const firmware::MonitorChannels& ch = config.settings.channels;
+  constexpr std::int64_t kSecondUs = 1000000;
+  std::int64_t statuses = 0, events = 0, fed = 0, skipped = 0;
+  std::int64_t next_status_us = 0, last_us = 0;
+  const auto status_at = [&](std::int64_t utime) {
+    transport.set_event_time(utime);
+    loop->publish_status(utime);
+    ++statuses;
+  };
+  // The reader stops at the end of the file or at an event it cannot read (a log cut off while being written): the
+  // position after the last event read tells them apart.
+  FILE* const in_file = in.getFilePtr();
+  long read_end = event != nullptr && in_file != nullptr ? std::ftell(in_file) : 0;
+  for (; event != nullptr && !StopSignals::stopped(); event = in.readNextEvent()) {
+    const std::int64_t ts = event->timestamp;
+    if (events == 0) {
+      status_at(ts);
+      next_status_us = ts + kSecondUs;
+    }
+    // A status at every whole second of log time after the first event; one for a gap of a minute or more.
+    while (ts >= next_status_us) {
+      if (ts - next_status_us >= 60 * kSecondUs) next_status_us += (ts - next_status_us) / kSecondUs * kSecondUs;
+      status_at(next_status_us);
+      next_status_us += kSecondUs;
+    }
+    ++events;
+    last_us = ts;
+    if (event->channel == ch.accel || event->channel == ch.accel_batch) {
+      transport.set_event_time(ts);
+      const auto size = event->datalen > 0 ? static_cast<std::size_t>(event->datalen) : std::size_t{0};
+      loop->on_message(event->channel.c_str(), static_cast<const std::uint8_t*>(event->data), size, ts);
+      ++fed;
+    } else {
+      ++skipped;  // as live: the monitor subscribes to its two input channels only
+    }
+    if (in_file != nullptr) read_end = std::ftell(in_file);  // before the next read (the event stays valid till then)
+  }
+  if (events > 0) status_at(last_us);
+
+  bool complete = true;
+  if (!StopSignals::stopped() && read_end >= 0 && read_end < in_stat.st_size) {
+    complete = false;
+    err << kPrefix << "warning: --offline-in " << cli::quoted(in_path) << ": the log ends with an unreadable or "
+        << "truncated event (events end at byte " << read_end << " of " << in_stat.st_size << "); " << events
+        << " events processed\n";
+  }
+  bool write_ok = transport.write_failures() == 0;
+  if (FILE* f = log_out.getFilePtr(); f != nullptr) write_ok = std::fflush(f) == 0 && std::ferror(f) == 0 && write_ok;
+
+  json s = common_summary(config, *loop, printer, statuses);
+  s["mode"] = "offline";
+  s["stopped_by"] = StopSignals::stopped() ? StopSignals::stopped_by() : std::string("end of log");
+  s["input_log"] = in_path;
+  s["output_log"] = out_path;
+  s["log_events"] = events;
+  s["log_events_fed"] = fed;
+  s["log_events_skipped"] = skipped;
+  s["output_events"] = transport.events_written();
+  s["input_log_complete"] = complete;
+  if (!complete) s["input_log_read_bytes"] = read_end;
+  out << json{{"summary", s}}.dump() << '\n' << std::flush;
+  human_summary(err,
+                "offline: " + std::to_string(events) + " log events (" + std::to_string(fed) + " on the input channels) -> " +
+                    std::to_string(transport.events_written()) + " events in " + out_path +
+                    (StopSignals::stopped() ? "; stopped by " + StopSignals::stopped_by() : std::string()),
+                *loop, printer, statuses);
+  if (!write_ok) {
+    err << kPrefix << "error: --offline-out " << cli::quoted(out_path) << ": " << transport.write_failures()
+        << " events could not be written\n";
+    return kExitRuntime;
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+int run_monitor(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
+  std::optional<MonitorConfig> config;
+  try {
+    MonitorParse parse = parse_monitor_arguments(argc, argv);
+    if (!parse.config) {
+      out << parse.text << std::flush;
+      return kExitOk;
+    }
+    config = std::move(parse.config);
+  } catch (const cli::UsageError& e) {
+    err << kPrefix << "error: " << e.what() << '\n';
+    return kExitUsage;
+  }
+  {
+    // Every setting is checked before anything is opened: the engine's formats refuse some walls and rates.
+    NullTransport null_transport;
+    AlarmPrinter no_output(err);
+    const auto probe = std::make_unique<firmware::MonitorLoop>();
+    if (!init_loop(*probe, *config, null_transport, no_output, err)) return kExitUsage;
+  }
+  if (config->print_config) {
+    json j{{"settings", config->normalised},
+           {"config_digest", digest_hex(config->settings.config_digest)},
+           {"wall", config->wall_origin},
+           {"lcm_url", config->lcm_url},
+           {"lcm_url_origin", config->lcm_url_origin}};
+    out << j.dump() << '\n' << std::flush;
+    return kExitOk;
+  }
+  const StopSignals signals;
+  return config->offline_in ? run_offline(*config, out, err) : run_live(*config, out, err);
+}
+
+}  // namespace rockwatch::monitor

@@ -1,0 +1,369 @@
+// The monitor loop (issue 7): decode → input checks → WallEngine → encode and publish. The input rules are in
+// monitor_loop.hpp. Firmware rules: no allocation, no exceptions, no stdio; every loop is bounded (batch ≤
+// MAX_SAMPLES samples, ≤ max_bridge_samples bridged steps per message).
+#include "rockwatch/firmware/monitor_loop.hpp"
+
+#include <climits>
+#include <cmath>
+#include <cstring>
+
+#ifndef ROCKWATCH_VERSION_MAJOR
+#error "ROCKWATCH_VERSION_MAJOR/MINOR/PATCH come from CMake's PROJECT_VERSION (firmware/CMakeLists.txt)"
+#endif
+
+namespace rockwatch::firmware {
+
+namespace {
+
+using Status = rockwatch::monitor_status_t;
+
+constexpr std::int32_t kSchemaVersion = 1;
+constexpr int kSeenBits = 64;  // duplicates are told from out-of-order samples over the last 64 seqs
+
+// Saturating int64 arithmetic: seq and utime come from the network and may be anything.
+std::int64_t sat_add(std::int64_t a, std::int64_t b) {
+  std::int64_t r = 0;
+  if (__builtin_add_overflow(a, b, &r)) return b > 0 ? INT64_MAX : INT64_MIN;
+  return r;
+}
+std::int64_t sat_sub(std::int64_t a, std::int64_t b) {
+  std::int64_t r = 0;
+  if (__builtin_sub_overflow(a, b, &r)) return b < 0 ? INT64_MAX : INT64_MIN;
+  return r;
+}
+
+bool name_valid(const char (&name)[kChannelNameMax]) {
+  return name[0] != '\0' && std::memchr(name, '\0', kChannelNameMax) != nullptr;
+}
+
+bool same_name(const char* channel, const char (&name)[kChannelNameMax]) {
+  return std::strncmp(channel, name, kChannelNameMax) == 0;
+}
+
+std::int8_t level_code(core::AlarmLevel l) { return static_cast<std::int8_t>(l); }
+
+}  // namespace
+
+const char* monitor_error_message(MonitorError e) {
+  switch (e) {
+    case MonitorError::ok: return "ok";
+    case MonitorError::engine: return "the wall engine refused its configuration (see the engine error)";
+    case MonitorError::sample_rate_out_of_range:
+      return "sample_rate_hz must be in (0, 10000] Hz with 1/rate within the engine's step range (0, 0.03] s";
+    case MonitorError::bridge_out_of_range: return "max_bridge_samples must be in [0, 1000]";
+    case MonitorError::sensor_range_out_of_range: return "sensor_range_mps2 must be in (0, 80] m/s2";
+    case MonitorError::late_limit_out_of_range: return "late_limit_s must be in (0, 60] s";
+    case MonitorError::channel_name_invalid:
+      return "channel names must be non-empty and NUL-terminated within 64 bytes, and each input channel must "
+             "differ from every other channel";
+    case MonitorError::restart_window_out_of_range: return "restart_window must be in [1, 1000000000] samples";
+  }
+  return "?";
+}
+
+MonitorError MonitorLoop::init(const MonitorSettings& s, Transport& transport, MonitorListener* listener) {
+  ready_ = false;
+  if (!(s.sample_rate_hz > 0.0 && s.sample_rate_hz <= 10000.0 && 1.0 / s.sample_rate_hz <= 0.03)) {
+    return MonitorError::sample_rate_out_of_range;
+  }
+  if (s.max_bridge_samples < 0 || s.max_bridge_samples > 1000) return MonitorError::bridge_out_of_range;
+  if (!(s.sensor_range_mps2 > 0.0 && s.sensor_range_mps2 <= 80.0)) return MonitorError::sensor_range_out_of_range;
+  if (!(s.late_limit_s > 0.0 && s.late_limit_s <= 60.0)) return MonitorError::late_limit_out_of_range;
+  if (s.restart_window < 1 || s.restart_window > 1000000000) return MonitorError::restart_window_out_of_range;
+  const MonitorChannels& c = s.channels;
+  const char(*names[5])[kChannelNameMax] = {&c.accel, &c.accel_batch, &c.wall_state, &c.alarm, &c.status};
+  for (const auto* n : names) {
+    if (!name_valid(*n)) return MonitorError::channel_name_invalid;
+  }
+  for (int input = 0; input < 2; ++input) {
+    for (int other = 0; other < 5; ++other) {
+      if (other != input && same_name(*names[input], *names[other])) return MonitorError::channel_name_invalid;
+    }
+  }
+
+  settings_ = s;
+  settings_.engine.dt_s = 1.0 / s.sample_rate_hz;
+  engine_error_ = engine_.init(settings_.engine);
+  if (engine_error_ != WallEngineError::ok) return MonitorError::engine;
+
+  transport_ = &transport;
+  listener_ = listener;
+  counters_ = MonitorCounters{};
+  have_last_ = false;
+  last_seq_ = 0;
+  last_utime_ = 0;
+  seen_mask_ = 0;
+  last_ug_ = 0.0;
+  last_vg_ = 0.0;
+  period_us_ = std::llround(1e6 / s.sample_rate_hz);
+  late_limit_us_ = std::llround(s.late_limit_s * 1e6);
+  state_seq_ = 0;
+  alarm_seq_ = 0;
+  status_seq_ = 0;
+  quality_since_status_ = Status::QUALITY_MONITOR_RESTARTED;
+  engine_.reset_wall(core::AccelQ7_56{}, core::AccelQ7_56{});
+  ready_ = true;
+  return MonitorError::ok;
+}
+
+core::AlarmLevel MonitorLoop::alarm_level() const { return engine_.last().alarm.level; }
+
+void MonitorLoop::on_message(const char* channel, const std::uint8_t* data, std::size_t size,
+                             std::int64_t receive_utime) {
+  if (!ready_) return;
+  if (channel == nullptr) {
+    ++counters_.messages_ignored;
+    return;
+  }
+  if (same_name(channel, settings_.channels.accel)) {
+    on_accel(data, size, receive_utime);
+  } else if (same_name(channel, settings_.channels.accel_batch)) {
+    on_accel_batch(data, size, receive_utime);
+  } else {
+    ++counters_.messages_ignored;
+  }
+}
+
+void MonitorLoop::decode_error() {
+  ++counters_.decode_errors;
+  quality_since_status_ |= Status::QUALITY_DECODE_ERROR;
+}
+
+void MonitorLoop::on_accel(const std::uint8_t* data, std::size_t size, std::int64_t receive_utime) {
+  rockwatch::ground_accel_t m;
+  if (data == nullptr || size > static_cast<std::size_t>(INT_MAX)) return decode_error();
+  const int n = static_cast<int>(size);
+  if (m.decode(data, 0, n) != n || m.schema_version != kSchemaVersion) return decode_error();
+  ++counters_.samples_received;
+  process_sample(m.utime, m.seq, m.ug_mps2, m.vg_mps2, m.sensor_status, sat_sub(receive_utime, m.utime));
+}
+
+void MonitorLoop::on_accel_batch(const std::uint8_t* data, std::size_t size, std::int64_t receive_utime) {
+  rockwatch::ground_accel_batch_t m;
+  if (data == nullptr || size > static_cast<std::size_t>(INT_MAX)) return decode_error();
+  const int n = static_cast<int>(size);
+  if (m.decode(data, 0, n) != n || m.schema_version != kSchemaVersion || m.count < 1 ||
+      m.count > rockwatch::ground_accel_batch_t::MAX_SAMPLES || m.sample_period_us <= 0) {
+    return decode_error();
+  }
+  counters_.samples_received += m.count;
+  // A batch cannot leave before its newest sample: lateness is judged on that one, for every sample of the batch.
+  const std::int64_t newest_utime = sat_add(m.utime, std::int64_t{m.count - 1} * m.sample_period_us);
+  for (int i = 0; i < m.count; ++i) {
+    const std::int64_t utime = sat_add(m.utime, std::int64_t{i} * m.sample_period_us);
+    process_sample(utime, sat_add(m.seq, i), m.ug_mps2[i], m.vg_mps2[i], m.sensor_status,
+                   sat_sub(receive_utime, newest_utime));
+  }
+}
+
+void MonitorLoop::process_sample(std::int64_t utime, std::int64_t seq, double ug, double vg,
+                                 std::int32_t sensor_status, std::int64_t delay_us) {
+  std::int32_t quality = 0;
+  bool reset = !have_last_;
+  std::int64_t missing = 0;  // samples to bridge before this one
+  if (have_last_) {
+    const std::int64_t d = sat_sub(seq, last_seq_);
+    if (d <= 0) {
+      if (d < -settings_.restart_window) {
+        ++counters_.publisher_restarts;
+        quality |= Status::QUALITY_PUBLISHER_RESTART;
+        reset = true;
+      } else {
+        const bool seen = d > -kSeenBits && ((seen_mask_ >> static_cast<unsigned>(-d)) & 1u) != 0;
+        if (seen) {
+          ++counters_.duplicates;
+          quality_since_status_ |= Status::QUALITY_DUPLICATE;
+        } else {
+          ++counters_.out_of_order;
+          quality_since_status_ |= Status::QUALITY_OUT_OF_ORDER;
+        }
+        return;
+      }
+    } else if (d > 1) {
+      ++counters_.gaps;
+      if (d - 1 <= settings_.max_bridge_samples) {
+        missing = d - 1;
+        quality |= Status::QUALITY_GAP_BRIDGED;
+      } else {
+        ++counters_.state_resets;
+        quality |= Status::QUALITY_STATE_UNKNOWN;
+        reset = true;
+      }
+    }
+  }
+
+  // Bridge a short gap: the last good input held for each missing sample (≤ max_bridge_samples steps).
+  if (missing > 0) {
+    const core::AccelQ7_56 ug_hold(last_ug_), vg_hold(last_vg_);
+    for (std::int64_t k = 1; k <= missing; ++k) {
+      ++counters_.samples_bridged;
+      step_and_publish(sat_add(last_utime_, k * period_us_), last_seq_ + k, ug_hold, vg_hold,
+                       Status::QUALITY_GAP_BRIDGED, false, true);
+    }
+  }
+
+  // The values: NaN/Inf and out-of-range components replaced by the last good value of that component.
+  if (sensor_status != 0) {
+    ++counters_.sensor_flags;
+    quality |= Status::QUALITY_SENSOR_FLAG;
+  }
+  const bool ug_finite = std::isfinite(ug), vg_finite = std::isfinite(vg);
+  if (!ug_finite || !vg_finite) {
+    ++counters_.rejected_not_finite;
+    quality |= Status::QUALITY_NOT_FINITE;
+  }
+  const double range = settings_.sensor_range_mps2;
+  const bool ug_in_range = !ug_finite || std::fabs(ug) <= range, vg_in_range = !vg_finite || std::fabs(vg) <= range;
+  if (!ug_in_range || !vg_in_range) {
+    ++counters_.rejected_out_of_range;
+    quality |= Status::QUALITY_OUT_OF_RANGE;
+  }
+  if (ug_finite && ug_in_range) {
+    last_ug_ = ug;
+  } else {
+    ug = last_ug_;
+  }
+  if (vg_finite && vg_in_range) {
+    last_vg_ = vg;
+  } else {
+    vg = last_vg_;
+  }
+  if (!(settings_.engine.wall.g_mps2 + vg > 0.0)) quality |= Status::QUALITY_LIFT_OFF;
+  if (delay_us > late_limit_us_) {
+    ++counters_.late;
+    quality |= Status::QUALITY_LATE;
+  }
+
+  const std::int64_t shift = reset ? kSeenBits : (missing + 1);
+  seen_mask_ = (shift >= kSeenBits ? 0 : seen_mask_ << static_cast<unsigned>(shift)) | 1u;
+  have_last_ = true;
+  last_seq_ = seq;
+  last_utime_ = utime;
+  step_and_publish(utime, seq, core::AccelQ7_56(ug), core::AccelQ7_56(vg), quality, reset, false);
+}
+
+void MonitorLoop::step_and_publish(std::int64_t utime, std::int64_t seq, core::AccelQ7_56 ug, core::AccelQ7_56 vg,
+                                   std::int32_t quality, bool reset, bool bridged) {
+  const core::AlarmLevel before = engine_.last().alarm.level;
+  const std::int64_t t0 = step_clock_ != nullptr ? step_clock_() : 0;
+  if (reset && counters_.samples_processed == 0) {
+    engine_.reset_wall(ug, vg);  // the monitor's first sample: wall at rest, alarm QUIET
+  } else if (reset) {
+    engine_.restart_motion(ug, vg);  // state unknown: motion from rest, the alarm keeps its level (COLLAPSED latched)
+  } else {
+    engine_.process_wall(ug, vg);
+  }
+  if (step_clock_ != nullptr) {
+    const std::int64_t ns = sat_sub(step_clock_(), t0);
+    if (ns > counters_.worst_step_ns) counters_.worst_step_ns = ns;
+  }
+  const WallEngineOutput& out = engine_.last();
+  const core::FixedRockingStepper& stepper = engine_.stepper();
+  if (!reset && out.step.input_invalid) quality |= Status::QUALITY_LIFT_OFF;
+  if (!reset && out.step.saturated) {
+    ++counters_.saturated;
+    quality |= Status::QUALITY_SATURATED;
+  }
+  // lift_off counts received samples; a bridged step holds an input already counted.
+  if (!bridged && (quality & Status::QUALITY_LIFT_OFF) != 0) ++counters_.lift_off;
+  ++counters_.samples_processed;
+  quality_since_status_ |= quality;
+
+  std::uint32_t reasons = out.alarm.reasons;
+  if ((quality & Status::QUALITY_LIFT_OFF) != 0) reasons |= core::alarm_reason::input_invalid;
+  const core::AlarmLevel level = out.alarm.level;
+  const double x = stepper.x_m().to_double(), xd = stepper.xd_mps().to_double();
+  const double energy_ratio = out.indicators.energy_ratio.to_double();
+  const double t_inst = out.indicators.t_valid ? out.indicators.t_to_instability_s.to_double() : -1.0;
+
+  rockwatch::wall_state_t st;
+  st.utime = utime;
+  st.seq = state_seq_++;
+  st.input_seq = seq;
+  st.schema_version = kSchemaVersion;  // wall_state_t.lcm declares no SCHEMA_VERSION constant
+  st.x_m = x;
+  st.xd_mps = xd;
+  st.theta1_rad = x / settings_.engine.wall.h1_m;
+  st.side = static_cast<std::int8_t>(stepper.side() == core::Side::positive ? 1 : -1);
+  st.moving = static_cast<std::int8_t>(stepper.moving() ? 1 : 0);
+  st.energy_ratio = energy_ratio;
+  st.alarm_level = level_code(level);
+  st.alarm_reasons = static_cast<std::int32_t>(reasons);
+  st.t_to_instability_s = t_inst;
+  st.data_quality = quality;
+  const int st_size = st.getEncodedSize();
+  if (st_size <= static_cast<int>(sizeof out_buffer_) &&
+      st.encode(out_buffer_, 0, static_cast<int>(sizeof out_buffer_)) == st_size &&
+      publish(settings_.channels.wall_state, st_size)) {
+    ++counters_.states_published;
+  }
+
+  if (level == before) return;
+  ++counters_.alarm_events;
+  rockwatch::alarm_event_t ev;
+  ev.utime = utime;
+  ev.seq = alarm_seq_++;
+  ev.input_seq = seq;
+  ev.schema_version = rockwatch::alarm_event_t::SCHEMA_VERSION;
+  ev.level = level_code(level);
+  ev.previous_level = level_code(before);
+  ev.reasons = static_cast<std::int32_t>(reasons);
+  ev.x_m = x;
+  ev.xd_mps = xd;
+  ev.energy_ratio = energy_ratio;
+  ev.t_to_instability_s = t_inst;
+  const int ev_size = ev.getEncodedSize();
+  if (ev_size <= static_cast<int>(sizeof out_buffer_) &&
+      ev.encode(out_buffer_, 0, static_cast<int>(sizeof out_buffer_)) == ev_size) {
+    publish(settings_.channels.alarm, ev_size);
+  } else {
+    ++counters_.publish_failures;
+  }
+  if (listener_ != nullptr) listener_->on_alarm(ev);
+}
+
+bool MonitorLoop::publish(const char* channel, int size) {
+  if (transport_->publish(channel, out_buffer_, static_cast<std::size_t>(size))) return true;
+  ++counters_.publish_failures;
+  return false;
+}
+
+void MonitorLoop::publish_status(std::int64_t now_utime) {
+  if (!ready_) return;
+  Status m;
+  m.utime = now_utime;
+  m.seq = status_seq_++;
+  m.schema_version = Status::SCHEMA_VERSION;
+  m.version_major = ROCKWATCH_VERSION_MAJOR;
+  m.version_minor = ROCKWATCH_VERSION_MINOR;
+  m.version_patch = ROCKWATCH_VERSION_PATCH;
+  m.config_digest = settings_.config_digest;
+  const MonitorCounters& c = counters_;
+  m.samples_received = c.samples_received;
+  m.samples_processed = c.samples_processed;
+  m.samples_bridged = c.samples_bridged;
+  m.gaps = c.gaps;
+  m.state_resets = c.state_resets;
+  m.duplicates = c.duplicates;
+  m.out_of_order = c.out_of_order;
+  m.late = c.late;
+  m.rejected_not_finite = c.rejected_not_finite;
+  m.rejected_out_of_range = c.rejected_out_of_range;
+  m.lift_off = c.lift_off;
+  m.publisher_restarts = c.publisher_restarts;
+  m.decode_errors = c.decode_errors;
+  m.saturated = c.saturated;
+  m.worst_step_ns = c.worst_step_ns;
+  m.data_quality = quality_since_status_;
+  m.alarm_level = level_code(alarm_level());
+  quality_since_status_ = 0;
+  const int size = m.getEncodedSize();
+  if (size <= static_cast<int>(sizeof out_buffer_) &&
+      m.encode(out_buffer_, 0, static_cast<int>(sizeof out_buffer_)) == size) {
+    publish(settings_.channels.status, size);
+  } else {
+    ++counters_.publish_failures;
+  }
+}
+
+}  // namespace rockwatch::firmware

@@ -1,0 +1,29 @@
+// What `rockwatch demo` was asked to do: which suite records, how fast, over which LCM URL, which monitor.
+#pragma once
+
+#include <optional>
+#include <string>
+
+namespace rockwatch::cli {
+
+struct DemoRequest {
+  std::string suite_dir;               // --suite, else the shipped suite
+  std::string suite_found_by;          // "--suite", "$ROCKWATCH_SUITE_DIR", ...
+  int set = 3;                         // --set: component Y of it collapses the paper wall at 0.25 g, X does not
+  double pga_g = 0.25;                 // --pga
+  double rate_hz = 200.0;              // --rate: the monitor's and the replay's
+  double speed = 1.0;                  // --speed: 1 real time; > 0
+  std::string lcm_url;                 // --lcm-url
+  std::optional<std::string> monitor;  // --monitor PATH
+  std::optional<std::string> out_dir;  // --out DIR: keep the samples and the monitor's output there
+};
+
+struct DemoParse {
+  std::optional<DemoRequest> request;  // empty for --help
+  std::string help_text;
+};
+
+// Throws UsageError naming the option at fault.
+DemoParse parse_demo_arguments(int argc, const char* const* argv);
+
+}  // namespace rockwatch::cli

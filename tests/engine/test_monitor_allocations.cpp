@@ -1,0 +1,232 @@
+// No allocation per message in firmware::MonitorLoop: the counting malloc/free/new/delete replacements of
+// test_engine_allocations.cpp, around 100 000 on_message() calls (plus a status every 200 calls) over a stream with
+// every input fault the loop handles — gaps bridged and too long, duplicates, out-of-order and late samples, NaN,
+// Inf, out-of-range values, lift-off, publisher restarts, batches (good and bad), wrong message types, truncated
+// bytes, foreign channels — and a wall that rocks, raises every alarm level and collapses. The messages are encoded
+// before the measured window; the transport and the listener only count. Exits 1 unless the count is 0 and the
+// stream really exercised all of that. A self-check first makes sure deliberate allocations are counted.
+//
+// A plain program, not a CppUTest suite (CppUTest replaces operator new), and not built with sanitizers
+// (tests/engine/CMakeLists.txt registers it as `monitor_allocations` only in builds without -fsanitize).
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <new>
+#include <vector>
+
+#include "rockwatch/core/restitution.hpp"
+#include "rockwatch/core/wall.hpp"
+#include "rockwatch/firmware/monitor_loop.hpp"
+
+#include "counting_allocator.hpp"
+
+namespace {
+namespace fw = rockwatch::firmware;
+using rockwatch::alarm_event_t;
+using rockwatch::ground_accel_batch_t;
+using rockwatch::ground_accel_t;
+
+constexpr double kG = 9.81;
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDt = 0.005;
+constexpr std::int64_t kPeriodUs = 5000;
+constexpr std::int64_t kT0 = 1700000000000000;
+constexpr std::size_t kMeasuredCalls = 100000;
+const char* const kAccel = "ROCKWATCH_ACCEL";
+const char* const kBatch = "ROCKWATCH_ACCEL_BATCH";
+
+// Through volatile function pointers, so the optimiser can neither drop nor merge the deliberate allocations.
+void* (*volatile g_malloc)(std::size_t) = std::malloc;
+void (*volatile g_free)(void*) = std::free;
+
+bool self_check() {
+  const std::uint64_t before = g_calls;
+  void* p = g_malloc(24);
+  g_free(p);
+  const std::uint64_t c_malloc = g_calls - before;
+  const std::uint64_t before_new = g_calls;
+  std::vector<int>* volatile v = new std::vector<int>(16, 1);  // operator new twice (object, buffer)
+  delete v;
+  const std::uint64_t c_new = g_calls - before_new;
+  std::printf("self-check: malloc+free counted %llu calls (expect 2), new+delete of a vector counted %llu (expect 4)\n",
+              static_cast<unsigned long long>(c_malloc), static_cast<unsigned long long>(c_new));
+  return c_malloc == 2 && c_new == 4;
+}
+
+struct Message {
+  const char* channel;
+  std::vector<std::uint8_t> bytes;
+  std::int64_t receive_utime;
+};
+
+template <typename T>
+Message encoded(const char* channel, const T& m, std::int64_t receive_utime) {
+  Message msg{channel, std::vector<std::uint8_t>(static_cast<std::size_t>(m.getEncodedSize())), receive_utime};
+  m.encode(msg.bytes.data(), 0, static_cast<int>(msg.bytes.size()));
+  return msg;
+}
+
+// The wall-frame input of engine_test_input.hpp's cycle (12 s): rocking at 0.2 g with a 0.05 g vertical for 7 s,
+// one 1 Hz cycle at 0.5 g that tips the wall, then quiet.
+void input(std::int64_t k, double& ug, double& vg) {
+  const double t = double(k) * kDt;
+  ug = 0.0;
+  vg = 0.0;
+  if (t < 7.0) {
+    ug = 0.20 * kG * std::sin(2.0 * kPi * 2.0 * t);
+    vg = 0.05 * kG * std::sin(2.0 * kPi * 3.0 * t);
+  } else if (t < 8.0) {
+    ug = 0.50 * kG * std::sin(2.0 * kPi * 1.0 * (t - 7.0));
+  }
+}
+
+ground_accel_t sample(std::int64_t k) {
+  ground_accel_t m{};
+  m.utime = kT0 + k * kPeriodUs;
+  m.seq = k;
+  m.schema_version = 1;
+  input(k, m.ug_mps2, m.vg_mps2);
+  return m;
+}
+
+// One 12 s cycle of messages with faults; seq restarts at 0 every cycle, so each repetition is a publisher restart.
+std::vector<Message> make_cycle() {
+  std::vector<Message> out;
+  const std::int64_t n = 2400;
+  auto on_time = [](const ground_accel_t& m) { return m.utime + 1000; };
+  for (std::int64_t k = 0; k < n; ++k) {
+    if (k >= 1800 && k < 2000) {  // batches of 50
+      if (k % 50 == 0) {
+        ground_accel_batch_t b{};
+        b.utime = kT0 + k * kPeriodUs;
+        b.seq = k;
+        b.schema_version = 1;
+        b.sample_period_us = static_cast<std::int32_t>(kPeriodUs);
+        b.count = 50;
+        for (int i = 0; i < 50; ++i) input(k + i, b.ug_mps2[i], b.vg_mps2[i]);
+        out.push_back(encoded(kBatch, b, b.utime + 49 * kPeriodUs + 1000));
+        b.count = 0;  // a bad batch after it
+        out.push_back(encoded(kBatch, b, b.utime));
+      }
+      continue;
+    }
+    if (k >= 1500 && k < 1520) continue;  // 20 missing: beyond the bridge limit, state reset at 1520
+    if (k > 0 && k % 211 == 0) continue;  // 1 missing, sent after the next one (out of order)
+    ground_accel_t m = sample(k);
+    std::int64_t receive = on_time(m);
+    if (k % 301 == 0) m.ug_mps2 = std::numeric_limits<double>::quiet_NaN();
+    if (k % 307 == 0) m.vg_mps2 = std::numeric_limits<double>::infinity();
+    if (k % 401 == 0) m.ug_mps2 = 100.0;
+    if (k % 503 == 0) m.vg_mps2 = -12.0;
+    if (k % 113 == 0) receive += 100000;
+    if (k % 127 == 0) m.sensor_status = ground_accel_t::SENSOR_CLIPPED;
+    out.push_back(encoded(kAccel, m, receive));
+    if (k % 97 == 0) out.push_back(encoded(kAccel, m, receive));  // duplicate
+    if (k > 1 && (k - 1) % 211 == 0) out.push_back(encoded(kAccel, sample(k - 1), on_time(m)));  // the late one
+    if (k % 250 == 0) {
+      Message cut = encoded(kAccel, m, receive);  // truncated
+      cut.bytes.pop_back();
+      out.push_back(cut);
+      rockwatch::wall_state_t w{};
+      out.push_back(encoded(kAccel, w, receive));        // wrong type
+      out.push_back(encoded("OTHER_CHANNEL", m, receive));  // not an input channel
+      ground_accel_t v2 = m;
+      v2.schema_version = 2;
+      out.push_back(encoded(kAccel, v2, receive));
+    }
+  }
+  return out;
+}
+
+class CountingTransport : public fw::Transport {
+ public:
+  bool publish(const char*, const std::uint8_t*, std::size_t size) override {
+    ++messages;
+    bytes += size;
+    return true;
+  }
+  std::uint64_t messages = 0, bytes = 0;
+};
+
+class CountingListener : public fw::MonitorListener {
+ public:
+  void on_alarm(const alarm_event_t& e) override {
+    ++events;
+    if (e.level == alarm_event_t::LEVEL_IMMINENT) ++imminent;
+    if (e.level == alarm_event_t::LEVEL_COLLAPSED) ++collapsed;
+  }
+  std::uint64_t events = 0, imminent = 0, collapsed = 0;
+};
+
+}  // namespace
+
+int main() {
+  if (!self_check()) {
+    std::fprintf(stderr, "FAIL: the allocation counters do not see deliberate allocations\n");
+    return 1;
+  }
+  const std::vector<Message> cycle = make_cycle();
+  fw::MonitorSettings s;
+  s.engine.wall = rockwatch::core::paper_wall();
+  s.engine.r_energy = rockwatch::core::r_exp(s.engine.wall);
+  s.sample_rate_hz = 1.0 / kDt;
+  CountingTransport transport;
+  CountingListener listener;
+  fw::MonitorLoop loop;
+  const std::uint64_t before_init = g_calls;
+  const fw::MonitorError e = loop.init(s, transport, &listener);
+  const std::uint64_t init_calls = g_calls - before_init;
+  if (e != fw::MonitorError::ok) {
+    std::fprintf(stderr, "FAIL: MonitorLoop::init: %s\n", fw::monitor_error_message(e));
+    return 1;
+  }
+
+  const std::uint64_t before = g_calls;
+  std::size_t j = 0;
+  for (std::size_t i = 0; i < kMeasuredCalls; ++i) {
+    const Message& m = cycle[j];
+    loop.on_message(m.channel, m.bytes.data(), m.bytes.size(), m.receive_utime);
+    if (i % 200 == 199) loop.publish_status(m.receive_utime);
+    j = j + 1 == cycle.size() ? 0 : j + 1;
+  }
+  const std::uint64_t calls = g_calls - before;
+
+  const fw::MonitorCounters& c = loop.counters();
+  std::printf("init: %llu allocation calls (allowed); cycle of %zu messages\n",
+              static_cast<unsigned long long>(init_calls), cycle.size());
+  std::printf("on_message: %zu calls; samples received %lld, processed %lld, bridged %lld; gaps %lld, state resets %lld,"
+              " duplicates %lld, out of order %lld, late %lld, not finite %lld, out of range %lld, lift-off %lld,"
+              " publisher restarts %lld, decode errors %lld, sensor flags %lld, ignored %lld\n",
+              kMeasuredCalls, static_cast<long long>(c.samples_received), static_cast<long long>(c.samples_processed),
+              static_cast<long long>(c.samples_bridged), static_cast<long long>(c.gaps),
+              static_cast<long long>(c.state_resets), static_cast<long long>(c.duplicates),
+              static_cast<long long>(c.out_of_order), static_cast<long long>(c.late),
+              static_cast<long long>(c.rejected_not_finite), static_cast<long long>(c.rejected_out_of_range),
+              static_cast<long long>(c.lift_off), static_cast<long long>(c.publisher_restarts),
+              static_cast<long long>(c.decode_errors), static_cast<long long>(c.sensor_flags),
+              static_cast<long long>(c.messages_ignored));
+  std::printf("published: %llu messages (%llu bytes), %lld states, %llu alarm events (%llu IMMINENT, %llu COLLAPSED)\n",
+              static_cast<unsigned long long>(transport.messages), static_cast<unsigned long long>(transport.bytes),
+              static_cast<long long>(c.states_published), static_cast<unsigned long long>(listener.events),
+              static_cast<unsigned long long>(listener.imminent), static_cast<unsigned long long>(listener.collapsed));
+  std::printf("allocation calls during on_message()/publish_status(): %llu\n", static_cast<unsigned long long>(calls));
+  const bool eventful = c.samples_bridged > 0 && c.state_resets > 0 && c.duplicates > 0 && c.out_of_order > 0 &&
+                        c.late > 0 && c.rejected_not_finite > 0 && c.rejected_out_of_range > 0 && c.lift_off > 0 &&
+                        c.publisher_restarts > 0 && c.decode_errors > 0 && c.sensor_flags > 0 &&
+                        c.messages_ignored > 0 && listener.imminent > 0 && listener.collapsed > 0 &&
+                        c.states_published == c.samples_processed && c.samples_processed > 90000;
+  if (!eventful) {
+    std::fprintf(stderr, "FAIL: the stream did not exercise every fault, the alarm and a collapse; the count would "
+                         "prove nothing\n");
+    return 1;
+  }
+  if (calls != 0) {
+    std::fprintf(stderr, "FAIL: MonitorLoop allocated (%llu calls)\n", static_cast<unsigned long long>(calls));
+    return 1;
+  }
+  std::printf("ok\n");
+  return 0;
+}

@@ -1,0 +1,300 @@
+// rockwatch-monitor's settings: every bad key or value of the configuration file rejected (exit 2, nothing on stdout,
+// a message naming the key path and what was expected), unknown keys, the command line overriding the file (read back
+// with --print-config), the wall/--r/--model/--kappa options shared with `rockwatch simulate`, --arith double refused,
+// the config digest; and the adapter's helpers (exact-channel regex, FNV-1a).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "lcm_transport.hpp"
+#include "monitor_config.hpp"
+#include "monitor_test_support.hpp"
+
+#include <CppUTest/TestHarness.h>
+
+using nlohmann::json;
+using rockwatch::test::ProcessResult;
+using rockwatch::test::run_monitor;
+using rockwatch::test::TempDir;
+
+namespace {
+
+std::string describe(const ProcessResult& r) {
+  return "exit " + std::to_string(r.exit_status) + " signal " + std::to_string(r.signal) + "\nstdout:\n" + r.out +
+         "\nstderr:\n" + r.err;
+}
+
+void expect_rejected(const std::vector<std::string>& args, const std::vector<std::string>& mentions) {
+  const ProcessResult r = run_monitor(args);
+  const std::string what = describe(r);
+  CHECK_EQUAL_TEXT(0, r.signal, what.c_str());
+  CHECK_EQUAL_TEXT(2, r.exit_status, what.c_str());
+  CHECK_TEXT(r.out.empty(), what.c_str());
+  CHECK_TEXT(r.err.rfind("rockwatch-monitor: error: ", 0) == 0, what.c_str());
+  for (const std::string& m : mentions) CHECK_TEXT(r.err.find(m) != std::string::npos, (m + " in\n" + what).c_str());
+}
+
+// A configuration file with `text` rejected with a message naming each of `mentions`.
+void expect_config_rejected(const std::string& text, const std::vector<std::string>& mentions,
+                            const std::vector<std::string>& extra_args = {}) {
+  const TempDir dir;
+  const std::string path = dir.file("monitor.json");
+  rockwatch::test::write_file(path, text);
+  std::vector<std::string> args{"--config", path};
+  args.insert(args.end(), extra_args.begin(), extra_args.end());
+  // A file value at fault is named with the file; an option at fault (extra_args) by the option alone.
+  std::vector<std::string> all_mentions;
+  if (extra_args.empty()) all_mentions.push_back("--config " + path);
+  all_mentions.insert(all_mentions.end(), mentions.begin(), mentions.end());
+  expect_rejected(args, all_mentions);
+}
+
+// --print-config with a configuration file (empty text: none) and options.
+json printed_config(const std::string& text, const std::vector<std::string>& extra_args) {
+  const TempDir dir;
+  std::vector<std::string> args{"--print-config"};
+  if (!text.empty()) {
+    const std::string path = dir.file("monitor.json");
+    rockwatch::test::write_file(path, text);
+    args.insert(args.end(), {"--config", path});
+  }
+  args.insert(args.end(), extra_args.begin(), extra_args.end());
+  const ProcessResult r = run_monitor(args);
+  const std::string what = describe(r);
+  CHECK_EQUAL_TEXT(0, r.exit_status, what.c_str());
+  const std::vector<json> lines = rockwatch::test::json_lines(r.out);
+  CHECK_EQUAL_TEXT(1u, lines.size(), what.c_str());
+  return lines.front();
+}
+
+}  // namespace
+
+TEST_GROUP(MonitorConfigFile){};
+
+TEST(MonitorConfigFile, UnknownKeysAreRefusedByTheirPath) {
+  expect_config_rejected(R"({"kapa": 2})", {"unknown key 'kapa'", "kappa"});
+  expect_config_rejected(R"({"wall": {"hh": 3}})", {"unknown key 'wall.hh'", "b, h1, h2, rho, fp, a, a_prime, g"});
+  expect_config_rejected(R"({"alarm": {"lambda": 0.4}})", {"alarm.lambda", "lambda_w, hold_s, energy_margin"});
+  expect_config_rejected(R"({"channels": {"acc": "X"}})", {"channels.acc", "accel, accel_batch"});
+}
+
+TEST(MonitorConfigFile, WrongTypesNameTheKeyAndTheExpectedType) {
+  expect_config_rejected(R"({"wall": {"h1": "1.75"}})", {"wall.h1", "expected a number [m]", "a string"});
+  expect_config_rejected(R"({"wall": 3})", {"wall:", "expected an object"});
+  expect_config_rejected(R"({"alarm": []})", {"alarm:", "expected an object", "an array"});
+  expect_config_rejected(R"({"kappa": true})", {"kappa:", "expected a number", "a boolean"});
+  expect_config_rejected(R"({"sample_rate_hz": null})", {"sample_rate_hz:", "expected a number [Hz]", "null"});
+  expect_config_rejected(R"({"r": true})", {"r:", "\"ana\", \"exp\", \"impulse\" or an energy ratio in [0, 1]"});
+  expect_config_rejected(R"({"model": 1})", {"model:", "expected \"linear\""});
+  expect_config_rejected(R"({"channels": {"alarm": 5}})", {"channels.alarm:", "expected a string"});
+  expect_config_rejected(R"({"lcm_url": 7667})", {"lcm_url:", "expected a string"});
+  expect_config_rejected(R"({"max_bridge_samples": 2.5})", {"max_bridge_samples:", "whole number"});
+  expect_config_rejected(R"([1, 2])", {"the top level", "expected a JSON object"});
+}
+
+TEST(MonitorConfigFile, ValuesOutOfRangeNameTheKeyAndTheRange) {
+  expect_config_rejected(R"({"r": "paper"})", {"r:", "\"ana\", \"exp\", \"impulse\""});
+  expect_config_rejected(R"({"r": 1.2})", {"r:", "in [0, 1]", "1.2"});
+  expect_config_rejected(R"({"model": "full"})", {"model must be linear", "fixed-point", "linear model only"});
+  expect_config_rejected(R"({"model": "quadratic"})", {"model must be linear or full", "quadratic"});
+  expect_config_rejected(R"({"kappa": 0.5})", {"kappa must be >= 1", "0.5"});
+  expect_config_rejected(R"({"kappa": 150})", {"kappa must be < 100", "150"});
+  expect_config_rejected(R"({"alarm": {"lambda_w": 1.5}})", {"alarm.lambda_w must be in (0, 1]", "1.5"});
+  expect_config_rejected(R"({"alarm": {"hold_s": -1}})", {"alarm.hold_s must be in [0, 3600] s", "-1"});
+  expect_config_rejected(R"({"alarm": {"energy_margin": 0.5}})", {"alarm.energy_margin must be in [1, 100]"});
+  expect_config_rejected(R"({"sample_rate_hz": 10})", {"sample_rate_hz must be in (0, 10000] Hz", "33.34", "got 10"});
+  expect_config_rejected(R"({"sample_rate_hz": 20000})", {"sample_rate_hz must be", "got 20000"});
+  expect_config_rejected(R"({"max_bridge_samples": -1})", {"max_bridge_samples:", "[0, 1000]", "-1"});
+  expect_config_rejected(R"({"max_bridge_samples": 5000})", {"max_bridge_samples:", "[0, 1000]", "5000"});
+  expect_config_rejected(R"({"sensor_range_mps2": 100})", {"sensor_range_mps2 must be in (0, 80] m/s2", "100"});
+  expect_config_rejected(R"({"late_limit_s": 0})", {"late_limit_s must be in (0, 60] s", "got 0"});
+  expect_config_rejected(R"({"lcm_url": ""})", {"lcm_url:", "expected an LCM URL"});
+}
+
+TEST(MonitorConfigFile, WallValuesAreValidatedByCoreNamingTheKey) {
+  expect_config_rejected(R"({"wall": {"b": 0.3, "h1": 0.2}})", {"wall.h1 must be greater than b", "got 0.2", "b = 0.3",
+                                                                 "wall.b"});
+  expect_config_rejected(R"({"wall": {"rho": 0}})", {"wall.rho must be > 0 kg/m3"});
+  expect_config_rejected(R"({"wall": {"a_prime": 2}})", {"wall.a_prime must be in [0, 1]"});
+  expect_config_rejected(R"({"wall": {"g": -9.81}})", {"wall.g must be > 0 m/s2"});
+  // A wall the model accepts but the fixed-point formats cannot hold: refused at start, naming the wall.
+  const TempDir dir;
+  const std::string path = dir.file("big.json");
+  rockwatch::test::write_file(path, R"({"wall": {"b": 3, "h1": 40, "h2": 40}})");
+  expect_rejected({"--config", path, "--print-config"},
+                  {"the wall (paper wall with wall.b, wall.h1, wall.h2)", "formats"});
+}
+
+TEST(MonitorConfigFile, ChannelsMustBePrintableAndAllDifferent) {
+  expect_config_rejected(R"({"channels": {"accel": ""}})", {"channels.accel must be 1 to 63 printable"});
+  expect_config_rejected(R"({"channels": {"accel": "A B"}})", {"channels.accel must be", "'A B'"});
+  expect_config_rejected("{\"channels\": {\"status\": \"" + std::string(64, 'S') + "\"}}", {"channels.status must be"});
+  expect_config_rejected(R"({"channels": {"alarm": "ROCKWATCH_ACCEL"}})",
+                         {"channels.alarm is 'ROCKWATCH_ACCEL'", "same as channels.accel", "every channel"});
+}
+
+TEST(MonitorConfigFile, MalformedFilesAreRefused) {
+  expect_config_rejected("{\"kappa\": 2,\n \"r\": }", {"not valid JSON", "line 2"});
+  expect_config_rejected(R"({"kappa": 2, "kappa": 3})", {"kappa:", "appears twice"});
+  expect_config_rejected(R"({"wall": {"b": 0.1, "b": 0.2}})", {"wall.b:", "appears twice"});
+  expect_rejected({"--config", "/nonexistent/monitor.json"}, {"--config /nonexistent/monitor.json", "cannot read"});
+  expect_rejected({"--config", ""}, {"--config needs a file name"});
+}
+
+TEST(MonitorConfigFile, AFullFileIsReadBackNormalised) {
+  const json j = printed_config(R"({
+    "wall": {"b": 0.12, "h1": 1.5, "h2": 1.6, "rho": 1900, "fp": 100, "a": 0.1, "a_prime": 0.2, "g": 9.81},
+    "r": 0.8, "model": "linear", "kappa": 1.8,
+    "alarm": {"lambda_w": 0.5, "hold_s": 2, "energy_margin": 1.25},
+    "sample_rate_hz": 250, "max_bridge_samples": 4, "sensor_range_mps2": 40, "late_limit_s": 0.2,
+    "channels": {"accel": "A", "accel_batch": "AB", "wall_state": "W", "alarm": "AL", "status": "S"},
+    "lcm_url": "udpm://239.255.76.67:7670?ttl=0"})",
+                                  {});
+  const json& s = j.at("settings");
+  DOUBLES_EQUAL(0.12, s.at("wall").at("b").get<double>(), 0.0);
+  DOUBLES_EQUAL(1.6, s.at("wall").at("h2").get<double>(), 0.0);
+  DOUBLES_EQUAL(100.0, s.at("wall").at("fp").get<double>(), 0.0);
+  DOUBLES_EQUAL(0.8, s.at("r").get<double>(), 0.0);
+  DOUBLES_EQUAL(0.8, s.at("r_energy_ratio").get<double>(), 0.0);
+  DOUBLES_EQUAL(1.8, s.at("kappa").get<double>(), 0.0);
+  DOUBLES_EQUAL(0.5, s.at("alarm").at("lambda_w").get<double>(), 0.0);
+  DOUBLES_EQUAL(2.0, s.at("alarm").at("hold_s").get<double>(), 0.0);
+  DOUBLES_EQUAL(1.25, s.at("alarm").at("energy_margin").get<double>(), 0.0);
+  DOUBLES_EQUAL(250.0, s.at("sample_rate_hz").get<double>(), 0.0);
+  LONGS_EQUAL(4, s.at("max_bridge_samples").get<int>());
+  DOUBLES_EQUAL(40.0, s.at("sensor_range_mps2").get<double>(), 0.0);
+  DOUBLES_EQUAL(0.2, s.at("late_limit_s").get<double>(), 0.0);
+  STRCMP_EQUAL("AB", s.at("channels").at("accel_batch").get<std::string>().c_str());
+  STRCMP_EQUAL("S", s.at("channels").at("status").get<std::string>().c_str());
+  STRCMP_EQUAL("udpm://239.255.76.67:7670?ttl=0", j.at("lcm_url").get<std::string>().c_str());
+  CHECK(j.at("lcm_url_origin").get<std::string>().find("lcm_url") != std::string::npos);
+  const std::string digest = j.at("config_digest").get<std::string>();
+  LONGS_EQUAL(18, digest.size());
+  // The digest is FNV-1a 64 of the normalised settings' compact dump.
+  const std::uint64_t expected = rockwatch::monitor::fnv1a64(s.dump());
+  STRCMP_EQUAL(rockwatch::monitor::digest_hex(static_cast<std::int64_t>(expected)).c_str(), digest.c_str());
+}
+
+TEST_GROUP(MonitorCommandLine){};
+
+TEST(MonitorCommandLine, OptionsOverrideTheFile) {
+  const std::string file = R"({"wall": {"h1": 2.0, "h2": 2.0}, "r": "ana", "kappa": 3, "alarm": {"lambda_w": 0.5},
+                               "sample_rate_hz": 100, "lcm_url": "udpm://239.255.76.67:7671?ttl=0"})";
+  const json base = printed_config(file, {});
+  DOUBLES_EQUAL(2.0, base.at("settings").at("wall").at("h1").get<double>(), 0.0);
+  DOUBLES_EQUAL(3.0, base.at("settings").at("kappa").get<double>(), 0.0);
+  STRCMP_EQUAL("ana", base.at("settings").at("r").get<std::string>().c_str());
+
+  const json j = printed_config(file, {"--h1", "1.5", "--r", "0.5", "--kappa", "2.5", "--lambda-w", "0.6", "--rate",
+                                       "250", "--lcm-url", "udpm://239.255.76.67:7672?ttl=0"});
+  const json& s = j.at("settings");
+  DOUBLES_EQUAL(1.5, s.at("wall").at("h1").get<double>(), 0.0);  // the option
+  DOUBLES_EQUAL(2.0, s.at("wall").at("h2").get<double>(), 0.0);  // the file
+  DOUBLES_EQUAL(0.1, s.at("wall").at("b").get<double>(), 0.0);   // the paper wall
+  DOUBLES_EQUAL(0.5, s.at("r").get<double>(), 0.0);
+  DOUBLES_EQUAL(2.5, s.at("kappa").get<double>(), 0.0);
+  DOUBLES_EQUAL(0.6, s.at("alarm").at("lambda_w").get<double>(), 0.0);
+  DOUBLES_EQUAL(250.0, s.at("sample_rate_hz").get<double>(), 0.0);
+  STRCMP_EQUAL("udpm://239.255.76.67:7672?ttl=0", j.at("lcm_url").get<std::string>().c_str());
+  STRCMP_EQUAL("--lcm-url", j.at("lcm_url_origin").get<std::string>().c_str());
+  CHECK(j.at("config_digest") != base.at("config_digest"));
+
+  // --wall paper on the command line replaces the file's wall altogether.
+  const json paper = printed_config(file, {"--wall", "paper"});
+  DOUBLES_EQUAL(1.75, paper.at("settings").at("wall").at("h1").get<double>(), 0.0);
+}
+
+TEST(MonitorCommandLine, EquivalentSettingsHaveOneDigest) {
+  const json defaults = printed_config("", {});
+  const json spelled_out = printed_config(R"({"r": "exp", "kappa": 2, "sample_rate_hz": 200, "wall": {"b": 0.1}})", {});
+  const json by_options = printed_config("", {"--kappa", "2.0", "--r", "exp", "--rate", "200"});
+  CHECK(defaults.at("config_digest") == spelled_out.at("config_digest"));
+  CHECK(defaults.at("config_digest") == by_options.at("config_digest"));
+  const json other = printed_config("", {"--kappa", "2.01"});
+  CHECK(defaults.at("config_digest") != other.at("config_digest"));
+  // The URL is how messages travel, not what the monitor computes: not in the digest.
+  const json url = printed_config("", {"--lcm-url", "udpm://239.255.76.67:7673?ttl=0"});
+  CHECK(defaults.at("config_digest") == url.at("config_digest"));
+}
+
+TEST(MonitorCommandLine, LcmDefaultUrlFromTheEnvironment) {
+  const rockwatch::test::EnvOverride env("LCM_DEFAULT_URL", "udpm://239.255.76.67:7674?ttl=0");
+  const json j = printed_config("", {});
+  STRCMP_EQUAL("udpm://239.255.76.67:7674?ttl=0", j.at("lcm_url").get<std::string>().c_str());
+  STRCMP_EQUAL("$LCM_DEFAULT_URL", j.at("lcm_url_origin").get<std::string>().c_str());
+}
+
+TEST(MonitorCommandLine, BadOptionValuesNameTheOption) {
+  // The wall/--r/--model/--kappa options are `rockwatch simulate`'s, with its messages.
+  expect_rejected({"--h1", "0.05"}, {"--h1 must be greater than b (got 0.05"});
+  expect_rejected({"--b", "abc"}, {"--b expects a finite number", "'abc'"});
+  expect_rejected({"--wall", "brick"}, {"--wall must be paper"});
+  expect_rejected({"--r", "2"}, {"--r must be ana, exp, impulse or an energy ratio in [0, 1]"});
+  expect_rejected({"--model", "full"}, {"--model must be linear", "linear model only"});
+  expect_rejected({"--model", "cubic"}, {"--model must be linear or full", "'cubic'"});
+  expect_rejected({"--kappa", "0.9"}, {"--kappa must be >= 1"});
+  expect_rejected({"--lambda-w", "0"}, {"--lambda-w must be in (0, 1]"});
+  expect_rejected({"--alarm-hold", "nan"}, {"--alarm-hold expects a finite number"});
+  expect_rejected({"--energy-margin", "200"}, {"--energy-margin must be in [1, 100]"});
+  expect_rejected({"--rate", "0"}, {"--rate must be > 0 Hz"});
+  expect_rejected({"--rate", "20"}, {"--rate must be in (0, 10000] Hz", "got 20"});
+  expect_rejected({"--lcm-url", ""}, {"--lcm-url needs a URL"});
+  expect_rejected({"--frobnicate"}, {"unknown option '--frobnicate'", "rockwatch-monitor --help"});
+  // An option that overrides a valid file value is named when it is the one at fault.
+  expect_config_rejected(R"({"kappa": 3})", {"--kappa must be >= 1"}, {"--kappa", "0.5"});
+  expect_config_rejected(R"({"wall": {"b": 0.2}})", {"--h1 must be greater than b (got 0.15; b = 0.2 from", "wall.b"},
+                         {"--h1", "0.15"});
+}
+
+TEST(MonitorCommandLine, ArithDoubleIsRefusedClearly) {
+  expect_rejected({"--arith", "double"}, {"--arith double is not implemented in the monitor loop yet", "fixed"});
+  expect_rejected({"--arith", "float"}, {"--arith must be fixed or double", "'float'"});
+  const json j = printed_config("", {"--arith", "fixed"});
+  STRCMP_EQUAL("fixed", j.at("settings").at("arith").get<std::string>().c_str());
+}
+
+TEST(MonitorCommandLine, OfflineOptionsGoTogether) {
+  expect_rejected({"--offline-in", "a.lcmlog"}, {"--offline-in needs --offline-out"});
+  expect_rejected({"--offline-out", "b.lcmlog"}, {"--offline-out needs --offline-in"});
+  expect_rejected({"--offline-in", "a.lcmlog", "--offline-out", "a.lcmlog"}, {"--offline-out must differ"});
+  expect_rejected({"--offline-in", "a.lcmlog", "--offline-out", "b.lcmlog", "--lcm-url", "udpm://239.255.76.67:7667"},
+                  {"--lcm-url has no effect in offline mode"});
+  const TempDir dir;
+  expect_rejected({"--offline-in", dir.file("missing.lcmlog"), "--offline-out", dir.file("out.lcmlog")},
+                  {"--offline-in", "No such file or directory"});
+  rockwatch::test::write_file(dir.file("text.lcmlog"), "this is not an LCM log\n");
+  expect_rejected({"--offline-in", dir.file("text.lcmlog"), "--offline-out", dir.file("out.lcmlog")},
+                  {"not an LCM log"});
+  expect_rejected({"--offline-in", rockwatch::test::monitor_data_path(rockwatch::test::kShippedLog), "--offline-out", dir.file("no/such/dir/out.lcmlog")},
+                  {"--offline-out", "cannot create"});
+}
+
+TEST(MonitorCommandLine, HelpAndVersion) {
+  const ProcessResult help = run_monitor({"--help"});
+  LONGS_EQUAL(0, help.exit_status);
+  CHECK(help.out.find("--config FILE") != std::string::npos);
+  CHECK(help.out.find("--offline-in") != std::string::npos);
+  CHECK(help.out.find("--kappa") != std::string::npos);
+  const ProcessResult version = run_monitor({"--version"});
+  LONGS_EQUAL(0, version.exit_status);
+  CHECK(version.out.rfind("rockwatch-monitor ", 0) == 0);
+}
+
+TEST_GROUP(MonitorAdapterHelpers){};
+
+TEST(MonitorAdapterHelpers, ExactChannelRegexEscapesEveryMetacharacter) {
+  using rockwatch::monitor::exact_channel_regex;
+  STRCMP_EQUAL("ROCKWATCH_ACCEL", exact_channel_regex("ROCKWATCH_ACCEL").c_str());
+  STRCMP_EQUAL("A\\.B\\*C\\+\\?\\(\\)\\[\\]\\{\\}\\|\\^\\$\\\\", exact_channel_regex("A.B*C+?()[]{}|^$\\").c_str());
+}
+
+TEST(MonitorAdapterHelpers, Fnv1a64KnownValues) {
+  using rockwatch::monitor::fnv1a64;
+  CHECK(fnv1a64("") == 0xcbf29ce484222325ull);
+  CHECK(fnv1a64("a") == 0xaf63dc4c8601ec8cull);
+  CHECK(fnv1a64("foobar") == 0x85944171f73967e8ull);
+  STRCMP_EQUAL("0x85944171f73967e8",
+               rockwatch::monitor::digest_hex(static_cast<std::int64_t>(0x85944171f73967e8ull)).c_str());
+}
