@@ -63,7 +63,7 @@ awk '
 values() { awk -v l="$1" -v o="$2" '$1 == l { print $3 - o }' "$out_dir/samples.txt"; }
 n_overhead=$(values overhead 0 | wc -l)
 [[ $n_overhead -gt 0 ]] || { echo "error: no overhead pass in the callgrind output" >&2; exit 1; }
-overhead=$(values overhead 0 | sort -n | awk -v n="$n_overhead" 'NR == int((n + 1) / 2) { print; exit }')
+overhead=$(values overhead 0 | sort -n | awk -v n="$n_overhead" 'NR == int((n + 1) / 2) { print }')
 
 printf '%-15s %7s %7s %7s %7s %7s %7s %11s\n' pass samples min median p99 max max_at max/median
 failed=0
