@@ -89,4 +89,4 @@ else
   echo "(none)"
 fi
 echo "== image: largest functions"
-"$nm_tool" --size-sort -C -r "$image" | awk '$2 ~ /^[Tt]$/' | head -n 12
+"$nm_tool" --size-sort -C -r "$image" | awk '$2 ~ /^[Tt]$/ && n++ < 12'
