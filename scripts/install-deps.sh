@@ -13,7 +13,7 @@ PACKAGES=(
   libfftw3-dev           # FFT for the spectrum-compatible record generator (sim)
   libmseed-dev           # miniSEED record reader (host_tools)
   liblcm-dev liblcm-bin libglib2.0-dev   # LCM transport (firmware); lcm.pc needs glib-2.0
-  iproute2               # ip: scripts/demo.sh adds the multicast route on lo when there is none
+  iproute2               # ip: scripts/multicast-route.sh adds the multicast route on lo when there is none
   python3-matplotlib     # PNG plots (host_tools)
   gcc-arm-none-eabi libstdc++-arm-none-eabi-newlib libnewlib-arm-none-eabi   # Cortex-M4 build (scripts/embedded-build.sh)
   binutils               # nm, size (symbol audit: tests/tools/symbol_audit.sh)
