@@ -81,7 +81,9 @@ std::vector<std::uint8_t> encode(const T& m) {
 
 ground_accel_t accel(std::int64_t seq, double ug, double vg = 0.0, std::int32_t sensor_status = 0) {
   ground_accel_t m{};
-  m.utime = kT0 + seq * kPeriodUs;
+  // Unsigned arithmetic: the extreme-value test passes seq near INT64_MAX and then sets utime itself.
+  m.utime = static_cast<std::int64_t>(static_cast<std::uint64_t>(kT0) +
+                                      static_cast<std::uint64_t>(seq) * static_cast<std::uint64_t>(kPeriodUs));
   m.seq = seq;
   m.schema_version = 1;
   m.ug_mps2 = ug;
