@@ -74,21 +74,6 @@ void check_options(const core::WallParameters& wall, const GroundMotion& motion,
   }
 }
 
-// Input on the integration grid: sample k of n_sub sub-steps per record interval, zero after the record.
-struct GridInput {
-  const GroundMotion& motion;
-  std::size_t n_sub;
-
-  double at(const std::vector<double>& v, std::size_t k) const {
-    if (v.empty()) return 0.0;
-    const std::size_t i = k / n_sub, j = k % n_sub;
-    if (i + 1 >= v.size()) return i + 1 == v.size() && j == 0 ? v.back() : 0.0;
-    return v[i] + (v[i + 1] - v[i]) * double(j) / double(n_sub);
-  }
-  double ug(std::size_t k) const { return at(motion.ug_mps2, k); }
-  double vg(std::size_t k) const { return at(motion.vg_mps2, k); }
-};
-
 // Collects the summary from the stepper's per-step reports.
 class ResponseRecorder {
  public:
@@ -166,33 +151,41 @@ class AlarmRecorder {
 
 }  // namespace
 
-AnalysisResult analyse(const core::WallParameters& wall, const GroundMotion& motion, const AnalysisOptions& o) {
-  check_options(wall, motion, o);
-  if (o.arithmetic == Arithmetic::fixed_point) {
-    AnalysisResult fixed = detail::analyse_fixed(wall, motion, o);
-    fixed.arithmetic = Arithmetic::fixed_point;
-    return fixed;
-  }
+namespace detail {
 
-  AnalysisResult result;
-  result.arithmetic = Arithmetic::double_precision;
-  const auto n_sub = static_cast<std::size_t>(std::max(1.0, std::ceil(motion.dt_s / o.max_step_s - 1e-9)));
-  const double h = motion.dt_s / double(n_sub);
-  result.dt_s = h;
+AnalysisStart start_analysis(const core::WallParameters& wall, const GroundMotion& motion, const AnalysisOptions& o,
+                             AnalysisResult& result) {
+  AnalysisStart start;
+  start.n_sub = static_cast<std::size_t>(std::max(1.0, std::ceil(motion.dt_s / o.max_step_s - 1e-9)));
+  start.h_s = motion.dt_s / double(start.n_sub);
+  result.dt_s = start.h_s;
   result.duration_s = motion.duration_s();
   result.t_end_s = o.t_end_s ? *o.t_end_s : result.duration_s;
   result.pga_mps2 = peak_abs(motion.ug_mps2);
   result.r = core::restitution_energy_ratio(wall, o.restitution);
-
   core::StepperOptions so;
-  so.dt_s = h;
+  so.dt_s = start.h_s;
   so.kappa = o.kappa;
-  const core::StepperSetup<double> setup = core::make_stepper_setup(wall, o.model, result.r, so);
-  result.x_inst_m = std::min(setup.x_inst_m[0], setup.x_inst_m[1]);
-  result.threshold_mps2 = std::min(core::threshold_mps2(setup.model, Side::negative, wall.g_mps2),
-                                   core::threshold_mps2(setup.model, Side::positive, wall.g_mps2));
+  start.setup = core::make_stepper_setup(wall, o.model, result.r, so);
+  result.x_inst_m = std::min(start.setup.x_inst_m[0], start.setup.x_inst_m[1]);
+  result.threshold_mps2 = std::min(core::threshold_mps2(start.setup.model, Side::negative, wall.g_mps2),
+                                   core::threshold_mps2(start.setup.model, Side::positive, wall.g_mps2));
+  return start;
+}
 
-  const GridInput input{motion, n_sub};
+}  // namespace detail
+
+AnalysisResult analyse(const core::WallParameters& wall, const GroundMotion& motion, const AnalysisOptions& o) {
+  check_options(wall, motion, o);
+  if (o.arithmetic == Arithmetic::fixed_point) return detail::analyse_fixed(wall, motion, o);
+
+  AnalysisResult result;
+  result.arithmetic = Arithmetic::double_precision;
+  const detail::AnalysisStart start = detail::start_analysis(wall, motion, o, result);
+  const double h = start.h_s;
+  const core::StepperSetup<double>& setup = start.setup;
+
+  const detail::GridInput input{motion, start.n_sub};
   core::RockingStepper<double> stepper;
   stepper.init(setup);
   stepper.reset(input.ug(0), input.vg(0));

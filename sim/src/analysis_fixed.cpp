@@ -14,19 +14,11 @@ using core::Side;
 
 namespace {
 
-// The record on the integration grid, converted to the engine's input format once per step.
+// The record on the integration grid (GridInput), converted to the engine's input format once per step.
 struct FixedGridInput {
-  const GroundMotion& motion;
-  std::size_t n_sub;
-
-  double at(const std::vector<double>& v, std::size_t k) const {
-    if (v.empty()) return 0.0;
-    const std::size_t i = k / n_sub, j = k % n_sub;
-    if (i + 1 >= v.size()) return i + 1 == v.size() && j == 0 ? v.back() : 0.0;
-    return v[i] + (v[i + 1] - v[i]) * double(j) / double(n_sub);
-  }
-  AccelQ7_56 ug(std::size_t k) const { return AccelQ7_56(at(motion.ug_mps2, k)); }
-  AccelQ7_56 vg(std::size_t k) const { return AccelQ7_56(at(motion.vg_mps2, k)); }
+  GridInput grid;
+  AccelQ7_56 ug(std::size_t k) const { return AccelQ7_56(grid.ug(k)); }
+  AccelQ7_56 vg(std::size_t k) const { return AccelQ7_56(grid.vg(k)); }
 };
 
 // Inputs beyond ±80 m/s² would saturate ẍ the engine's coefficients (docs/FIXED_POINT.md): refuse, naming the sample.
@@ -77,21 +69,9 @@ AnalysisResult analyse_fixed(const core::WallParameters& wall, const GroundMotio
 
   AnalysisResult result;
   result.arithmetic = Arithmetic::fixed_point;
-  const auto n_sub = static_cast<std::size_t>(std::max(1.0, std::ceil(motion.dt_s / o.max_step_s - 1e-9)));
-  const double h = motion.dt_s / double(n_sub);
-  result.dt_s = h;
-  result.duration_s = motion.duration_s();
-  result.t_end_s = o.t_end_s ? *o.t_end_s : result.duration_s;
-  result.pga_mps2 = peak_abs(motion.ug_mps2);
-  result.r = core::restitution_energy_ratio(wall, o.restitution);
-
-  core::StepperOptions so;
-  so.dt_s = h;
-  so.kappa = o.kappa;
-  const core::StepperSetup<double> setup = core::make_stepper_setup(wall, o.model, result.r, so);
-  result.x_inst_m = std::min(setup.x_inst_m[0], setup.x_inst_m[1]);
-  result.threshold_mps2 = std::min(core::threshold_mps2(setup.model, Side::negative, wall.g_mps2),
-                                   core::threshold_mps2(setup.model, Side::positive, wall.g_mps2));
+  const AnalysisStart start = start_analysis(wall, motion, o, result);
+  const double h = start.h_s;
+  const core::StepperSetup<double>& setup = start.setup;
 
   core::FixedRockingStepper stepper;
   const core::FixedSetupError error = stepper.init(setup);
@@ -105,7 +85,7 @@ AnalysisResult analyse_fixed(const core::WallParameters& wall, const GroundMotio
   alarm.init(core::hold_samples(o.alarm, h));
   if (o.evaluate_alarm) result.alarm.evaluated = true;
 
-  const FixedGridInput input{motion, n_sub};
+  const FixedGridInput input{GridInput{motion, start.n_sub}};
   stepper.reset(input.ug(0), input.vg(0));
 
   auto record_row = [&](double t_s, AccelQ7_56 ug, AccelQ7_56 vg) {

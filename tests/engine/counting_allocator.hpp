@@ -6,8 +6,10 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <new>
+#include <vector>
 
 extern "C" {
 // glibc's own implementations, which its malloc/free are aliases of.
@@ -110,3 +112,26 @@ void operator delete(void* p, std::size_t, std::align_val_t) noexcept { counted_
 void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { counted_free(p); }
 void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept { counted_free(p); }
 void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcept { counted_free(p); }
+
+namespace counting_allocator {
+
+// Through volatile function pointers, so the optimiser can neither drop nor merge the deliberate allocations.
+inline void* (*volatile g_malloc)(std::size_t) = std::malloc;
+inline void (*volatile g_free)(void*) = std::free;
+
+// The counters must see a deliberate allocation, else a count of 0 would prove nothing.
+inline bool self_check() {
+  const std::uint64_t before = g_calls;
+  void* p = g_malloc(24);
+  g_free(p);
+  const std::uint64_t c_malloc = g_calls - before;
+  const std::uint64_t before_new = g_calls;
+  std::vector<int>* volatile v = new std::vector<int>(16, 1);  // operator new twice (object, buffer)
+  delete v;
+  const std::uint64_t c_new = g_calls - before_new;
+  std::printf("self-check: malloc+free counted %llu calls (expect 2), new+delete of a vector counted %llu (expect 4)\n",
+              static_cast<unsigned long long>(c_malloc), static_cast<unsigned long long>(c_new));
+  return c_malloc == 2 && c_new == 4;
+}
+
+}  // namespace counting_allocator

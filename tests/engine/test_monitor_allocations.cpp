@@ -38,24 +38,6 @@ constexpr std::size_t kMeasuredCalls = 100000;
 const char* const kAccel = "ROCKWATCH_ACCEL";
 const char* const kBatch = "ROCKWATCH_ACCEL_BATCH";
 
-// Through volatile function pointers, so the optimiser can neither drop nor merge the deliberate allocations.
-void* (*volatile g_malloc)(std::size_t) = std::malloc;
-void (*volatile g_free)(void*) = std::free;
-
-bool self_check() {
-  const std::uint64_t before = g_calls;
-  void* p = g_malloc(24);
-  g_free(p);
-  const std::uint64_t c_malloc = g_calls - before;
-  const std::uint64_t before_new = g_calls;
-  std::vector<int>* volatile v = new std::vector<int>(16, 1);  // operator new twice (object, buffer)
-  delete v;
-  const std::uint64_t c_new = g_calls - before_new;
-  std::printf("self-check: malloc+free counted %llu calls (expect 2), new+delete of a vector counted %llu (expect 4)\n",
-              static_cast<unsigned long long>(c_malloc), static_cast<unsigned long long>(c_new));
-  return c_malloc == 2 && c_new == 4;
-}
-
 struct Message {
   const char* channel;
   std::vector<std::uint8_t> bytes;
@@ -164,7 +146,7 @@ class CountingListener : public fw::MonitorListener {
 }  // namespace
 
 int main() {
-  if (!self_check()) {
+  if (!counting_allocator::self_check()) {
     std::fprintf(stderr, "FAIL: the allocation counters do not see deliberate allocations\n");
     return 1;
   }
