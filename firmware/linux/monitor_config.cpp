@@ -38,7 +38,7 @@ namespace {
 // Command line
 
 struct RawOptions {
-  std::string config, lcm_url, arith = "fixed", rate, offline_in, offline_out;
+  std::string config, lcm_url, arith = "fixed", rate, offline_in, offline_out, log;
   cli::WallOptionTexts wall;
   std::string r = "exp", model = "linear", kappa;
   std::string lambda_w, hold, margin;
@@ -82,14 +82,14 @@ void add_options(CLI::App& app, RawOptions& raw) {
                                            "udpm://239.255.76.67:7667?ttl=0)")
       ->type_name("URL");
   app.add_option("--arith", raw.arith,
-                 "Engine arithmetic: fixed (default; the monitor's engine) | double (not implemented in the monitor "
-                 "loop yet)")
+                 "Engine arithmetic: fixed (default; the firmware's engine, = `rockwatch simulate --arith fixed`) | "
+                 "double (= `rockwatch simulate --arith double`; linear or full model)")
       ->type_name("fixed|double");
   cli::add_wall_options(app, raw.wall);
   app.add_option("--r", raw.r, "Energy ratio at impact: ana | exp (default, 0.9 ana) | impulse | a value in [0, 1]")
       ->type_name("R");
   app.add_option("--model", raw.model, "Equation of motion: linear (default, the paper's; the fixed-point engine's "
-                                       "only model) | full")
+                                       "only model) | full (with --arith double)")
       ->type_name("linear|full");
   app.add_option("--kappa", raw.kappa, "Collapse at |x| >= kappa * x_inst (default 2, >= 1)")->type_name("K");
   app.add_option("--lambda-w", raw.lambda_w, "WARNING when |x| >= lambda_w * x_inst, 0 < lambda_w <= 1 (default 0.4)")
@@ -106,6 +106,10 @@ void add_options(CLI::App& app, RawOptions& raw) {
       ->type_name("LOG");
   app.add_option("--offline-out", raw.offline_out, "Offline mode: write the published messages to this LCM log")
       ->type_name("LOG");
+  app.add_option("--log", raw.log,
+                 "Live mode: record every input message received and every message published to this LCM log "
+                 "(written once per second; a full disk is reported and counted, monitoring goes on)")
+      ->type_name("FILE");
   app.add_flag("--print-config", raw.print_config,
                "Print the normalised settings and their digest as one JSON object and exit");
   app.add_flag("--version", raw.version, "Print the version and exit");
@@ -130,6 +134,16 @@ std::optional<std::string> parse_arguments(CLI::App& app, int argc, const char* 
   return std::nullopt;
 }
 
+firmware::MonitorArithmetic parse_arith(const std::string& name, const std::string& text) {
+  if (text == "fixed") return firmware::MonitorArithmetic::fixed_point;
+  if (text == "double") return firmware::MonitorArithmetic::double_precision;
+  throw UsageError(name + " must be fixed or double (got " + cli::quoted(text) + ")");
+}
+
+const char* arith_name(firmware::MonitorArithmetic a) {
+  return a == firmware::MonitorArithmetic::double_precision ? "double" : "fixed";
+}
+
 // ---------------------------------------------------------------------------------------------------------------
 // Configuration file
 
@@ -138,6 +152,7 @@ struct FileValues {
   std::optional<double> wall[8];  // in kWallFields order
   std::optional<core::Restitution> r;
   std::optional<core::ModelKind> model;
+  std::optional<firmware::MonitorArithmetic> arith;
   std::optional<double> kappa, lambda_w, hold_s, energy_margin, sample_rate_hz, sensor_range_mps2, late_limit_s;
   std::optional<std::int32_t> max_bridge_samples;
   std::optional<std::string> channels[5];
@@ -188,11 +203,12 @@ class ConfigReader {
   FileValues read() {
     const json root = parse();
     if (!root.is_object()) fail("the top level", "expected a JSON object {...}, got " + json_type(root));
-    check_keys(root, "", {"wall", "r", "model", "kappa", "alarm", "sample_rate_hz", "max_bridge_samples",
+    check_keys(root, "", {"arith", "wall", "r", "model", "kappa", "alarm", "sample_rate_hz", "max_bridge_samples",
                           "sensor_range_mps2", "late_limit_s", "channels", "lcm_url"});
     FileValues v;
     if (root.contains("wall")) read_wall(root.at("wall"), v);
     if (root.contains("r")) v.r = read_restitution(root.at("r"));
+    if (root.contains("arith")) v.arith = read_arith(root.at("arith"));
     if (root.contains("model")) v.model = read_model(root.at("model"));
     if (root.contains("kappa")) v.kappa = number(root.at("kappa"), "kappa", "");
     if (root.contains("alarm")) {
@@ -342,8 +358,13 @@ class ConfigReader {
   }
 
   core::ModelKind read_model(const json& v) const {
-    if (!v.is_string()) fail("model", "expected \"linear\", got " + json_type(v));
+    if (!v.is_string()) fail("model", "expected \"linear\" or \"full\", got " + json_type(v));
     return cli::parse_model(key_label("model"), v.get<std::string>());
+  }
+
+  firmware::MonitorArithmetic read_arith(const json& v) const {
+    if (!v.is_string()) fail("arith", "expected \"fixed\" or \"double\", got " + json_type(v));
+    return parse_arith(key_label("arith"), v.get<std::string>());
   }
 
   std::string path_;
@@ -417,10 +438,11 @@ core::WallParameters merge_wall(const CLI::App& app, const RawOptions& raw, cons
   throw UsageError(std::string("wall parameter ") + check.field + " " + check.message);
 }
 
-void check_wall_computable(const core::WallParameters& wall, const core::Restitution& r, const std::string& origin) {
+void check_wall_computable(const core::WallParameters& wall, const core::Restitution& r, core::ModelKind model,
+                           const std::string& origin) {
   sim::AnalysisOptions options;
   options.restitution = r;
-  options.model = core::ModelKind::linear;
+  options.model = model;
   try {
     cli::check_computable(wall, options);
   } catch (const UsageError& e) {
@@ -472,12 +494,12 @@ json normalised_settings(const MonitorConfig& config) {
   }
   return json{
       {"format", "rockwatch-monitor settings 1"},
-      {"arith", "fixed"},
+      {"arith", arith_name(s.arithmetic)},
       {"wall", {{"b", w.b_m}, {"h1", w.h1_m}, {"h2", w.h2_m}, {"rho", w.rho_kgpm3}, {"fp", w.fp_npm}, {"a", w.a},
                 {"a_prime", w.a_prime}, {"g", w.g_mps2}}},
       {"r", r},
       {"r_energy_ratio", s.engine.r_energy},
-      {"model", "linear"},
+      {"model", s.engine.model == core::ModelKind::full ? "full" : "linear"},
       {"kappa", s.engine.kappa},
       {"alarm",
        {{"lambda_w", s.engine.alarm.lambda_warning}, {"hold_s", s.engine.alarm.hold_s},
@@ -513,21 +535,19 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
   }
   const auto file_label = [&](const char* key) { return reader ? reader->key_label(key) : std::string(); };
 
-  // --arith first: double is refused whatever else is given.
-  if (raw.arith == "double") {
-    throw UsageError("--arith double is not implemented in the monitor loop yet: the monitor's WallEngine runs the "
-                     "fixed-point engine only (use --arith fixed, the default; `rockwatch simulate --arith double` "
-                     "runs the double engine offline)");
-  }
-  if (raw.arith != "fixed") throw UsageError("--arith must be fixed or double (got " + cli::quoted(raw.arith) + ")");
-
-  // Model: the fixed-point engine integrates the linear equation of motion only.
+  // Arithmetic and model: the fixed-point engine integrates the linear equation of motion only.
+  Sourced<firmware::MonitorArithmetic> arith =
+      pick(firmware::MonitorArithmetic::fixed_point, file.arith, file_label("arith"));
+  if (cli::given(app, "--arith")) arith = {parse_arith("--arith", raw.arith), "--arith"};
+  config.settings.arithmetic = arith.value;
   Sourced<core::ModelKind> model = pick(core::ModelKind::linear, file.model, file_label("model"));
   if (cli::given(app, "--model")) model = {cli::parse_model("--model", raw.model), "--model"};
-  if (model.value != core::ModelKind::linear) {
+  if (model.value != core::ModelKind::linear && arith.value == firmware::MonitorArithmetic::fixed_point) {
     throw UsageError(name_of(model.origin, "--model") +
-                     " must be linear: the monitor's fixed-point engine supports the linear model only (got full)");
+                     " full needs --arith double: the fixed-point engine supports the linear model only" +
+                     (arith.origin.empty() ? std::string() : " (arith fixed from " + arith.origin + ")"));
   }
+  config.settings.engine.model = model.value;
 
   // Restitution.
   Sourced<core::Restitution> r = pick(core::Restitution{}, file.r, file_label("r"));
@@ -537,7 +557,7 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
   // Wall.
   firmware::WallEngineConfig& engine = config.settings.engine;
   engine.wall = merge_wall(app, raw, file, reader ? &*reader : nullptr, config.wall_origin);
-  check_wall_computable(engine.wall, r.value, config.wall_origin);
+  check_wall_computable(engine.wall, r.value, model.value, config.wall_origin);
   engine.r_energy = core::restitution_energy_ratio(engine.wall, r.value);
 
   // Kappa (the engine takes [1, 100)).
@@ -644,6 +664,11 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
     if (cli::given(app, "--lcm-url")) throw UsageError("--lcm-url has no effect in offline mode (--offline-in)");
     config.offline_in = raw.offline_in;
     config.offline_out = raw.offline_out;
+  }
+  if (cli::given(app, "--log")) {
+    if (raw.log.empty()) throw UsageError("--log needs a file name");
+    if (in_given) throw UsageError("--log is for live mode: offline mode writes its outputs to --offline-out");
+    config.log_path = raw.log;
   }
   config.print_config = raw.print_config;
 

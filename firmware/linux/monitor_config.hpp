@@ -5,7 +5,8 @@
 // Configuration file keys (all optional; the defaults are the command line's):
 //   wall {b, h1, h2, rho, fp, a, a_prime, g}     fields of the paper wall to replace (m, kg/m3, N/m, -, m/s2)
 //   r            "ana" | "exp" | "impulse" | a number in [0, 1]     (--r; default exp)
-//   model        "linear" (the fixed-point engine's only model)       (--model)
+//   arith        "fixed" (default) | "double"                          (--arith)
+//   model        "linear" | "full" (full with arith "double" only)     (--model)
 //   kappa        number in [1, 100)                                   (--kappa; default 2)
 //   alarm {lambda_w, hold_s, energy_margin}                           (--lambda-w, --alarm-hold, --energy-margin)
 //   sample_rate_hz (--rate), max_bridge_samples, sensor_range_mps2, late_limit_s
@@ -34,6 +35,7 @@ struct MonitorConfig {
   std::string lcm_url_origin = "default";  // "--lcm-url", "--config FILE: lcm_url", "$LCM_DEFAULT_URL", "default"
   std::string config_path;               // empty without --config
   std::optional<std::string> offline_in, offline_out;  // offline mode: read one LCM log, write another
+  std::optional<std::string> log_path;   // live mode: the monitor's own LCM log of its inputs and outputs (--log)
   bool print_config = false;             // --print-config: print the normalised settings and exit
   std::string rate_origin = "default";   // where sample_rate_hz came from, for the engine's messages
   std::string wall_origin = "paper wall";

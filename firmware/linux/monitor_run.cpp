@@ -12,6 +12,8 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <lcm/lcm-cpp.hpp>
 #include <nlohmann/json.hpp>
@@ -20,6 +22,7 @@
 #include "monitor_config.hpp"
 #include "monitor_output.hpp"
 #include "option_values.hpp"
+#include "traffic_log.hpp"
 #include "usage_error.hpp"
 
 namespace rockwatch::monitor {
@@ -82,6 +85,60 @@ class NullTransport final : public firmware::Transport {
   bool publish(const char*, const std::uint8_t*, std::size_t) override { return true; }
 };
 
+// Live with --log: every published message also goes to the monitor's traffic log.
+class LoggedTransport final : public firmware::Transport {
+ public:
+  LoggedTransport(firmware::Transport& inner, TrafficLog& log) : inner_(inner), log_(log) {}
+  bool publish(const char* channel, const std::uint8_t* data, std::size_t size) override {
+    log_.add(channel, data, size, realtime_utime());
+    return inner_.publish(channel, data, size);
+  }
+
+ private:
+  firmware::Transport& inner_;
+  TrafficLog& log_;
+};
+
+// The input side of --log: a second subscription to the input channels, made before the loop's, so each input
+// event precedes in the log the outputs it caused.
+void log_input(const lcm::ReceiveBuffer* rbuf, const std::string& channel, TrafficLog* log) {
+  const std::int64_t utime = rbuf->recv_utime > 0 ? rbuf->recv_utime : realtime_utime();
+  log->add(channel.c_str(), static_cast<const std::uint8_t*>(rbuf->data),
+           rbuf->data_size > 0 ? static_cast<std::size_t>(rbuf->data_size) : std::size_t{0}, utime);
+}
+
+// Writes the log's buffer; a failure is counted by the loop (status flag, counter) and reported on stderr once per
+// run of failures, and again when writing works again. Monitoring never stops for the log.
+class LogFlusher {
+ public:
+  LogFlusher(TrafficLog& log, std::string path, std::ostream& err) : log_(log), path_(std::move(path)), err_(err) {}
+  void flush(firmware::MonitorLoop& loop) {
+    if (!log_.is_open()) return;
+    const std::int64_t lost_before = log_.events_lost();
+    if (log_.flush()) {
+      if (failing_) {
+        err_ << kPrefix << "note: --log " << cli::quoted(path_) << ": writing again ("
+             << log_.events_lost() << " events lost in all)" << std::endl;
+        failing_ = false;
+      }
+      return;
+    }
+    loop.note_log_write_failure();
+    if (!failing_) {
+      err_ << kPrefix << "warning: --log " << cli::quoted(path_) << ": write failed (" << log_.error() << "); "
+           << (log_.events_lost() - lost_before) << " events lost; monitoring goes on, the log is retried every "
+           << "second" << std::endl;
+      failing_ = true;
+    }
+  }
+
+ private:
+  TrafficLog& log_;
+  std::string path_;
+  std::ostream& err_;
+  bool failing_ = false;
+};
+
 // Starts the loop; on refusal prints a message naming the settings at fault and returns false.
 bool init_loop(firmware::MonitorLoop& loop, const MonitorConfig& config, firmware::Transport& transport,
                firmware::MonitorListener& listener, std::ostream& err) {
@@ -129,7 +186,7 @@ void human_summary(std::ostream& err, const std::string& first_line, const firmw
       << "  faults: " << c.rejected_not_finite << " not finite, " << c.rejected_out_of_range << " out of range, "
       << c.lift_off << " lift-off, " << c.sensor_flags << " sensor flags, " << c.decode_errors << " decode errors, "
       << c.saturated << " saturated, " << c.publisher_restarts << " publisher restarts, " << c.publish_failures
-      << " publish failures\n"
+      << " publish failures, " << c.messages_ignored << " ignored, " << c.log_write_failures << " log write failures\n"
       << "  alarm: " << printer.events() << " transitions, highest " << level_name(printer.max_level()) << ", now "
       << level_name(static_cast<std::int64_t>(loop.alarm_level())) << "; " << c.states_published
       << " wall states, " << statuses << " status messages; worst step " << c.worst_step_ns << " ns\n";
@@ -146,7 +203,23 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
         << " (a malformed URL, or no multicast route: see `ip route` for 224.0.0.0/4)\n";
     return kExitUsage;
   }
-  LcmTransport transport(lcm);
+  TrafficLog log;
+  std::vector<lcm::Subscription*> log_subscriptions;
+  if (config.log_path) {
+    if (!log.open(*config.log_path)) {
+      err << kPrefix << "error: --log " << cli::quoted(*config.log_path) << ": cannot create the log (" << log.error()
+          << ")\n";
+      return kExitUsage;
+    }
+    for (const char* channel : {config.settings.channels.accel, config.settings.channels.accel_batch}) {
+      log_subscriptions.push_back(lcm.subscribeFunction(exact_channel_regex(channel), &log_input, &log));
+    }
+  }
+  LcmTransport lcm_transport(lcm);
+  LoggedTransport logged_transport(lcm_transport, log);
+  firmware::Transport& transport = config.log_path ? static_cast<firmware::Transport&>(logged_transport)
+                                                   : static_cast<firmware::Transport&>(lcm_transport);
+  LogFlusher flusher(log, config.log_path ? *config.log_path : std::string(), err);
   AlarmPrinter printer(out);
   const auto loop = std::make_unique<firmware::MonitorLoop>();
   if (!init_loop(*loop, config, transport, printer, err)) return kExitUsage;
@@ -174,6 +247,7 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
   while (!StopSignals::stopped()) {
     const std::int64_t now_ns = monotonic_ns();
     if (now_ns >= next_status_ns) {
+      flusher.flush(*loop);  // before the status, which then carries a log failure
       loop->publish_status(realtime_utime());
       ++statuses;
       next_status_ns += kSecondNs;
@@ -195,8 +269,11 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
       break;
     }
   }
+  flusher.flush(*loop);
   loop->publish_status(realtime_utime());
   ++statuses;
+  for (lcm::Subscription* sub : log_subscriptions) lcm.unsubscribe(sub);
+  const bool log_ok = log.close();
   const double run_time_s = static_cast<double>(monotonic_ns() - start_ns) * 1e-9;
 
   json s = common_summary(config, *loop, printer, statuses);
@@ -204,12 +281,26 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
   s["stopped_by"] = failed ? std::string("LCM failure") : StopSignals::stopped_by();
   s["lcm_url"] = config.lcm_url;
   s["lcm_messages"] = input.messages();
+  if (config.log_path) {
+    s["log"] = {{"path", *config.log_path},          {"events_written", log.events_written()},
+                {"events_lost", log.events_lost()}, {"write_failures", log.write_failures()},
+                {"bytes", log.bytes_written()},     {"complete", log_ok && log.events_lost() == 0}};
+    if (!log.error().empty()) s["log"]["last_error"] = log.error();
+    if (!log_ok) {
+      err << kPrefix << "warning: --log " << cli::quoted(*config.log_path) << ": the final write failed ("
+          << log.error() << ")\n";
+    }
+  }
   s["run_time_s"] = run_time_s;
   out << json{{"summary", s}}.dump() << '\n' << std::flush;
   char seconds[32];
   std::snprintf(seconds, sizeof seconds, "%.1f", run_time_s);
   human_summary(err, "stopped by " + s["stopped_by"].get<std::string>() + " after " + seconds + " s", *loop, printer,
                 statuses);
+  if (config.log_path) {
+    err << "  log: " << log.events_written() << " events written to " << cli::quoted(*config.log_path) << ", "
+        << log.events_lost() << " lost in " << log.write_failures() << " failed writes\n";
+  }
   return failed ? kExitRuntime : kExitOk;
 }
 

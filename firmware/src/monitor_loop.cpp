@@ -17,7 +17,6 @@ namespace {
 
 using Status = rockwatch::monitor_status_t;
 
-constexpr std::int32_t kSchemaVersion = 1;
 constexpr int kSeenBits = 64;  // duplicates are told from out-of-order samples over the last 64 seqs
 
 // Saturating int64 arithmetic: seq and utime come from the network and may be anything.
@@ -57,6 +56,7 @@ const char* monitor_error_message(MonitorError e) {
       return "channel names must be non-empty and NUL-terminated within 64 bytes, and each input channel must "
              "differ from every other channel";
     case MonitorError::restart_window_out_of_range: return "restart_window must be in [1, 1000000000] samples";
+    case MonitorError::arithmetic_invalid: return "arithmetic must be fixed_point or double_precision";
   }
   return "?";
 }
@@ -83,7 +83,11 @@ MonitorError MonitorLoop::init(const MonitorSettings& s, Transport& transport, M
 
   settings_ = s;
   settings_.engine.dt_s = 1.0 / s.sample_rate_hz;
-  engine_error_ = engine_.init(settings_.engine);
+  if (s.arithmetic != MonitorArithmetic::fixed_point && s.arithmetic != MonitorArithmetic::double_precision) {
+    return MonitorError::arithmetic_invalid;
+  }
+  engine_error_ = s.arithmetic == MonitorArithmetic::fixed_point ? engine_.init(settings_.engine)
+                                                                 : double_engine_.init(settings_.engine);
   if (engine_error_ != WallEngineError::ok) return MonitorError::engine;
 
   transport_ = &transport;
@@ -101,12 +105,17 @@ MonitorError MonitorLoop::init(const MonitorSettings& s, Transport& transport, M
   alarm_seq_ = 0;
   status_seq_ = 0;
   quality_since_status_ = Status::QUALITY_MONITOR_RESTARTED;
-  engine_.reset_wall(core::AccelQ7_56{}, core::AccelQ7_56{});
+  if (s.arithmetic == MonitorArithmetic::fixed_point) {
+    engine_.reset_wall(core::AccelQ7_56{}, core::AccelQ7_56{});
+  } else {
+    double_engine_.reset_wall(0.0, 0.0);
+  }
+  level_ = core::AlarmLevel::quiet;
   ready_ = true;
   return MonitorError::ok;
 }
 
-core::AlarmLevel MonitorLoop::alarm_level() const { return engine_.last().alarm.level; }
+core::AlarmLevel MonitorLoop::alarm_level() const { return level_; }
 
 void MonitorLoop::on_message(const char* channel, const std::uint8_t* data, std::size_t size,
                              std::int64_t receive_utime) {
@@ -133,7 +142,9 @@ void MonitorLoop::on_accel(const std::uint8_t* data, std::size_t size, std::int6
   rockwatch::ground_accel_t m;
   if (data == nullptr || size > static_cast<std::size_t>(INT_MAX)) return decode_error();
   const int n = static_cast<int>(size);
-  if (m.decode(data, 0, n) != n || m.schema_version != kSchemaVersion) return decode_error();
+  if (m.decode(data, 0, n) != n || m.schema_version != rockwatch::ground_accel_t::SCHEMA_VERSION) {
+    return decode_error();
+  }
   ++counters_.samples_received;
   process_sample(m.utime, m.seq, m.ug_mps2, m.vg_mps2, m.sensor_status, sat_sub(receive_utime, m.utime));
 }
@@ -142,7 +153,7 @@ void MonitorLoop::on_accel_batch(const std::uint8_t* data, std::size_t size, std
   rockwatch::ground_accel_batch_t m;
   if (data == nullptr || size > static_cast<std::size_t>(INT_MAX)) return decode_error();
   const int n = static_cast<int>(size);
-  if (m.decode(data, 0, n) != n || m.schema_version != kSchemaVersion || m.count < 1 ||
+  if (m.decode(data, 0, n) != n || m.schema_version != rockwatch::ground_accel_batch_t::SCHEMA_VERSION || m.count < 1 ||
       m.count > rockwatch::ground_accel_batch_t::MAX_SAMPLES || m.sample_period_us <= 0) {
     return decode_error();
   }
@@ -164,7 +175,9 @@ void MonitorLoop::process_sample(std::int64_t utime, std::int64_t seq, double ug
   if (have_last_) {
     const std::int64_t d = sat_sub(seq, last_seq_);
     if (d <= 0) {
-      if (d < -settings_.restart_window) {
+      // A sequence number that goes back while the sample time goes forward is a new publisher session (a replay
+      // or sensor restarted), however few samples it had sent; so is a jump back beyond the restart window.
+      if (d < -settings_.restart_window || utime > last_utime_) {
         ++counters_.publisher_restarts;
         quality |= Status::QUALITY_PUBLISHER_RESTART;
         reset = true;
@@ -194,10 +207,9 @@ void MonitorLoop::process_sample(std::int64_t utime, std::int64_t seq, double ug
 
   // Bridge a short gap: the last good input held for each missing sample (≤ max_bridge_samples steps).
   if (missing > 0) {
-    const core::AccelQ7_56 ug_hold(last_ug_), vg_hold(last_vg_);
     for (std::int64_t k = 1; k <= missing; ++k) {
       ++counters_.samples_bridged;
-      step_and_publish(sat_add(last_utime_, k * period_us_), last_seq_ + k, ug_hold, vg_hold,
+      step_and_publish(sat_add(last_utime_, k * period_us_), last_seq_ + k, last_ug_, last_vg_,
                        Status::QUALITY_GAP_BRIDGED, false, true);
     }
   }
@@ -239,28 +251,66 @@ void MonitorLoop::process_sample(std::int64_t utime, std::int64_t seq, double ug
   have_last_ = true;
   last_seq_ = seq;
   last_utime_ = utime;
-  step_and_publish(utime, seq, core::AccelQ7_56(ug), core::AccelQ7_56(vg), quality, reset, false);
+  step_and_publish(utime, seq, ug, vg, quality, reset, false);
 }
 
-void MonitorLoop::step_and_publish(std::int64_t utime, std::int64_t seq, core::AccelQ7_56 ug, core::AccelQ7_56 vg,
-                                   std::int32_t quality, bool reset, bool bridged) {
-  const core::AlarmLevel before = engine_.last().alarm.level;
-  const std::int64_t t0 = step_clock_ != nullptr ? step_clock_() : 0;
-  if (reset && counters_.samples_processed == 0) {
-    engine_.reset_wall(ug, vg);  // the monitor's first sample: wall at rest, alarm QUIET
-  } else if (reset) {
-    engine_.restart_motion(ug, vg);  // state unknown: motion from rest, the alarm keeps its level (COLLAPSED latched)
+MonitorLoop::EngineSample MonitorLoop::run_engine(double ug, double vg, bool reset) {
+  const bool first = reset && counters_.samples_processed == 0;
+  EngineSample e;
+  if (settings_.arithmetic == MonitorArithmetic::fixed_point) {
+    // Straight to Q7.56: bit-identical to `rockwatch simulate --arith fixed` on the same doubles.
+    const core::AccelQ7_56 ug_q(ug), vg_q(vg);
+    if (first) {
+      engine_.reset_wall(ug_q, vg_q);  // the monitor's first sample: wall at rest, alarm QUIET
+    } else if (reset) {
+      engine_.restart_motion(ug_q, vg_q);  // state unknown: motion from rest, the alarm keeps its level
+    } else {
+      engine_.process_wall(ug_q, vg_q);
+    }
+    const WallEngineOutput& out = engine_.last();
+    const core::FixedRockingStepper& stepper = engine_.stepper();
+    e.x_m = stepper.x_m().to_double();
+    e.xd_mps = stepper.xd_mps().to_double();
+    e.energy_ratio = out.indicators.energy_ratio.to_double();
+    if (out.indicators.t_valid) e.t_to_instability_s = out.indicators.t_to_instability_s.to_double();
+    e.side_positive = stepper.side() == core::Side::positive;
+    e.moving = stepper.moving();
+    e.input_invalid = out.step.input_invalid;
+    e.saturated = out.step.saturated;
+    e.alarm = out.alarm;
   } else {
-    engine_.process_wall(ug, vg);
+    if (first) {
+      double_engine_.reset_wall(ug, vg);
+    } else if (reset) {
+      double_engine_.restart_motion(ug, vg);
+    } else {
+      double_engine_.process_wall(ug, vg);
+    }
+    const DoubleWallEngineOutput& out = double_engine_.last();
+    const core::RockingStepper<double>& stepper = double_engine_.stepper();
+    e.x_m = stepper.state().x_m;
+    e.xd_mps = stepper.state().xd_mps;
+    e.energy_ratio = out.indicators.energy_ratio;
+    if (out.indicators.t_valid) e.t_to_instability_s = out.indicators.t_to_instability_s;
+    e.side_positive = stepper.side() == core::Side::positive;
+    e.moving = stepper.moving();
+    e.input_invalid = out.step.input_invalid;
+    e.alarm = out.alarm;
   }
+  return e;
+}
+
+void MonitorLoop::step_and_publish(std::int64_t utime, std::int64_t seq, double ug, double vg, std::int32_t quality,
+                                   bool reset, bool bridged) {
+  const core::AlarmLevel before = level_;
+  const std::int64_t t0 = step_clock_ != nullptr ? step_clock_() : 0;
+  const EngineSample e = run_engine(ug, vg, reset);
   if (step_clock_ != nullptr) {
     const std::int64_t ns = sat_sub(step_clock_(), t0);
     if (ns > counters_.worst_step_ns) counters_.worst_step_ns = ns;
   }
-  const WallEngineOutput& out = engine_.last();
-  const core::FixedRockingStepper& stepper = engine_.stepper();
-  if (!reset && out.step.input_invalid) quality |= Status::QUALITY_LIFT_OFF;
-  if (!reset && out.step.saturated) {
+  if (!reset && e.input_invalid) quality |= Status::QUALITY_LIFT_OFF;
+  if (!reset && e.saturated) {
     ++counters_.saturated;
     quality |= Status::QUALITY_SATURATED;
   }
@@ -269,23 +319,24 @@ void MonitorLoop::step_and_publish(std::int64_t utime, std::int64_t seq, core::A
   ++counters_.samples_processed;
   quality_since_status_ |= quality;
 
-  std::uint32_t reasons = out.alarm.reasons;
+  std::uint32_t reasons = e.alarm.reasons;
   if ((quality & Status::QUALITY_LIFT_OFF) != 0) reasons |= core::alarm_reason::input_invalid;
-  const core::AlarmLevel level = out.alarm.level;
-  const double x = stepper.x_m().to_double(), xd = stepper.xd_mps().to_double();
-  const double energy_ratio = out.indicators.energy_ratio.to_double();
-  const double t_inst = out.indicators.t_valid ? out.indicators.t_to_instability_s.to_double() : -1.0;
+  const core::AlarmLevel level = e.alarm.level;
+  level_ = level;
+  const double x = e.x_m, xd = e.xd_mps;
+  const double energy_ratio = e.energy_ratio;
+  const double t_inst = e.t_to_instability_s;
 
   rockwatch::wall_state_t st;
   st.utime = utime;
   st.seq = state_seq_++;
   st.input_seq = seq;
-  st.schema_version = kSchemaVersion;  // wall_state_t.lcm declares no SCHEMA_VERSION constant
+  st.schema_version = rockwatch::wall_state_t::SCHEMA_VERSION;
   st.x_m = x;
   st.xd_mps = xd;
   st.theta1_rad = x / settings_.engine.wall.h1_m;
-  st.side = static_cast<std::int8_t>(stepper.side() == core::Side::positive ? 1 : -1);
-  st.moving = static_cast<std::int8_t>(stepper.moving() ? 1 : 0);
+  st.side = static_cast<std::int8_t>(e.side_positive ? 1 : -1);
+  st.moving = static_cast<std::int8_t>(e.moving ? 1 : 0);
   st.energy_ratio = energy_ratio;
   st.alarm_level = level_code(level);
   st.alarm_reasons = static_cast<std::int32_t>(reasons);
@@ -328,6 +379,12 @@ bool MonitorLoop::publish(const char* channel, int size) {
   return false;
 }
 
+void MonitorLoop::note_log_write_failure() {
+  if (!ready_) return;
+  ++counters_.log_write_failures;
+  quality_since_status_ |= Status::QUALITY_LOG_WRITE_FAILED;
+}
+
 void MonitorLoop::publish_status(std::int64_t now_utime) {
   if (!ready_) return;
   Status m;
@@ -356,14 +413,21 @@ void MonitorLoop::publish_status(std::int64_t now_utime) {
   m.worst_step_ns = c.worst_step_ns;
   m.data_quality = quality_since_status_;
   m.alarm_level = level_code(alarm_level());
-  quality_since_status_ = 0;
+  m.arithmetic = settings_.arithmetic == MonitorArithmetic::double_precision ? Status::ARITH_DOUBLE : Status::ARITH_FIXED;
+  m.sensor_flags = c.sensor_flags;
+  m.messages_ignored = c.messages_ignored;
+  m.publish_failures = c.publish_failures;
+  m.log_write_failures = c.log_write_failures;
   const int size = m.getEncodedSize();
+  bool sent = false;
   if (size <= static_cast<int>(sizeof out_buffer_) &&
       m.encode(out_buffer_, 0, static_cast<int>(sizeof out_buffer_)) == size) {
-    publish(settings_.channels.status, size);
+    sent = publish(settings_.channels.status, size);
   } else {
     ++counters_.publish_failures;
   }
+  // The quality bits are "since the last status that was sent": a lost status must not lose them.
+  if (sent) quality_since_status_ = 0;
 }
 
 }  // namespace rockwatch::firmware

@@ -13,16 +13,24 @@ const char* wall_engine_error_message(WallEngineError e) {
     case WallEngineError::sensor_axes_invalid: return "sensor axes invalid (finite, |entries| <= 1.5, rows not zero)";
     case WallEngineError::fixed_point_setup: return "wall or step outside the fixed-point engine's formats";
     case WallEngineError::indicator_constants: return "x_inst must be in (0.008, 1.9) m for the alarm's formats";
+    case WallEngineError::model_not_supported: return "the fixed-point engine runs the linear model only";
   }
   return "?";
 }
 
-WallEngineError WallEngine::init(const WallEngineConfig& c) {
+WallEngineError validate_wall_engine_config(const WallEngineConfig& c) {
   if (!core::validate_wall(c.wall).ok()) return WallEngineError::wall_invalid;
   if (!(c.r_energy >= 0.0 && c.r_energy <= 1.0)) return WallEngineError::restitution_out_of_range;
   if (!(c.kappa >= 1.0 && c.kappa < 100.0)) return WallEngineError::kappa_out_of_range;
   if (!core::alarm_settings_valid(c.alarm)) return WallEngineError::alarm_settings_invalid;
   if (!core::sensor_axes_valid(c.axes)) return WallEngineError::sensor_axes_invalid;
+  return WallEngineError::ok;
+}
+
+WallEngineError WallEngine::init(const WallEngineConfig& c) {
+  const WallEngineError common = validate_wall_engine_config(c);
+  if (common != WallEngineError::ok) return common;
+  if (c.model != core::ModelKind::linear) return WallEngineError::model_not_supported;
   core::StepperOptions so;
   so.dt_s = c.dt_s;
   so.kappa = c.kappa;

@@ -7,6 +7,8 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
+#include <csignal>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -16,6 +18,7 @@
 #include <stdexcept>
 #include <string>
 #include <system_error>
+#include <thread>
 #include <vector>
 
 extern char** environ;
@@ -66,12 +69,23 @@ pid_t spawn_rockwatch(const std::vector<std::string>& arguments, const std::stri
   return pid;
 }
 
-int wait_status(pid_t pid) {
+int wait_status(pid_t pid, double deadline_s) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(deadline_s);
   int status = 0;
-  while (waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR) throw std::runtime_error(std::string("waitpid: ") + std::strerror(errno));
+  for (;;) {
+    const pid_t r = waitpid(pid, &status, WNOHANG);
+    if (r == pid) return status;
+    if (r < 0 && errno != EINTR) throw std::runtime_error(std::string("waitpid: ") + std::strerror(errno));
+    if (std::chrono::steady_clock::now() >= deadline) {
+      kill(pid, SIGKILL);
+      while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+      }
+      std::ostringstream message;
+      message << "process " << pid << " did not end within " << deadline_s << " s: killed (a hang is a defect)";
+      throw std::runtime_error(message.str());
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
-  return status;
 }
 
 // stdout and stderr go to files rather than pipes: no reader thread, and no deadlock when the tool writes a lot.

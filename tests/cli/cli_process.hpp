@@ -26,8 +26,13 @@ ProcessResult run_rockwatch(const std::vector<std::string>& arguments);
 pid_t spawn_rockwatch(const std::vector<std::string>& arguments, const std::string& out_path,
                       const std::string& err_path);
 
-// Waits for `pid` to end and returns its waitpid status. Throws std::runtime_error when waitpid fails.
-int wait_status(pid_t pid);
+// No tool may hang: every process a test waits for has a deadline (far above any tool's run time in the tests, also
+// under the sanitizers); past it the process is killed and the test fails naming the hang.
+inline constexpr double kProcessDeadline_s = 150.0;
+
+// Waits for `pid` to end and returns its waitpid status. Throws std::runtime_error when waitpid fails or when the
+// process is still running after deadline_s (it is then killed with SIGKILL).
+int wait_status(pid_t pid, double deadline_s = kProcessDeadline_s);
 
 // Sets (or clears, with nullptr) an environment variable for one test and restores it afterwards. The processes a
 // test starts inherit the test's environment, so this also sets their variables.

@@ -115,7 +115,10 @@ struct Rig {
 
   explicit Rig(const fw::MonitorSettings& s = paper_settings()) {
     CHECK_TRUE(loop.init(s, transport, &listener) == fw::MonitorError::ok);
-    CHECK_TRUE(ref.init(loop.settings().engine) == fw::WallEngineError::ok);
+    // The fixed-point reference (the double timeline tests compare with sim::analyse instead).
+    if (s.arithmetic == fw::MonitorArithmetic::fixed_point) {
+      CHECK_TRUE(ref.init(loop.settings().engine) == fw::WallEngineError::ok);
+    }
   }
   void send(const ground_accel_t& m, std::int64_t receive_delay_us = kReceiveDelayUs) {
     const std::vector<std::uint8_t> b = encode(m);
@@ -176,6 +179,9 @@ void check_counters(const fw::MonitorCounters& c, const Expected& e) {
   LONGS_EQUAL(e.sensor_flags, c.sensor_flags);
   LONGS_EQUAL(e.ignored, c.messages_ignored);
   LONGS_EQUAL(e.publish_failures, c.publish_failures);
+  LONGS_EQUAL(0, c.log_write_failures);
+  // Every received sample is accounted for: processed (once; bridged steps are not received) or dropped with a reason.
+  LONGS_EQUAL(c.samples_received, c.samples_processed - c.samples_bridged + c.duplicates + c.out_of_order);
 }
 
 // data_quality of the status published now (since the previous status), without MONITOR_RESTARTED.
@@ -266,10 +272,13 @@ TEST(MonitorLoop, CleanStreamOneStatePerSampleBitIdenticalToTheEngine) {
 
 namespace {
 
-// The monitor against sim::analyse(fixed_point, evaluate_alarm) on a suite record scaled like `rockwatch simulate
-// --scale-pga`: the same transitions at the same sample with the same values, up to the end of the record (the
-// analysis goes on in free motion after it; the monitor waits for samples).
-void check_timeline_equals_analysis(int set, int component, double pga_g, bool collapses) {
+// The monitor against sim::analyse(arithmetic, model, evaluate_alarm) on a suite record scaled like `rockwatch
+// simulate --scale-pga`: the same transitions at the same sample with the same values, up to the end of the record
+// (the analysis goes on in free motion after it; the monitor waits for samples). collapses: what the analysis must
+// say (the monitor must agree).
+void check_timeline_equals_analysis(int set, int component, double pga_g, bool collapses,
+                                    fw::MonitorArithmetic arith = fw::MonitorArithmetic::fixed_point,
+                                    core::ModelKind model = core::ModelKind::linear) {
   const records::SuiteRecordFile f = records::read_suite_record(records::suite_set_path(ROCKWATCH_SUITE_DIR, set));
   sim::GroundMotion motion;
   motion.dt_s = f.dt_s;
@@ -277,7 +286,9 @@ void check_timeline_equals_analysis(int set, int component, double pga_g, bool c
   const double factor = pga_g * kG / sim::peak_abs(motion.ug_mps2);
   for (double& u : motion.ug_mps2) u *= factor;
   sim::AnalysisOptions o;
-  o.arithmetic = sim::Arithmetic::fixed_point;
+  o.arithmetic = arith == fw::MonitorArithmetic::fixed_point ? sim::Arithmetic::fixed_point
+                                                              : sim::Arithmetic::double_precision;
+  o.model = model;
   o.evaluate_alarm = true;
   o.max_alarm_transitions_kept = 100000;
   const sim::AnalysisResult r = sim::analyse(core::paper_wall(), motion, o);
@@ -291,6 +302,8 @@ void check_timeline_equals_analysis(int set, int component, double pga_g, bool c
 
   fw::MonitorSettings s = paper_settings();
   s.sample_rate_hz = 1.0 / f.dt_s;
+  s.arithmetic = arith;
+  s.engine.model = model;
   Rig rig(s);
   for (std::size_t k = 0; k < motion.ug_mps2.size(); ++k) rig.send(accel(static_cast<std::int64_t>(k), motion.ug_mps2[k]));
   CHECK_EQUAL(collapses, rig.loop.alarm_level() == core::AlarmLevel::collapsed);
@@ -321,6 +334,9 @@ void check_timeline_equals_analysis(int set, int component, double pga_g, bool c
     max_abs_x = std::fmax(max_abs_x, std::fabs(st.x_m));
   }
   if (collapses) CHECK_TRUE(max_abs_x == r.max_abs_x_m);
+  rig.loop.publish_status(kT0);
+  LONGS_EQUAL(arith == fw::MonitorArithmetic::fixed_point ? Status::ARITH_FIXED : Status::ARITH_DOUBLE,
+              rig.transport.statuses().back().arithmetic);
 }
 
 }  // namespace
@@ -332,6 +348,34 @@ TEST(MonitorLoop, AlarmTimelineEqualsTheFixedPointAnalysisOnACollapsingSuiteReco
 
 TEST(MonitorLoop, AlarmTimelineEqualsTheFixedPointAnalysisOnASurvivingSuiteRecord) {
   check_timeline_equals_analysis(1, 0, 0.35, false);
+}
+
+// --arith double: the double engine of `rockwatch simulate --arith double`, bit for bit.
+TEST(MonitorLoop, AlarmTimelineEqualsTheDoubleAnalysisOnACollapsingSuiteRecord) {
+  check_timeline_equals_analysis(1, 0, 0.40, true, fw::MonitorArithmetic::double_precision);
+}
+
+TEST(MonitorLoop, AlarmTimelineEqualsTheDoubleAnalysisOnASurvivingSuiteRecord) {
+  check_timeline_equals_analysis(1, 0, 0.30, false, fw::MonitorArithmetic::double_precision);
+}
+
+TEST(MonitorLoop, AlarmTimelineEqualsTheDoubleAnalysisWithTheFullModel) {
+  check_timeline_equals_analysis(1, 0, 0.40, true, fw::MonitorArithmetic::double_precision, core::ModelKind::full);
+}
+
+TEST(MonitorLoop, TheFixedPointEngineRefusesTheFullModel) {
+  fw::MonitorSettings s = paper_settings();
+  s.engine.model = core::ModelKind::full;
+  MemoryTransport t;
+  fw::MonitorLoop loop;
+  CHECK_TRUE(loop.init(s, t) == fw::MonitorError::engine);
+  CHECK_TRUE(loop.engine_error() == fw::WallEngineError::model_not_supported);
+  STRCMP_EQUAL("the fixed-point engine runs the linear model only",
+               fw::wall_engine_error_message(fw::WallEngineError::model_not_supported));
+  s.arithmetic = fw::MonitorArithmetic::double_precision;
+  CHECK_TRUE(loop.init(s, t) == fw::MonitorError::ok);
+  s.arithmetic = static_cast<fw::MonitorArithmetic>(7);
+  CHECK_TRUE(loop.init(s, t) == fw::MonitorError::arithmetic_invalid);
 }
 
 TEST(MonitorLoop, ShortGapBridgedByHoldingTheLastInput) {
@@ -580,6 +624,33 @@ TEST(MonitorLoop, PublisherRestartRestartsTheStateAndFollowsTheNewNumbering) {
   check_alarm_events_consistent(rig);
 }
 
+// A replay or sensor restarted after a few samples numbers from 0 again with the current time: a restart, not a run
+// of duplicates, however small the jump back.
+TEST(MonitorLoop, SequenceBackWithTimeForwardIsAPublisherRestart) {
+  Rig rig;
+  rig.stream(0, 300);
+  ground_accel_t m = accel(0, 0.0);
+  m.utime = kT0 + 400 * kPeriodUs;  // later than sample 300
+  rig.send(m);
+  rig.ref.restart_motion(q(0.0), q(0.0));
+  rig.check_matches_reference();
+  LONGS_EQUAL(0, rig.last_state().input_seq);
+  LONGS_EQUAL(Status::QUALITY_PUBLISHER_RESTART, rig.last_state().data_quality);
+  ground_accel_t next = accel(1, 0.05);
+  next.utime = m.utime + kPeriodUs;
+  rig.send(next);
+  rig.ref.process_wall(q(0.05), q(0.0));
+  rig.check_matches_reference();
+  LONGS_EQUAL(0, rig.last_state().data_quality);
+  rig.send(next);  // the same sample again: a duplicate (same seq, same time)
+  Expected e;
+  e.received = 304;
+  e.processed = 303;
+  e.restarts = 1;
+  e.duplicates = 1;
+  check_counters(rig.loop.counters(), e);
+}
+
 TEST(MonitorLoop, WrongMessageTypesOnTheInputChannelsAreDecodeErrors) {
   Rig rig;
   rig.stream(0, 5);
@@ -730,24 +801,33 @@ TEST(MonitorLoop, StatusCarriesTheCountersAndTheQualitySinceTheLastStatus) {
   rig.send(accel(170, 0.0));                                           // long gap: reset
   rig.send(accel(-900, 0.0));                                          // restart
   rig.send_bytes(kAccel, std::vector<std::uint8_t>(3, 0));             // decode error
+  rig.send(accel(-899, 0.0, 0.0, ground_accel_t::SENSOR_CLIPPED));     // sensor flag
+  rig.send_bytes("OTHER_CHANNEL", encode(accel(0, 0.0)));              // ignored
+  rig.loop.note_log_write_failure();                                   // the host's log failed twice
+  rig.loop.note_log_write_failure();
+  rig.transport.fail = true;
+  rig.loop.publish_status(kT0 + 1000000);                              // a publish failure (this status is lost)
+  rig.transport.fail = false;
   rig.loop.publish_status(kT0 + 2000000);
   rig.loop.publish_status(kT0 + 3000000);
   const std::vector<monitor_status_t> st = rig.transport.statuses();
   LONGS_EQUAL(3, static_cast<long>(st.size()));
   LONGS_EQUAL(0, st[0].seq);
+  LONGS_EQUAL(Status::ARITH_FIXED, st[0].arithmetic);
   LONGS_EQUAL(Status::QUALITY_MONITOR_RESTARTED, st[0].data_quality);
   LONGS_EQUAL(0, st[0].samples_received);
   const monitor_status_t& m = st[1];
   const fw::MonitorCounters& c = rig.loop.counters();
-  LONGS_EQUAL(1, m.seq);
+  LONGS_EQUAL(2, m.seq);  // seq 1 was the status the transport failed to send
   LONGS_EQUAL(kT0 + 2000000, m.utime);
-  LONGS_EQUAL(1, m.schema_version);
+  LONGS_EQUAL(2, m.schema_version);
+  LONGS_EQUAL(Status::SCHEMA_VERSION, m.schema_version);
   LONGS_EQUAL(ROCKWATCH_EXPECTED_VERSION_MAJOR, m.version_major);
   LONGS_EQUAL(ROCKWATCH_EXPECTED_VERSION_MINOR, m.version_minor);
   LONGS_EQUAL(ROCKWATCH_EXPECTED_VERSION_PATCH, m.version_patch);
   CHECK_TRUE(m.config_digest == 0x1234567890abcdefLL);
-  LONGS_EQUAL(160, m.samples_received);
-  LONGS_EQUAL(160, m.samples_processed);
+  LONGS_EQUAL(161, m.samples_received);
+  LONGS_EQUAL(161, m.samples_processed);
   LONGS_EQUAL(2, m.samples_bridged);
   LONGS_EQUAL(2, m.gaps);
   LONGS_EQUAL(1, m.state_resets);
@@ -761,18 +841,24 @@ TEST(MonitorLoop, StatusCarriesTheCountersAndTheQualitySinceTheLastStatus) {
   LONGS_EQUAL(1, m.decode_errors);
   LONGS_EQUAL(0, m.saturated);
   LONGS_EQUAL(0, m.worst_step_ns);  // no step clock installed
+  LONGS_EQUAL(1, m.sensor_flags);
+  LONGS_EQUAL(1, m.messages_ignored);
+  LONGS_EQUAL(1, m.publish_failures);
+  LONGS_EQUAL(2, m.log_write_failures);
+  LONGS_EQUAL(Status::ARITH_FIXED, m.arithmetic);
   LONGS_EQUAL(c.samples_received, m.samples_received);
   LONGS_EQUAL(c.samples_processed, m.samples_processed);
   LONGS_EQUAL(static_cast<long>(rig.loop.alarm_level()), m.alarm_level);
   const std::int32_t all_faults = Status::QUALITY_GAP_BRIDGED | Status::QUALITY_STATE_UNKNOWN |
                                   Status::QUALITY_NOT_FINITE | Status::QUALITY_OUT_OF_RANGE | Status::QUALITY_LIFT_OFF |
                                   Status::QUALITY_DUPLICATE | Status::QUALITY_OUT_OF_ORDER | Status::QUALITY_LATE |
-                                  Status::QUALITY_PUBLISHER_RESTART | Status::QUALITY_DECODE_ERROR;
+                                  Status::QUALITY_PUBLISHER_RESTART | Status::QUALITY_DECODE_ERROR |
+                                  Status::QUALITY_SENSOR_FLAG | Status::QUALITY_LOG_WRITE_FAILED;
   LONGS_EQUAL(all_faults, m.data_quality);
   // Cleared by the status; the counters are not.
   LONGS_EQUAL(0, st[2].data_quality);
-  LONGS_EQUAL(2, st[2].seq);
-  LONGS_EQUAL(160, st[2].samples_received);
+  LONGS_EQUAL(3, st[2].seq);
+  LONGS_EQUAL(161, st[2].samples_received);
 }
 
 TEST(MonitorLoop, ListenerSeesEveryAlarmEventAfterItIsPublished) {

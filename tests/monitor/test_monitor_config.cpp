@@ -1,6 +1,6 @@
 // rockwatch-monitor's settings: every bad key or value of the configuration file rejected (exit 2, nothing on stdout,
 // a message naming the key path and what was expected), unknown keys, the command line overriding the file (read back
-// with --print-config), the wall/--r/--model/--kappa options shared with `rockwatch simulate`, --arith double refused,
+// with --print-config), the wall/--r/--model/--kappa options shared with `rockwatch simulate`, --arith fixed|double,
 // the config digest; and the adapter's helpers (exact-channel regex, FNV-1a).
 #include <cstdint>
 #include <string>
@@ -87,7 +87,8 @@ TEST(MonitorConfigFile, WrongTypesNameTheKeyAndTheExpectedType) {
   expect_config_rejected(R"({"kappa": true})", {"kappa:", "expected a number", "a boolean"});
   expect_config_rejected(R"({"sample_rate_hz": null})", {"sample_rate_hz:", "expected a number [Hz]", "null"});
   expect_config_rejected(R"({"r": true})", {"r:", "\"ana\", \"exp\", \"impulse\" or an energy ratio in [0, 1]"});
-  expect_config_rejected(R"({"model": 1})", {"model:", "expected \"linear\""});
+  expect_config_rejected(R"({"model": 1})", {"model:", "expected \"linear\" or \"full\""});
+  expect_config_rejected(R"({"arith": 1})", {"arith:", "expected \"fixed\" or \"double\"", "a number"});
   expect_config_rejected(R"({"channels": {"alarm": 5}})", {"channels.alarm:", "expected a string"});
   expect_config_rejected(R"({"lcm_url": 7667})", {"lcm_url:", "expected a string"});
   expect_config_rejected(R"({"max_bridge_samples": 2.5})", {"max_bridge_samples:", "whole number"});
@@ -97,7 +98,9 @@ TEST(MonitorConfigFile, WrongTypesNameTheKeyAndTheExpectedType) {
 TEST(MonitorConfigFile, ValuesOutOfRangeNameTheKeyAndTheRange) {
   expect_config_rejected(R"({"r": "paper"})", {"r:", "\"ana\", \"exp\", \"impulse\""});
   expect_config_rejected(R"({"r": 1.2})", {"r:", "in [0, 1]", "1.2"});
-  expect_config_rejected(R"({"model": "full"})", {"model must be linear", "fixed-point", "linear model only"});
+  expect_config_rejected(R"({"model": "full"})", {"model full needs --arith double", "linear model only"});
+  expect_config_rejected(R"({"model": "full", "arith": "fixed"})", {"model full needs --arith double", "arith fixed from"});
+  expect_config_rejected(R"({"arith": "float"})", {"arith must be fixed or double", "'float'"});
   expect_config_rejected(R"({"model": "quadratic"})", {"model must be linear or full", "quadratic"});
   expect_config_rejected(R"({"kappa": 0.5})", {"kappa must be >= 1", "0.5"});
   expect_config_rejected(R"({"kappa": 150})", {"kappa must be < 100", "150"});
@@ -232,7 +235,8 @@ TEST(MonitorCommandLine, BadOptionValuesNameTheOption) {
   expect_rejected({"--b", "abc"}, {"--b expects a finite number", "'abc'"});
   expect_rejected({"--wall", "brick"}, {"--wall must be paper"});
   expect_rejected({"--r", "2"}, {"--r must be ana, exp, impulse or an energy ratio in [0, 1]"});
-  expect_rejected({"--model", "full"}, {"--model must be linear", "linear model only"});
+  expect_rejected({"--model", "full"}, {"--model full needs --arith double", "linear model only"});
+  expect_rejected({"--model", "full", "--arith", "fixed"}, {"--model full needs --arith double", "(arith fixed from --arith)"});
   expect_rejected({"--model", "cubic"}, {"--model must be linear or full", "'cubic'"});
   expect_rejected({"--kappa", "0.9"}, {"--kappa must be >= 1"});
   expect_rejected({"--lambda-w", "0"}, {"--lambda-w must be in (0, 1]"});
@@ -248,11 +252,21 @@ TEST(MonitorCommandLine, BadOptionValuesNameTheOption) {
                          {"--h1", "0.15"});
 }
 
-TEST(MonitorCommandLine, ArithDoubleIsRefusedClearly) {
-  expect_rejected({"--arith", "double"}, {"--arith double is not implemented in the monitor loop yet", "fixed"});
+TEST(MonitorCommandLine, ArithSelectsTheEngineAndTheModel) {
   expect_rejected({"--arith", "float"}, {"--arith must be fixed or double", "'float'"});
-  const json j = printed_config("", {"--arith", "fixed"});
-  STRCMP_EQUAL("fixed", j.at("settings").at("arith").get<std::string>().c_str());
+  const json fixed = printed_config("", {"--arith", "fixed"});
+  STRCMP_EQUAL("fixed", fixed.at("settings").at("arith").get<std::string>().c_str());
+  const json dbl = printed_config("", {"--arith", "double"});
+  STRCMP_EQUAL("double", dbl.at("settings").at("arith").get<std::string>().c_str());
+  STRCMP_EQUAL("linear", dbl.at("settings").at("model").get<std::string>().c_str());
+  const json full = printed_config(R"({"arith": "double"})", {"--model", "full"});
+  STRCMP_EQUAL("double", full.at("settings").at("arith").get<std::string>().c_str());
+  STRCMP_EQUAL("full", full.at("settings").at("model").get<std::string>().c_str());
+  // The command line overrides the file's arith; the digest tells the engines apart.
+  const json over = printed_config(R"({"arith": "double"})", {"--arith", "fixed"});
+  STRCMP_EQUAL("fixed", over.at("settings").at("arith").get<std::string>().c_str());
+  CHECK(fixed.at("config_digest") == over.at("config_digest"));
+  CHECK(fixed.at("config_digest") != dbl.at("config_digest"));
 }
 
 TEST(MonitorCommandLine, OfflineOptionsGoTogether) {

@@ -69,6 +69,11 @@ json status_json(const OutputLog::Status& s) {
               {"decode_errors", m.decode_errors},
               {"saturated", m.saturated},
               {"worst_step_ns", m.worst_step_ns},
+              {"sensor_flags", m.sensor_flags},
+              {"messages_ignored", m.messages_ignored},
+              {"publish_failures", m.publish_failures},
+              {"log_write_failures", m.log_write_failures},
+              {"arithmetic", m.arithmetic},
               {"data_quality", m.data_quality},
               {"alarm_level", rockwatch::monitor::level_name(m.alarm_level)}};
 }

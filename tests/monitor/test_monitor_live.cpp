@@ -125,9 +125,11 @@ std::string write_config(const TempDir& dir, const Channels& c) {
 }
 
 // Starts the monitor and waits until it says it listens. Fails the test (after killing it) when it does not.
-pid_t start_monitor(const TempDir& dir, const std::string& url, const Channels& c) {
-  const pid_t pid = rockwatch::test::spawn_monitor({"--config", write_config(dir, c), "--lcm-url", url},
-                                                   dir.file("stdout"), dir.file("stderr"));
+pid_t start_monitor(const TempDir& dir, const std::string& url, const Channels& c,
+                    const std::vector<std::string>& extra_args = {}) {
+  std::vector<std::string> args{"--config", write_config(dir, c), "--lcm-url", url};
+  args.insert(args.end(), extra_args.begin(), extra_args.end());
+  const pid_t pid = rockwatch::test::spawn_monitor(args, dir.file("stdout"), dir.file("stderr"));
   const double deadline = now_s() + 20.0;
   while (rockwatch::test::read_file(dir.file("stderr")).find("listening on") == std::string::npos) {
     int status = 0;
@@ -206,9 +208,25 @@ TEST(MonitorLive, SigintStopsItCleanly) {
   LONGS_EQUAL(1, lines.size());
 }
 
-TEST(MonitorLive, EndToEndPulseGivesTheAlarmTransitions) {
-  const std::string url = test_url(0);
-  if (skip_without_multicast(url)) return;
+namespace {
+
+// What a pulse run gave: the summary, the alarm lines on stdout, the statuses received on LCM, stderr.
+struct PulseRun {
+  json summary;
+  std::vector<json> alarms;
+  std::vector<rockwatch::monitor_status_t> statuses;
+  std::string err;
+  std::int64_t t0 = 0;
+};
+
+constexpr int kPulseSamples = 400;
+
+// The monitor (with `arith` and extra options) fed a 2 s pulse at 200 Hz in real time from this process: at rest, a
+// 0.5 s pulse of -3 m/s2 (pushes the wall towards x > 0), rest. The paper wall starts rocking, passes the energy
+// barrier and collapses (`rockwatch simulate` says the same). Checks the transitions against `rockwatch simulate
+// --arith <arith> --alarms` on the same samples.
+PulseRun run_pulse(const std::string& url, const std::string& arith, const std::vector<std::string>& extra_args) {
+  PulseRun run;
   const TempDir dir;
   const Channels c;
   lcm::LCM lcm(url);
@@ -218,14 +236,15 @@ TEST(MonitorLive, EndToEndPulseGivesTheAlarmTransitions) {
   inbox.status_channel = c.status;
   lcm.subscribeFunction(c.alarm, &Inbox::on_raw, &inbox);
   lcm.subscribeFunction(c.status, &Inbox::on_raw, &inbox);
-  const pid_t pid = start_monitor(dir, url, c);
+  std::vector<std::string> args{"--arith", arith};
+  args.insert(args.end(), extra_args.begin(), extra_args.end());
+  const pid_t pid = start_monitor(dir, url, c, args);
 
-  // 2 s at 200 Hz, paced in real time: at rest, a 0.5 s pulse of -3 m/s2 (pushes the wall towards x > 0), rest.
-  // The paper wall starts rocking, passes the energy barrier and collapses (`rockwatch simulate` says the same).
-  constexpr int kSamples = 400;
+  constexpr int kSamples = kPulseSamples;
   std::vector<double> ug(kSamples, 0.0);
   for (int i = 40; i < 140; ++i) ug[static_cast<std::size_t>(i)] = -3.0;
   const std::int64_t t0 = rockwatch::monitor::realtime_utime();
+  run.t0 = t0;
   const double start = now_s();
   std::vector<std::uint8_t> bytes;
   for (int i = 0; i < kSamples; ++i) {
@@ -250,13 +269,18 @@ TEST(MonitorLive, EndToEndPulseGivesTheAlarmTransitions) {
     return !inbox.statuses.empty() && inbox.statuses.back().samples_received >= kSamples;
   });
   const std::vector<json> lines = stop_monitor(pid, SIGTERM, dir);
-  const json& s = lines.back().at("summary");
+  pump_until(lcm, 1.0, [&] { return false; });  // the final status
+  run.summary = lines.back().at("summary");
+  run.statuses = inbox.statuses;
+  run.err = rockwatch::test::read_file(dir.file("stderr"));
+  const json& s = run.summary;
   CHECK_TEXT(all_counted, s.dump().c_str());
   const json& counters = s.at("counters");
   LONGS_EQUAL_TEXT(kSamples, counters.at("samples_received").get<long>(), s.dump().c_str());
 
   // stdout: the transitions, the same as on LCM.
   const std::vector<json> alarms(lines.begin(), lines.end() - 1);
+  run.alarms = alarms;
   CHECK_TEXT(!alarms.empty(), s.dump().c_str());
   LONGS_EQUAL(alarms.size(), inbox.alarms.size());
   for (std::size_t i = 0; i < alarms.size() && i < inbox.alarms.size(); ++i) {
@@ -267,18 +291,21 @@ TEST(MonitorLive, EndToEndPulseGivesTheAlarmTransitions) {
   STRCMP_EQUAL("COLLAPSED", alarms.back().at("level").get<std::string>().c_str());
   STRCMP_EQUAL("COLLAPSED", s.at("alarm_level").get<std::string>().c_str());
   CHECK(s.at("counters").at("worst_step_ns").get<long>() > 0);  // live: the step clock is installed
+  CHECK(!inbox.statuses.empty());
+  LONGS_EQUAL(arith == "double" ? rockwatch::monitor_status_t::ARITH_DOUBLE : rockwatch::monitor_status_t::ARITH_FIXED,
+              inbox.statuses.back().arithmetic);
 
   // With every sample in order (loopback normally delivers them so), the timeline is `rockwatch simulate`'s.
   if (counters.at("gaps").get<long>() != 0 || counters.at("duplicates").get<long>() != 0 ||
       counters.at("out_of_order").get<long>() != 0) {
     UT_PRINT(("samples were lost or reordered on loopback; simulate comparison skipped: " + counters.dump()).c_str());
-    return;
+    return run;
   }
   std::string column;
   for (const double u : ug) column += std::to_string(u) + "\n";
   rockwatch::test::write_file(dir.file("pulse.txt"), column);
   const rockwatch::test::ProcessResult sim = rockwatch::test::run_rockwatch(
-      {"simulate", "--record", dir.file("pulse.txt"), "--units", "mps2", "--dt", "0.005", "--arith", "fixed",
+      {"simulate", "--record", dir.file("pulse.txt"), "--units", "mps2", "--dt", "0.005", "--arith", arith,
        "--alarms", "--json"});
   CHECK_EQUAL_TEXT(0, sim.exit_status, sim.err.c_str());
   std::vector<json> expected;
@@ -295,4 +322,86 @@ TEST(MonitorLive, EndToEndPulseGivesTheAlarmTransitions) {
                       alarms[i].at("level").get<std::string>().c_str(), what.c_str());
     LONGS_EQUAL_TEXT(expected[i].at("reason_bits").get<long>(), alarms[i].at("reason_bits").get<long>(), what.c_str());
   }
+  return run;
+}
+
+}  // namespace
+
+TEST(MonitorLive, EndToEndPulseGivesTheAlarmTransitions) {
+  const std::string url = test_url(0);
+  if (skip_without_multicast(url)) return;
+  run_pulse(url, "fixed", {});
+}
+
+TEST(MonitorLive, EndToEndPulseWithTheDoubleEngineIsSimulateDouble) {
+  const std::string url = test_url(1);
+  if (skip_without_multicast(url)) return;
+  run_pulse(url, "double", {});
+}
+
+// --log: every input received and every output published, in order, as a standard LCM log.
+TEST(MonitorLive, TheLogRecordsEveryInputAndOutput) {
+  const std::string url = test_url(0);
+  if (skip_without_multicast(url)) return;
+  const TempDir dir;
+  const std::string path = dir.file("traffic.lcmlog");
+  const PulseRun run = run_pulse(url, "fixed", {"--log", path});
+  const json& log = run.summary.at("log");
+  CHECK_TEXT(log.at("complete").get<bool>(), log.dump().c_str());
+  LONGS_EQUAL(0, log.at("events_lost").get<long>());
+  LONGS_EQUAL(0, run.summary.at("counters").at("log_write_failures").get<long>());
+  lcm::LogFile file(path, "r");
+  CHECK(file.good());
+  long inputs = 0, states = 0, alarms = 0, statuses = 0, events = 0;
+  std::int64_t last_number = -1;
+  bool input_before_its_state = true;
+  for (const lcm::LogEvent* e = file.readNextEvent(); e != nullptr; e = file.readNextEvent()) {
+    ++events;
+    LONGS_EQUAL(last_number + 1, e->eventnum);
+    last_number = e->eventnum;
+    if (e->channel.find("RWT_ACCEL") == 0) ++inputs;
+    if (e->channel.find("RWT_WALL_STATE") == 0) {
+      ++states;
+      input_before_its_state = input_before_its_state && states <= inputs;
+    }
+    if (e->channel.find("RWT_ALARM") == 0) ++alarms;
+    if (e->channel.find("RWT_STATUS") == 0) ++statuses;
+  }
+  LONGS_EQUAL(log.at("events_written").get<long>(), events);
+  LONGS_EQUAL(kPulseSamples, inputs);
+  LONGS_EQUAL(kPulseSamples, states);
+  CHECK(input_before_its_state);
+  LONGS_EQUAL(static_cast<long>(run.alarms.size()), alarms);
+  LONGS_EQUAL(run.summary.at("status_published").get<long>(), statuses);
+}
+
+// A full disk (/dev/full: every write fails with ENOSPC) costs the log, never the monitoring: the alarms are still
+// simulate's, the failure is reported on stderr, in the status and in the summary.
+TEST(MonitorLive, AFullDiskLosesTheLogNotTheMonitoring) {
+  const std::string url = test_url(1);
+  if (skip_without_multicast(url)) return;
+  const PulseRun run = run_pulse(url, "fixed", {"--log", "/dev/full"});
+  const json& log = run.summary.at("log");
+  CHECK_TEXT(!log.at("complete").get<bool>(), log.dump().c_str());
+  CHECK(log.at("write_failures").get<long>() >= 1);
+  CHECK(log.at("events_lost").get<long>() >= kPulseSamples);
+  LONGS_EQUAL(0, log.at("events_written").get<long>());
+  CHECK(run.summary.at("counters").at("log_write_failures").get<long>() >= 1);
+  CHECK_TEXT(run.err.find("--log '/dev/full': write failed (No space left on device)") != std::string::npos,
+             run.err.c_str());
+  bool flagged = false;
+  for (const rockwatch::monitor_status_t& st : run.statuses) {
+    flagged = flagged || ((st.data_quality & rockwatch::monitor_status_t::QUALITY_LOG_WRITE_FAILED) != 0 &&
+                          st.log_write_failures >= 1);
+  }
+  CHECK_TEXT(flagged, "no status said the log failed");
+}
+
+TEST(MonitorLive, ALogThatCannotBeCreatedIsRefusedAtStart) {
+  if (skip_without_multicast(test_url(0))) return;
+  const rockwatch::test::ProcessResult r =
+      rockwatch::test::run_monitor({"--log", "/nonexistent-dir/traffic.lcmlog", "--lcm-url", test_url(0)});
+  LONGS_EQUAL_TEXT(2, r.exit_status, r.err.c_str());
+  CHECK_TEXT(r.err.find("--log '/nonexistent-dir/traffic.lcmlog': cannot create the log") != std::string::npos,
+             r.err.c_str());
 }

@@ -10,10 +10,11 @@
 // - the first sample (and the first after a reset below): the engine restarts from rest with this sample as its
 //   current input (no step: bit-identical to `rockwatch simulate --arith fixed`, which starts from sample 0).
 // - seq == last + 1: processed (one engine step).
-// - seq == last, or seq < last and received before (the last 64 seqs are remembered): duplicate, dropped.
-//   seq < last − restart_window: the publisher restarted — counted, flagged, the wall state restarts from rest at
-//   this sample and the sequence follows the new numbering. Other seq < last (never received: bridged over or
-//   older than the remembered 64): out of order, dropped.
+// - seq ≤ last with a sample time later than the last sample's, or seq < last − restart_window: the publisher
+//   restarted (a new session numbers from 0 again with the current time) — counted, flagged, the wall state restarts
+//   from rest at this sample and the sequence follows the new numbering.
+// - otherwise seq == last, or seq < last and received before (the last 64 seqs are remembered): duplicate, dropped.
+//   Other seq < last (never received: bridged over or older than the remembered 64): out of order, dropped.
 // - seq > last + 1: a gap of (seq − last − 1) samples. Up to max_bridge_samples: bridged by holding the last good
 //   input for the missing samples (each one engine step and one published state with input_seq = the missing seq;
 //   counted in samples_bridged, flagged QUALITY_GAP_BRIDGED, as is the sample that ends the gap), then the sample is
@@ -37,6 +38,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "rockwatch/firmware/double_wall_engine.hpp"
 #include "rockwatch/firmware/wall_engine.hpp"
 #include "rockwatch/alarm_event_t.hpp"
 #include "rockwatch/ground_accel_batch_t.hpp"
@@ -56,8 +58,15 @@ struct MonitorChannels {
   char status[kChannelNameMax] = "ROCKWATCH_STATUS";
 };
 
+// Which engine the loop runs. Values are stable: append, never renumber.
+enum class MonitorArithmetic : std::uint8_t {
+  fixed_point = 0,       // WallEngine: bit-identical to `rockwatch simulate --arith fixed`; the firmware's engine
+  double_precision = 1,  // DoubleWallEngine: bit-identical to `rockwatch simulate --arith double`; hosts with an FPU
+};
+
 struct MonitorSettings {
-  WallEngineConfig engine{};           // wall, r, κ, alarm; engine.dt_s is set from sample_rate_hz by init()
+  WallEngineConfig engine{};           // wall, r, κ, model, alarm; engine.dt_s is set from sample_rate_hz by init()
+  MonitorArithmetic arithmetic = MonitorArithmetic::fixed_point;
   double sample_rate_hz = 200.0;       // expected input rate [Hz]; the engine steps once per sample
   std::int32_t max_bridge_samples = 10;  // longest gap bridged by holding the input [samples]
   double sensor_range_mps2 = 80.0;     // |ü|, |v̈| above this are out of range [m/s²] (≤ 80: the engine's input limit)
@@ -77,6 +86,7 @@ enum class MonitorError : std::uint8_t {
   late_limit_out_of_range = 5,    // (0, 60] s
   channel_name_invalid = 6,  // empty, not NUL-terminated, or an input channel equal to another channel
   restart_window_out_of_range = 7,  // restart_window in [1, 10⁹] samples
+  arithmetic_invalid = 8,    // not a MonitorArithmetic value
 };
 
 const char* monitor_error_message(MonitorError e);
@@ -103,6 +113,7 @@ struct MonitorCounters {
   std::int64_t duplicates = 0, out_of_order = 0, late = 0, rejected_not_finite = 0, rejected_out_of_range = 0;
   std::int64_t lift_off = 0, publisher_restarts = 0, decode_errors = 0, saturated = 0, sensor_flags = 0;
   std::int64_t publish_failures = 0, messages_ignored = 0;  // ignored: on channels the monitor does not read
+  std::int64_t log_write_failures = 0;  // reported by the host (note_log_write_failure)
   std::int64_t worst_step_ns = 0;
   std::int64_t alarm_events = 0, states_published = 0;
 };
@@ -118,11 +129,16 @@ class MonitorLoop {
   // Ignored (nothing counted) before a successful init().
   void on_message(const char* channel, const std::uint8_t* data, std::size_t size, std::int64_t receive_utime);
 
+  // The host's own log of the traffic could not be written: counted and flagged in the next status (monitoring goes
+  // on; the firmware itself writes no files).
+  void note_log_write_failure();
+
   // Encodes and publishes monitor_status_t (the adapter calls it once per second and on exit).
   void publish_status(std::int64_t now_utime);
 
   const MonitorCounters& counters() const { return counters_; }
-  const WallEngine& engine() const { return engine_; }
+  const WallEngine& engine() const { return engine_; }                      // the fixed-point engine
+  const DoubleWallEngine& double_engine() const { return double_engine_; }  // the double engine
   const MonitorSettings& settings() const { return settings_; }
   core::AlarmLevel alarm_level() const;
 
@@ -139,10 +155,20 @@ class MonitorLoop {
   // delay_us: receive time − sample time (for a batch: − the time of its newest sample).
   void process_sample(std::int64_t utime, std::int64_t seq, double ug, double vg, std::int32_t sensor_status,
                       std::int64_t delay_us);
+  // What either engine gives after a sample, in the published units.
+  struct EngineSample {
+    double x_m = 0.0, xd_mps = 0.0, energy_ratio = 0.0;
+    double t_to_instability_s = -1.0;  // −1: no prediction
+    bool side_positive = true, moving = false, input_invalid = false, saturated = false;
+    core::AlarmUpdate alarm{};
+  };
+  // Engine step or reset of the selected engine (reset: first = the monitor's first sample, else a restart of the
+  // motion); ug, vg in the wall frame [m/s²].
+  EngineSample run_engine(double ug, double vg, bool reset);
   // Engine step or reset with timing; then publishes the state (and the alarm event on a level change).
   // bridged: a held input for a missing sample (not counted again as an input fault).
-  void step_and_publish(std::int64_t utime, std::int64_t seq, core::AccelQ7_56 ug, core::AccelQ7_56 vg,
-                        std::int32_t quality, bool reset, bool bridged);
+  void step_and_publish(std::int64_t utime, std::int64_t seq, double ug, double vg, std::int32_t quality, bool reset,
+                        bool bridged);
   bool publish(const char* channel, int size);
 
   bool ready_ = false;  // init() succeeded
@@ -150,6 +176,8 @@ class MonitorLoop {
   Transport* transport_ = nullptr;
   MonitorListener* listener_ = nullptr;
   WallEngine engine_{};
+  DoubleWallEngine double_engine_{};
+  core::AlarmLevel level_ = core::AlarmLevel::quiet;  // the selected engine's alarm level after the last sample
   WallEngineError engine_error_ = WallEngineError::ok;
   MonitorCounters counters_{};
   ClockNs step_clock_ = nullptr;

@@ -14,6 +14,7 @@
 #include "rockwatch/core/fixed_instability_indicators.hpp"
 #include "rockwatch/core/fixed_point_eigen.hpp"
 #include "rockwatch/core/fixed_rocking_stepper.hpp"
+#include "rockwatch/core/model.hpp"
 #include "rockwatch/core/restitution.hpp"
 #include "rockwatch/core/sensor_axes.hpp"
 #include "rockwatch/core/wall.hpp"
@@ -26,6 +27,7 @@ struct WallEngineConfig {
   core::WallParameters wall{};
   double r_energy = 0.0;           // restitution energy ratio r in [0, 1] [-]
   double kappa = 2.0;              // collapse at κ·x_inst [-]
+  core::ModelKind model = core::ModelKind::linear;  // the fixed-point engine: linear only; DoubleWallEngine: either
   double dt_s = 0.005;             // sample interval = integration step [s]
   core::AlarmSettings alarm{};
   core::SensorAxes<double> axes = core::default_sensor_axes();
@@ -41,9 +43,13 @@ enum class WallEngineError : std::uint8_t {
   sensor_axes_invalid = 5,
   fixed_point_setup = 6,         // see fixed_setup_error()
   indicator_constants = 7,       // x_inst or ω outside the indicator formats
+  model_not_supported = 8,       // the fixed-point engine runs the linear model only
 };
 
 const char* wall_engine_error_message(WallEngineError e);
+
+// The checks both engines make (wall, r, κ, alarm settings, sensor axes): ok or the first failure.
+WallEngineError validate_wall_engine_config(const WallEngineConfig& config);
 
 struct WallEngineOutput {
   core::FixedStepReport step;                    // what the engine did inside the sample
