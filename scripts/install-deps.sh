@@ -18,6 +18,7 @@ PACKAGES=(
   gcc-arm-none-eabi libstdc++-arm-none-eabi-newlib libnewlib-arm-none-eabi   # Cortex-M4 build (scripts/embedded-build.sh)
   binutils               # nm, size (symbol audit: tests/tools/symbol_audit.sh)
   valgrind               # callgrind instruction counts (tests/bench)
+  clang libclang-rt-dev  # fuzzing (scripts/fuzz.sh, preset "fuzz"): clang++ and its libFuzzer/ASan/UBSan runtimes
 )
 
 missing=()

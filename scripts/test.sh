@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Builds and runs every test suite twice: the release build, then the debug build under
-# AddressSanitizer + UndefinedBehaviorSanitizer. Exits non-zero on any failure.
+# AddressSanitizer + UndefinedBehaviorSanitizer; then the fuzzing smoke run (clang build of the libFuzzer targets,
+# the kept regression inputs, about a minute of fuzzing: scripts/fuzz.sh, docs/RELIABILITY.md).
+# Exits non-zero on any failure.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 for preset in release debug; do
@@ -12,3 +14,5 @@ for preset in release debug; do
   echo "== $preset: test"
   ctest --preset "$preset" -j "$(nproc)"
 done
+echo "== fuzz: smoke"
+./scripts/fuzz.sh smoke

@@ -21,6 +21,43 @@ std::int64_t monotonic_ns();
 // LCM subscribes by regular expression (implicitly ^...$): the expression that matches exactly `channel`.
 std::string exact_channel_regex(const std::string& channel);
 
+// Where a live monitor can lose input on this machine, and what the adapter does about it (docs/BENCHMARKS.md, "The
+// monitor over LCM", has the measurements):
+//  1. liblcm's receive thread reads every datagram of the multicast group into a queue and silently discards a
+//     message when every subscription it matches already holds its queue capacity of messages the program has not
+//     handled yet. LCM's default capacity is 30: 3 ms of single samples at 10 kHz, so a monitor descheduled for a few
+//     milliseconds lost samples. LcmInput sets the capacity of its subscriptions to input_queue_capacity(rate).
+//  2. The kernel drops datagrams when the socket's receive buffer is full (the LCM receive thread did not run). The
+//     udpm URL option recv_buf_size=BYTES asks for a larger one (SO_RCVBUF); the kernel caps the request at
+//     net.core.rmem_max and doubles it. with_receive_buffer() adds recv_buf_size to a udpm:// URL that has none.
+
+// Seconds of single-sample input at the configured rate the input subscriptions may hold before liblcm drops one,
+// and the least number of messages they hold.
+inline constexpr double kInputQueueSeconds = 2.0;
+inline constexpr int kMinInputQueueMessages = 1000;
+// max(kMinInputQueueMessages, ceil(kInputQueueSeconds · rate)): 20 000 messages at 10 kHz.
+int input_queue_capacity(double sample_rate_hz);
+
+// The receive buffer the monitor asks for by default (recv_buf_size, bytes): with the kernel's doubling, about 200 ms
+// of this host's traffic at 10 kHz single samples (input and wall states, ~1 KiB of buffer each) when
+// net.core.rmem_max allows it; on a stock kernel (rmem_max 212 992) the request is capped, yet still doubles the
+// default buffer.
+inline constexpr int kDefaultReceiveBufferBytes = 2 * 1024 * 1024;
+
+// `url` with recv_buf_size=`bytes` added when it is a udpm:// URL without a recv_buf_size option; any other URL
+// unchanged (an explicit recv_buf_size, memq://, file://...).
+std::string with_receive_buffer(const std::string& url, int bytes = kDefaultReceiveBufferBytes);
+
+// The recv_buf_size a udpm:// URL asks for (bytes), 0 when it asks for none or is not udpm://.
+long long requested_receive_buffer(const std::string& url);
+
+// net.core.rmem_max (/proc/sys/net/core/rmem_max, bytes), or -1 when it cannot be read.
+long long kernel_rmem_max();
+
+// A warning when `url` asks for a receive buffer larger than net.core.rmem_max lets the kernel give (the request is
+// silently capped), naming the sysctl that raises it; empty otherwise.
+std::string receive_buffer_warning(const std::string& url);
+
 // Publishes the loop's encoded messages with lcm::LCM (raw bytes; the loop already encoded them).
 class LcmTransport final : public firmware::Transport {
  public:
@@ -33,6 +70,9 @@ class LcmTransport final : public firmware::Transport {
 
 // Subscribes the loop's two input channels (and only those, exactly) and passes every message's raw bytes to
 // MonitorLoop::on_message with the receive time LCM stamped on it (CLOCK_REALTIME µs; now when LCM gave none).
+// Both subscriptions hold up to input_queue_capacity(the loop's sample rate) unhandled messages (not LCM's 30).
+// Any other subscription of the same LCM instance to an input channel needs the same capacity: liblcm keeps a
+// message when one matching subscription has room, then hands it to each subscription that has messages counted.
 // Unsubscribes on destruction. Messages arrive while the owner calls lcm.handle()/handleTimeout().
 class LcmInput {
  public:
@@ -42,6 +82,7 @@ class LcmInput {
   LcmInput& operator=(const LcmInput&) = delete;
   bool good() const { return accel_ != nullptr && batch_ != nullptr; }
   std::int64_t messages() const { return messages_; }
+  int queue_capacity() const { return queue_capacity_; }
 
  private:
   static void on_raw(const lcm::ReceiveBuffer* rbuf, const std::string& channel, LcmInput* self);
@@ -50,6 +91,7 @@ class LcmInput {
   firmware::MonitorLoop& loop_;
   lcm::Subscription* accel_ = nullptr;
   lcm::Subscription* batch_ = nullptr;
+  int queue_capacity_ = 0;
   std::int64_t messages_ = 0;
 };
 

@@ -1,5 +1,7 @@
 #include "monitor_config.hpp"
 
+#include <sys/stat.h>
+
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -251,8 +253,13 @@ class ConfigReader {
   json parse() const {
     std::ifstream in(path_, std::ios::binary);
     if (!in) throw UsageError(label_ + ": cannot read the file (" + std::strerror(errno) + ")");
-    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    // A configuration is a few hundred bytes: more than 1 MiB is not one (and never read whole).
+    constexpr std::size_t kMaxBytes = std::size_t{1} << 20;
+    std::string text(kMaxBytes + 1, '\0');
+    in.read(text.data(), static_cast<std::streamsize>(text.size()));
     if (in.bad()) throw UsageError(label_ + ": cannot read the file");
+    text.resize(static_cast<std::size_t>(in.gcount()));
+    if (text.size() > kMaxBytes) throw UsageError(label_ + ": larger than 1 MiB: not a configuration file");
 
     // nlohmann keeps the last of duplicate keys silently; a configuration with two values for one key is a mistake.
     struct Level {
@@ -530,6 +537,8 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
   if (cli::given(app, "--config")) {
     if (raw.config.empty()) throw UsageError("--config needs a file name");
     config.config_path = raw.config;
+    // Before reading: a FIFO would block, a device such as /dev/zero never ends, a directory is no file.
+    cli::check_input_file("--config", raw.config, "a JSON configuration file");
     reader.emplace(raw.config);
     file = reader->read();
   }
@@ -668,6 +677,13 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
   if (cli::given(app, "--log")) {
     if (raw.log.empty()) throw UsageError("--log needs a file name");
     if (in_given) throw UsageError("--log is for live mode: offline mode writes its outputs to --offline-out");
+    // Not a FIFO (opening it would block until a reader comes) or a directory. A character device is allowed: the
+    // monitor never removes its log, and /dev/null (no log) or /dev/full (the full-disk test) are meaningful.
+    struct stat st {};
+    if (::stat(raw.log.c_str(), &st) == 0 && (S_ISFIFO(st.st_mode) || S_ISDIR(st.st_mode))) {
+      throw UsageError("--log " + raw.log + ": is " + cli::file_kind_text(st.st_mode) +
+                       ", not a file: give the name of a file to write");
+    }
     config.log_path = raw.log;
   }
   config.print_config = raw.print_config;

@@ -2,12 +2,24 @@
 // rockwatch-monitor over LCM (UDP multicast on this machine, ttl=0), and loss (samples never answered).
 // A timing program, not a test: figures go to docs/BENCHMARKS.md.
 //
-//   bench_monitor_latency MONITOR_EXE [--rate HZ] [--seconds S] [--batch N] [--lcm-url URL]
+//   bench_monitor_latency MONITOR_EXE [--rate HZ] [--seconds S] [--batch N] [--lcm-url URL] [--queue N]
+//                         [--rx-buffer BYTES]
 //
 // It starts the monitor itself (--lcm-url, --rate), waits for its first status message, publishes from a second
 // thread at absolute deadlines (CLOCK_MONOTONIC, TIMER_ABSTIME) — one ground_accel_t per sample, or one
 // ground_accel_batch_t per N samples — and receives wall_state_t on the main thread. Latency of a sample = receive
-// time of its wall_state_t − publish time of the message that carried it. Prints one line of figures.
+// time of its wall_state_t − publish time of the message that carried it. Prints one line of figures, then where
+// the lost samples went missing:
+//   - input: samples the monitor never received (its last monitor_status_t: samples_received, gaps);
+//   - output: wall states the monitor published (samples_processed) that this subscriber did not receive;
+//   - kernel: datagrams the kernel dropped on the monitor's and on this process's UDP sockets (the drops column of
+//     /proc/net/udp, receive buffer full) and the machine's Udp RcvbufErrors over the run (/proc/net/snmp).
+//   What is lost and not dropped by a kernel was dropped inside liblcm: its receive thread discards a message when
+//   every subscription it matches already holds its queue capacity of unhandled messages (30 by default).
+// --queue N sets this subscriber's queue capacity (lcm::Subscription::setQueueCapacity; 0 = unbounded; default
+// 100000, more than any run's messages; --queue 30 is LCM's default). The monitor and the publisher get --lcm-url as
+// given; this subscriber adds recv_buf_size=2097152 to a udpm:// URL without one (--rx-buffer BYTES, 0 = as given).
+#include <dirent.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <time.h>
@@ -20,6 +32,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
+#include <set>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -28,6 +43,7 @@
 
 #include "rockwatch/ground_accel_batch_t.hpp"
 #include "rockwatch/ground_accel_t.hpp"
+#include "rockwatch/monitor_status_t.hpp"
 #include "rockwatch/wall_state_t.hpp"
 
 namespace {
@@ -59,6 +75,62 @@ double percentile(std::vector<double> v, double p) {
   return v[std::min(i, v.size() - 1)];
 }
 
+// The socket inodes process `pid` holds (/proc/PID/fd -> "socket:[INODE]").
+std::set<unsigned long> socket_inodes(pid_t pid) {
+  std::set<unsigned long> inodes;
+  const std::string dir = "/proc/" + std::to_string(pid) + "/fd";
+  DIR* d = opendir(dir.c_str());
+  if (d == nullptr) return inodes;
+  while (const dirent* e = readdir(d)) {
+    char target[64] = {};
+    const std::string link = dir + "/" + e->d_name;
+    const ssize_t len = readlink(link.c_str(), target, sizeof target - 1);
+    unsigned long inode = 0;
+    if (len > 0 && std::sscanf(target, "socket:[%lu]", &inode) == 1) inodes.insert(inode);
+  }
+  closedir(d);
+  return inodes;
+}
+
+// Datagrams the kernel dropped on the UDP sockets of `pid` (sum of /proc/net/udp's drops column); -1 if unknown.
+long long udp_drops(pid_t pid) {
+  const std::set<unsigned long> inodes = socket_inodes(pid);
+  std::ifstream in("/proc/net/udp");
+  if (!in || inodes.empty()) return -1;
+  std::string line;
+  std::getline(in, line);  // header
+  long long drops = 0;
+  while (std::getline(in, line)) {
+    // sl local rem st tx:rx tr:when retrnsmt uid timeout inode ref pointer drops
+    std::istringstream f(line);
+    std::string sl, local, rem, st, queues, timer, retr, uid, timeout, ptr;
+    unsigned long inode = 0;
+    int ref = 0;
+    long long d = 0;
+    if (f >> sl >> local >> rem >> st >> queues >> timer >> retr >> uid >> timeout >> inode >> ref >> ptr >> d &&
+        inodes.count(inode) != 0) {
+      drops += d;
+    }
+  }
+  return drops;
+}
+
+// The machine's Udp RcvbufErrors (/proc/net/snmp); -1 if unknown.
+long long udp_rcvbuf_errors() {
+  std::ifstream in("/proc/net/snmp");
+  std::string names, values;
+  while (std::getline(in, names)) {
+    if (names.rfind("Udp:", 0) != 0 || !std::getline(in, values)) continue;
+    std::istringstream n(names), v(values);
+    std::string name, value;
+    while (n >> name && v >> value) {
+      if (name == "RcvbufErrors") return std::atoll(value.c_str());
+    }
+    return -1;
+  }
+  return -1;
+}
+
 struct Receiver {
   std::vector<std::atomic<std::int64_t>>* published_ns = nullptr;
   std::vector<std::int64_t> received_ns;
@@ -84,16 +156,23 @@ struct Receiver {
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: %s MONITOR_EXE [--rate HZ] [--seconds S] [--batch N] [--lcm-url URL]\n", argv[0]);
+    std::fprintf(stderr,
+                 "usage: %s MONITOR_EXE [--rate HZ] [--seconds S] [--batch N] [--lcm-url URL] [--queue N] "
+                 "[--rx-buffer BYTES]\n",
+                 argv[0]);
     return 2;
   }
   const std::string monitor = argv[1];
   double rate_hz = 1000.0, seconds = 10.0;
   int batch = 1;
+  int queue = 100000;
+  long long rx_buffer = 2097152;
   std::string url = "udpm://239.255.76.67:7667?ttl=0";
   for (int i = 2; i + 1 < argc; i += 2) {
     const std::string key = argv[i], value = argv[i + 1];
-    if (key == "--rate") rate_hz = std::atof(value.c_str());
+    if (key == "--queue") queue = std::atoi(value.c_str());
+    else if (key == "--rx-buffer") rx_buffer = std::atoll(value.c_str());
+    else if (key == "--rate") rate_hz = std::atof(value.c_str());
     else if (key == "--seconds") seconds = std::atof(value.c_str());
     else if (key == "--batch") batch = std::atoi(value.c_str());
     else if (key == "--lcm-url") url = value;
@@ -102,8 +181,8 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  if (!(rate_hz > 0.0) || !(seconds > 0.0) || batch < 1 || batch > 50) {
-    std::fprintf(stderr, "--rate and --seconds must be > 0, --batch in 1..50\n");
+  if (!(rate_hz > 0.0) || !(seconds > 0.0) || batch < 1 || batch > 50 || queue < 0 || rx_buffer < 0) {
+    std::fprintf(stderr, "--rate and --seconds must be > 0, --batch in 1..50, --queue and --rx-buffer >= 0\n");
     return 2;
   }
   const auto n = static_cast<std::size_t>(std::llround(rate_hz * seconds));
@@ -117,9 +196,13 @@ int main(int argc, char** argv) {
     _exit(127);
   }
 
-  lcm::LCM rx(url);
+  std::string rx_url = url;
+  if (rx_buffer > 0 && url.rfind("udpm://", 0) == 0 && url.find("recv_buf_size=") == std::string::npos) {
+    rx_url += (url.find('?') == std::string::npos ? "?" : "&") + std::string("recv_buf_size=") + std::to_string(rx_buffer);
+  }
+  lcm::LCM rx(rx_url);
   if (!rx.good()) {
-    std::fprintf(stderr, "cannot open LCM at %s (multicast route on lo?)\n", url.c_str());
+    std::fprintf(stderr, "cannot open LCM at %s (multicast route on lo?)\n", rx_url.c_str());
     kill(child, SIGTERM);
     return 1;
   }
@@ -127,16 +210,21 @@ int main(int argc, char** argv) {
   Receiver receiver;
   receiver.published_ns = &published_ns;
   receiver.received_ns.assign(n, 0);
-  bool monitor_ready = false;
-  struct Ready {
-    bool* flag;
-    void on_status(const lcm::ReceiveBuffer*, const std::string&) { *flag = true; }
-  } ready{&monitor_ready};
-  rx.subscribe("ROCKWATCH_WALL_STATE", &Receiver::on_state, &receiver);
-  rx.subscribe("ROCKWATCH_STATUS", &Ready::on_status, &ready);
+  struct Status {
+    rockwatch::monitor_status_t last{};
+    std::int64_t count = 0, receive_ns = 0;
+    void on_status(const lcm::ReceiveBuffer* rbuf, const std::string&) {
+      if (last.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) < 0) return;
+      ++count;
+      receive_ns = monotonic_ns();
+    }
+  } status;
+  lcm::Subscription* states = rx.subscribe("ROCKWATCH_WALL_STATE", &Receiver::on_state, &receiver);
+  rx.subscribe("ROCKWATCH_STATUS", &Status::on_status, &status);
+  if (states != nullptr) states->setQueueCapacity(queue);
   const std::int64_t wait_until = monotonic_ns() + 5000000000LL;
-  while (!monitor_ready && monotonic_ns() < wait_until) rx.handleTimeout(100);
-  if (!monitor_ready) {
+  while (status.count == 0 && monotonic_ns() < wait_until) rx.handleTimeout(100);
+  if (status.count == 0) {
     std::fprintf(stderr, "the monitor did not publish a status within 5 s\n");
     kill(child, SIGTERM);
     waitpid(child, nullptr, 0);
@@ -177,28 +265,52 @@ int main(int argc, char** argv) {
     done.store(true);
   });
 
-  // Receive until the publisher is done and nothing has arrived for a second.
+  const long long rcvbuf_errors_before = udp_rcvbuf_errors();
+  // Receive until the publisher is done, nothing has arrived for a second and a status published after the last
+  // wall state has arrived (its counters then cover the whole run; at most 3 s more).
+  std::int64_t done_ns = 0;
   for (;;) {
     rx.handleTimeout(50);
-    if (done.load() && monotonic_ns() - receiver.last_receive_ns > 1000000000LL) break;
+    if (!done.load()) continue;
+    const std::int64_t now = monotonic_ns();
+    if (done_ns == 0) done_ns = now;
+    if (now - receiver.last_receive_ns > 1000000000LL &&
+        (status.receive_ns > receiver.last_receive_ns || now - done_ns > 4000000000LL)) {
+      break;
+    }
   }
   publisher.join();
+  const long long monitor_kernel_drops = udp_drops(child), own_kernel_drops = udp_drops(getpid());
+  const long long rcvbuf_errors = udp_rcvbuf_errors() - rcvbuf_errors_before;
   kill(child, SIGTERM);
   waitpid(child, nullptr, 0);
 
   std::vector<double> latency_us;
   latency_us.reserve(n);
-  std::size_t lost = 0;
+  std::size_t unanswered = 0;
   for (std::size_t i = 0; i < n; ++i) {
     if (receiver.received_ns[i] == 0) {
-      ++lost;
+      ++unanswered;
       continue;
     }
     latency_us.push_back(double(receiver.received_ns[i] - published_ns[i].load()) / 1000.0);
   }
-  std::printf("rate %.0f Hz, batch %d, %zu samples: answered %zu, lost %zu (%.4f %%), latency p50 %.1f us, p99 %.1f us, "
-              "max %.1f us\n",
-              rate_hz, batch, n, latency_us.size(), lost, 100.0 * double(lost) / double(n),
+  // A sample the monitor never received but bridged (held the previous input across a short gap) has a wall state
+  // all the same: it is lost too. The few bridged states stay in the latency figures.
+  const rockwatch::monitor_status_t& m = status.last;
+  const std::size_t bridged = m.samples_bridged > 0 ? static_cast<std::size_t>(m.samples_bridged) : 0;
+  const std::size_t lost = unanswered + bridged;
+  std::printf("rate %.0f Hz, batch %d, %zu samples: answered %zu, lost %zu (%.4f %%: %zu unanswered, %zu bridged), "
+              "latency p50 %.1f us, p99 %.1f us, max %.1f us\n",
+              rate_hz, batch, n, latency_us.size(), lost, 100.0 * double(lost) / double(n), unanswered, bridged,
               percentile(latency_us, 0.50), percentile(latency_us, 0.99), percentile(latency_us, 1.0));
+  std::printf("  monitor: received %lld of %zu samples (%lld gaps, %lld bridged, %lld duplicates, %lld out of order, "
+              "%lld late), processed %lld; subscriber (queue %d): %lld wall states, %lld duplicates; kernel drops: "
+              "monitor socket %lld, subscriber socket %lld, Udp RcvbufErrors +%lld\n",
+              static_cast<long long>(m.samples_received), n, static_cast<long long>(m.gaps),
+              static_cast<long long>(m.samples_bridged), static_cast<long long>(m.duplicates),
+              static_cast<long long>(m.out_of_order), static_cast<long long>(m.late),
+              static_cast<long long>(m.samples_processed), queue, static_cast<long long>(receiver.states),
+              static_cast<long long>(receiver.duplicates), monitor_kernel_drops, own_kernel_drops, rcvbuf_errors);
   return lost == 0 ? 0 : 3;
 }

@@ -2,12 +2,15 @@
 // `rockwatch replay` with the stock `lcm-logplayer` playing the same samples (docs/BENCHMARKS.md). A timing
 // program, not a test.
 //
-//   bench_stream_timing --expect N --rate HZ [--channel C] [--lcm-url URL] [--idle-s S]
+//   bench_stream_timing --expect N --rate HZ [--channel C] [--lcm-url URL] [--idle-s S] [--queue N] [--rx-buffer B]
 //
 // Receives until N samples have arrived or nothing arrived for S seconds (default 3) after the first one. Loss =
 // samples whose seq never arrived. Timing deviation of sample i = (receive time − receive time of the first sample)
 // − (seq_i − seq_first)/rate, with the median removed (a constant offset is not an error); prints p50, p99 and max
 // of |deviation|.
+// The subscription holds up to --queue N unhandled messages (default 100000; LCM's own default, 30, made a subscriber
+// that fell 30 ms behind at 1 kHz drop samples inside liblcm: --queue 30 shows it); a udpm:// URL without
+// recv_buf_size gets recv_buf_size=B (--rx-buffer, default 2097152; 0 = the URL as given).
 #include <time.h>
 
 #include <algorithm>
@@ -63,6 +66,8 @@ int main(int argc, char** argv) {
   std::size_t expect = 0;
   double rate_hz = 0.0, idle_s = 3.0;
   std::string channel = "ROCKWATCH_ACCEL", url = "udpm://239.255.76.67:7667?ttl=0";
+  int queue = 100000;
+  long long rx_buffer = 2097152;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string key = argv[i], value = argv[i + 1];
     if (key == "--expect") expect = static_cast<std::size_t>(std::atoll(value.c_str()));
@@ -70,14 +75,22 @@ int main(int argc, char** argv) {
     else if (key == "--channel") channel = value;
     else if (key == "--lcm-url") url = value;
     else if (key == "--idle-s") idle_s = std::atof(value.c_str());
+    else if (key == "--queue") queue = std::atoi(value.c_str());
+    else if (key == "--rx-buffer") rx_buffer = std::atoll(value.c_str());
     else {
       std::fprintf(stderr, "unknown option %s\n", key.c_str());
       return 2;
     }
   }
-  if (expect == 0 || !(rate_hz > 0.0)) {
-    std::fprintf(stderr, "usage: %s --expect N --rate HZ [--channel C] [--lcm-url URL] [--idle-s S]\n", argv[0]);
+  if (expect == 0 || !(rate_hz > 0.0) || queue < 0 || rx_buffer < 0) {
+    std::fprintf(stderr,
+                 "usage: %s --expect N --rate HZ [--channel C] [--lcm-url URL] [--idle-s S] [--queue N] "
+                 "[--rx-buffer BYTES]\n",
+                 argv[0]);
     return 2;
+  }
+  if (rx_buffer > 0 && url.rfind("udpm://", 0) == 0 && url.find("recv_buf_size=") == std::string::npos) {
+    url += (url.find('?') == std::string::npos ? "?" : "&") + std::string("recv_buf_size=") + std::to_string(rx_buffer);
   }
   lcm::LCM lcm(url);
   if (!lcm.good()) {
@@ -86,7 +99,8 @@ int main(int argc, char** argv) {
   }
   Stream s;
   s.received_ns.assign(expect, 0);
-  lcm.subscribe(channel, &Stream::on_sample, &s);
+  lcm::Subscription* subscription = lcm.subscribe(channel, &Stream::on_sample, &s);
+  if (subscription != nullptr) subscription->setQueueCapacity(queue);
   std::fprintf(stderr, "listening on %s for %zu samples\n", channel.c_str(), expect);
   const auto idle_ns = static_cast<std::int64_t>(idle_s * 1e9);
   const std::int64_t give_up = monotonic_ns() + 120000000000LL;

@@ -485,3 +485,19 @@ TEST(EsmItacaHandMade, ItacaFieldsAreSplitByColumn) {
   expect_rejected("naninfield.cor.acc", itaca_header() + itaca_field(1.0) + "           NaN\n", 11,
                   {"columns 15-28", "expected a finite number"});
 }
+
+// --- Fuzzing regressions (tests/fuzz/regressions, docs/RELIABILITY.md) ----------------------------------------
+
+// The readers reserved the header's value count before reading the values: a few bytes claiming 99 999 999 999 values
+// asked for 800 GB (std::bad_alloc in a release build, an allocator abort under ASan). Now such a file is what it is,
+// a truncated one. Inputs: tests/fuzz/regressions/record_esm/ndata_huge_reserve.ASC,
+// tests/fuzz/regressions/record_itaca/npts_huge_reserve.cor.acc.
+TEST(EsmItacaHandMade, EsmHugeNdataIsATruncatedFileNotAnAllocation) {
+  expect_rejected("hugendata.ASC", esm_text(with_value(esm_header(), "NDATA", "99999999999")), kEsmHeaderLines + 4,
+                  {"the file ends after 4 of NDATA=99999999999 values", "a truncated file?"});
+}
+
+TEST(EsmItacaHandMade, ItacaHugeNumberOfDataIsATruncatedFileNotAnAllocation) {
+  expect_rejected("hugenpts.cor.acc", itaca_header("99999999999") + itaca_rows(kItacaValues), kItacaHeaderLines + 2,
+                  {"the file ends after 7 of 99999999999 values", "a truncated file?"});
+}

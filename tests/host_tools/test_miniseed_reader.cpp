@@ -265,13 +265,24 @@ TEST(MiniseedHandMade, DamagedSteimDataIsRejected) {
 
 TEST(MiniseedHandMade, ARecordClaimingAnotherEncodingIsRejected) {
   std::string bytes = file_bytes(bgar_path());
-  // Record 2's blockette 1000 encoding byte (record offset 52): one flipped bit turns Steim2 (11) into int32 (3),
-  // which libmseed decodes without complaint into counts of ±1e9.
+  // Record 2's blockette 1000 encoding byte (record offset 52): one flipped bit turns Steim2 (11) into int32 (3).
+  // libmseed would decode its 599 "int32 samples" from 2396 bytes, far past the record's 448 bytes of data (into the
+  // next records: counts of ±1e9); the data section check refuses the record first.
   bytes[2 * 512 + 52] = static_cast<char>(bytes[2 * 512 + 52] ^ 0x08);
   const std::string path = write("encoding.mseed", bytes);
   const Failure f = failure_of([&] { read_record(path, bgar_options("HGE")); });
-  STRCMP_CONTAINS("encoding.mseed: byte offset 1024: NL.BGAR..HGE changes encoding from STEIM 2", f.message.c_str());
-  STRCMP_CONTAINS("at 2020-05-02T03:11:20.410000Z: expected one encoding per channel", f.message.c_str());
+  STRCMP_CONTAINS("encoding.mseed: byte offset 1024: the header announces 599 samples of 4 bytes", f.message.c_str());
+  STRCMP_CONTAINS("the record holds 448 bytes of data", f.message.c_str());
+
+  // A record that does fit its data section but changes the channel's encoding (float32, then float64) is refused.
+  ReadOptions options;
+  options.units = AccelUnit::mps2;
+  const std::string mixed = pack_float32("HNE", kTestStartUs, 100.0, {1.0f, 2.0f, 3.0f}) +
+                            pack("XX", "TEST", "HNE", kTestStartUs + 30000, 100.0, std::vector<double>{4.0, 5.0},
+                                 'd', DE_FLOAT64);
+  const Failure g = failure_of([&] { read_record(write("mixed.mseed", mixed), options); });
+  STRCMP_CONTAINS("mixed.mseed: byte offset 512: XX.TEST..HNE changes encoding from", g.message.c_str());
+  STRCMP_CONTAINS("at 2021-01-01T00:00:00.030000Z: expected one encoding per channel", g.message.c_str());
 }
 
 TEST(MiniseedHandMade, DamagedHeaderIsRejected) {
@@ -447,4 +458,39 @@ TEST(MiniseedHandMade, GarbageAfterTheRecordsIsRejectedButPaddingIsNot) {
   LONGS_EQUAL(3, read_record(write("padded.mseed", packed + std::string(512, '\0')), options).horizontal_mps2.size());
   const Failure f = failure_of([&] { read_record(write("junk.mseed", packed + std::string(600, 'x')), options); });
   STRCMP_CONTAINS("junk.mseed: byte offset 512: not a valid miniSEED data record", f.message.c_str());
+}
+
+// --- Fuzzing regressions (tests/fuzz/regressions/record_miniseed, docs/RELIABILITY.md) ---------------------------
+
+// Big-endian sample count of the fixed header (bytes 30-31) of the record at `record_offset`.
+void set_sample_count(std::string& bytes, std::size_t record_offset, std::uint16_t count) {
+  bytes[record_offset + 30] = static_cast<char>(count >> 8);
+  bytes[record_offset + 31] = static_cast<char>(count & 0xFF);
+}
+
+// libmseed 2 copies as many uncompressed samples as the header announces, past the end of the record: a float32
+// record announcing 3000 samples read 12 kB beyond it (ASan: heap-buffer-overflow in msr_unpack_data). The reader now
+// checks the announced samples against the record's data section before unpacking them.
+TEST(MiniseedHandMade, MoreUncompressedSamplesThanTheRecordHoldsIsRejected) {
+  std::string bytes = pack_float32("HNE", kTestStartUs, 100.0, {1.0f, 2.0f, 3.0f});
+  set_sample_count(bytes, 0, 3000);
+  ReadOptions options;
+  options.units = AccelUnit::mps2;
+  const Failure f = failure_of([&] { read_record(write("count.mseed", bytes), options); });
+  STRCMP_CONTAINS("count.mseed: byte offset 0: the header announces 3000 samples of 4 bytes", f.message.c_str());
+  STRCMP_CONTAINS("but the record holds 456 bytes of data", f.message.c_str());
+  STRCMP_CONTAINS("expected an undamaged header", f.message.c_str());
+}
+
+// The same over-read through a text (ASCII) record, which carries no waveform: such records are now skipped without
+// unpacking them. Input: tests/fuzz/regressions/record_miniseed/ascii_record_sample_count_overread.mseed.
+TEST(MiniseedHandMade, ATextRecordIsSkippedWithoutUnpackingIt) {
+  const std::vector<float> samples{1.0f, 2.0f, 3.0f};
+  std::string text = pack("XX", "TEST", "LOG", kTestStartUs, 0.0, std::vector<char>{'o', 'k'}, 'a', DE_ASCII);
+  set_sample_count(text, 0, 12052);
+  ReadOptions options;
+  options.units = AccelUnit::mps2;
+  options.channel = "HNE";
+  const Record r = read_record(write("text.mseed", pack_float32("HNE", kTestStartUs, 100.0, samples) + text), options);
+  LONGS_EQUAL(samples.size(), r.horizontal_mps2.size());
 }

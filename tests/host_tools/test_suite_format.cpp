@@ -406,3 +406,10 @@ TEST(SuiteFormat, SetFilesMustStayInTheDirectory) {
     {"set": 2, "file": "../x.txt"}]})");
   expect_manifest_rejected(1, {"sets[1]", "leaves the suite directory"});
 }
+
+// Fuzzing regression (tests/fuzz/regressions/suite_manifest/number_overflow.json): nlohmann reports a number beyond
+// double as json::out_of_range, not json::parse_error, so it escaped the reader as an unexpected exception.
+TEST(SuiteFormat, ManifestNumberBeyondDoubleIsMalformedJson) {
+  manifest(R"({"format": "rockwatch-suite-manifest", "version": 1e400, "sets": []})");
+  expect_manifest_rejected(1, {"malformed JSON", "number overflow", "expected the manifest written by"});
+}

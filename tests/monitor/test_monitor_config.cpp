@@ -2,6 +2,9 @@
 // a message naming the key path and what was expected), unknown keys, the command line overriding the file (read back
 // with --print-config), the wall/--r/--model/--kappa options shared with `rockwatch simulate`, --arith fixed|double,
 // the config digest; and the adapter's helpers (exact-channel regex, FNV-1a).
+#include <sys/stat.h>
+#include <sys/wait.h>
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -142,7 +145,7 @@ TEST(MonitorConfigFile, MalformedFilesAreRefused) {
   expect_config_rejected("{\"kappa\": 2,\n \"r\": }", {"not valid JSON", "line 2"});
   expect_config_rejected(R"({"kappa": 2, "kappa": 3})", {"kappa:", "appears twice"});
   expect_config_rejected(R"({"wall": {"b": 0.1, "b": 0.2}})", {"wall.b:", "appears twice"});
-  expect_rejected({"--config", "/nonexistent/monitor.json"}, {"--config /nonexistent/monitor.json", "cannot read"});
+  expect_rejected({"--config", "/nonexistent/monitor.json"}, {"--config /nonexistent/monitor.json", "it does not exist"});
   expect_rejected({"--config", ""}, {"--config needs a file name"});
 }
 
@@ -311,4 +314,69 @@ TEST(MonitorAdapterHelpers, Fnv1a64KnownValues) {
   CHECK(fnv1a64("foobar") == 0x85944171f73967e8ull);
   STRCMP_EQUAL("0x85944171f73967e8",
                rockwatch::monitor::digest_hex(static_cast<std::int64_t>(0x85944171f73967e8ull)).c_str());
+}
+
+// Issue 8, invalid values and hangs: the options test_monitor_config did not reach yet.
+TEST_GROUP(MonitorInvalidValues){};
+
+TEST(MonitorInvalidValues, RateArithAndLogValuesNameTheOption) {
+  expect_rejected({"--rate", "abc"}, {"--rate", "'abc'"});
+  expect_rejected({"--rate", "nan"}, {"--rate", "'nan'"});
+  expect_rejected({"--rate", "inf"}, {"--rate", "'inf'"});
+  expect_rejected({"--rate", "-200"}, {"--rate", "> 0"});
+  expect_rejected({"--rate", "1e6"}, {"--rate", "10000"});
+  expect_rejected({"--arith", ""}, {"--arith must be fixed or double", "''"});
+  expect_rejected({"--log", ""}, {"--log needs a file name"});
+  const TempDir dir;
+  expect_rejected({"--log", dir.file("x.lcmlog"), "--offline-in", dir.file("in.lcmlog"), "--offline-out",
+                   dir.file("out.lcmlog")},
+                  {"--log is for live mode"});
+}
+
+// Waits at most 20 s for the monitor: a hang fails the test (wait_status kills it) instead of blocking the suite.
+namespace {
+rockwatch::test::ProcessResult run_monitor_briefly(const std::vector<std::string>& args) {
+  const TempDir capture;
+  const int status = rockwatch::test::wait_status(
+      rockwatch::test::spawn_monitor(args, capture.file("out"), capture.file("err")), 20.0);
+  rockwatch::test::ProcessResult r;
+  if (WIFEXITED(status)) r.exit_status = WEXITSTATUS(status);
+  if (WIFSIGNALED(status)) r.signal = WTERMSIG(status);
+  r.out = rockwatch::test::read_file(capture.file("out"));
+  r.err = rockwatch::test::read_file(capture.file("err"));
+  return r;
+}
+}  // namespace
+
+// A FIFO would block in open() for ever, /dev/zero would be read until memory runs out, a directory was an
+// "internal error": each is refused before reading, naming --config.
+TEST(MonitorInvalidValues, ConfigThatIsNotARegularFileIsRefusedAtOnce) {
+  const TempDir dir;
+  const std::string fifo = dir.file("monitor.json");
+  CHECK(mkfifo(fifo.c_str(), 0600) == 0);
+  for (const std::string& path : {fifo, std::string("/dev/zero"), dir.path()}) {
+    const rockwatch::test::ProcessResult r = run_monitor_briefly({"--config", path});
+    const std::string what = describe(r);
+    CHECK_EQUAL_TEXT(2, r.exit_status, what.c_str());
+    CHECK_TEXT(r.out.empty(), what.c_str());
+    CHECK_TEXT(r.err.find("--config") != std::string::npos, what.c_str());
+  }
+}
+
+// open(O_WRONLY) on a FIFO blocks until a reader comes: refused when the options are parsed.
+TEST(MonitorInvalidValues, LogThatIsAFifoIsRefusedAtOnce) {
+  const TempDir dir;
+  const std::string fifo = dir.file("traffic.lcmlog");
+  CHECK(mkfifo(fifo.c_str(), 0600) == 0);
+  const rockwatch::test::ProcessResult r = run_monitor_briefly({"--log", fifo, "--lcm-url", "memq://"});
+  const std::string what = describe(r);
+  CHECK_EQUAL_TEXT(2, r.exit_status, what.c_str());
+  CHECK_TEXT(r.err.find("--log") != std::string::npos, what.c_str());
+}
+
+TEST(MonitorInvalidValues, AConfigLargerThanOneMebibyteIsRefused) {
+  const TempDir dir;
+  const std::string path = dir.file("huge.json");
+  rockwatch::test::write_file(path, "{" + std::string(std::size_t{1} << 21, ' ') + "}");
+  expect_rejected({"--config", path}, {"--config " + path, "larger than 1 MiB"});
 }

@@ -1,5 +1,6 @@
 #include "demo_request.hpp"
 
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -19,6 +20,12 @@ namespace rockwatch::cli {
 namespace {
 
 constexpr double kMaxDemoSpeed = 20.0;
+constexpr double kMinDemoSpeed = 0.01;
+// rockwatch-monitor's range (firmware/linux/monitor_config.cpp: a sample period of at most 0.03 s, up to 10 kHz): a
+// rate outside it would only fail once the monitor starts.
+constexpr double kMinDemoRateHz = 1.0 / 0.03;
+// A PGA above this many g is no earthquake.
+constexpr double kMaxDemoPga_g = 10.0;
 
 struct RawOptions {
   std::string suite, set, pga, rate, speed, lcm_url, monitor, out;
@@ -77,6 +84,7 @@ DemoParse parse_demo_arguments(int argc, const char* const* argv) {
   DemoRequest q;
   if (given(app, "--suite")) {
     if (raw.suite.empty()) throw UsageError("--suite needs a suite directory");
+    check_input_directory("--suite", raw.suite, "a suite directory written by rockwatch generate");
     q.suite_dir = raw.suite;
     q.suite_found_by = "--suite";
   } else {
@@ -91,16 +99,27 @@ DemoParse parse_demo_arguments(int argc, const char* const* argv) {
                        ")");
     q.set = static_cast<int>(*set);
   }
-  if (given(app, "--pga")) q.pga_g = parse_positive_number("--pga", raw.pga, " (a multiple of g)");
+  if (given(app, "--pga")) {
+    q.pga_g = parse_positive_number("--pga", raw.pga, " (a multiple of g)");
+    if (q.pga_g > kMaxDemoPga_g) {
+      throw UsageError("--pga must be at most " + number_text(kMaxDemoPga_g) + " g (got " + number_text(q.pga_g) + ")");
+    }
+  }
   if (given(app, "--rate")) {
     q.rate_hz = parse_positive_number("--rate", raw.rate, " Hz");
-    if (q.rate_hz > kMaxReplayRateHz) {
-      throw UsageError("--rate must be at most " + number_text(kMaxReplayRateHz) + " Hz (got " +
-                       number_text(q.rate_hz) + ")");
+    if (q.rate_hz > kMaxReplayRateHz || !(1.0 / q.rate_hz <= 0.03)) {
+      throw UsageError("--rate must be from " + number_text(std::ceil(kMinDemoRateHz * 100.0) / 100.0) + " to " +
+                       number_text(kMaxReplayRateHz) +
+                       " Hz, the monitor's range (a sample period of at most 0.03 s; got " + number_text(q.rate_hz) +
+                       ")");
     }
   }
   if (given(app, "--speed")) {
     q.speed = parse_positive_number("--speed", raw.speed, " (1 real time, 4 four times as fast)");
+    if (q.speed < kMinDemoSpeed) {
+      throw UsageError("--speed must be at least " + number_text(kMinDemoSpeed) +
+                       ": slower, the two records would take hours to replay (got " + number_text(q.speed) + ")");
+    }
     if (q.speed > kMaxDemoSpeed) {
       throw UsageError("--speed must be at most " + number_text(kMaxDemoSpeed) +
                        ": faster, datagrams get lost on a busy machine and the comparison tests the network, not the "

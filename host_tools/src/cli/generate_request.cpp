@@ -1,5 +1,6 @@
 #include "generate_request.hpp"
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -115,6 +116,21 @@ void add_options(CLI::App& app, RawOptions& raw) {
   app.footer(std::string(kFooterMethod) + acceptance_text(defaults) + kFooterFiles);
 }
 
+// Plausible ranges: beyond them the generator's arithmetic underflows (a PGA of 1e-320 g gives no measurable
+// record, a ratio of 1e-320 a vertical that "cannot be measured") or the records mean nothing.
+constexpr double kMinGeneratePga_g = 1e-6, kMaxGeneratePga_g = 10.0;
+constexpr double kMinVerticalRatio = 1e-3, kMaxVerticalRatio = 10.0;
+
+// A number in [min, max] or a UsageError naming the option, its range and what was given.
+double parse_in_range(const char* option, const std::string& text, double min, double max, const char* unit) {
+  const double value = parse_positive_number(option, text, unit);
+  if (value < min || value > max) {
+    throw UsageError(std::string(option) + " must be from " + number_text(min) + " to " + number_text(max) + unit +
+                     " (got " + number_text(value) + ")");
+  }
+  return value;
+}
+
 // whole_number or a UsageError; `what` completes "OPTION must be a whole number WHAT".
 std::uint64_t parse_whole(const char* option, const std::string& text, std::uint64_t min, std::uint64_t max,
                           const std::string& what) {
@@ -212,11 +228,22 @@ GenerateParse parse_generate_arguments(int argc, const char* const* argv) {
   if (given(app, "--seed")) s.seed = parse_whole("--seed", raw.seed, 0, UINT64_MAX, "from 0 to 2^64-1");
   s.horizontal_target = parse_target_spec("--target", raw.target);
   s.vertical_target = parse_target_spec("--vertical-target", raw.vertical_target);
-  if (given(app, "--pga")) s.pga_g = parse_positive_number("--pga", raw.pga, " (a multiple of g)");
+  if (given(app, "--pga")) s.pga_g = parse_in_range("--pga", raw.pga, kMinGeneratePga_g, kMaxGeneratePga_g, " g");
   if (given(app, "--vertical-ratio")) {
-    s.vertical_pga_ratio = parse_positive_number("--vertical-ratio", raw.vertical_ratio, " (a_vg / a_g)");
+    s.vertical_pga_ratio =
+        parse_in_range("--vertical-ratio", raw.vertical_ratio, kMinVerticalRatio, kMaxVerticalRatio, " (a_vg / a_g)");
   }
-  if (given(app, "--dt")) s.dt_s = parse_positive_number("--dt", raw.dt, " s");
+  if (given(app, "--dt")) {
+    s.dt_s = parse_positive_number("--dt", raw.dt, " s");
+    // Two samples per period at the shortest period matched (Nyquist); coarser, the generator fails mid-run with a
+    // message about its baseline correction instead.
+    const double max_dt_s = std::min(s.match_from_s, s.check_from_s) / 2.0;
+    if (s.dt_s > max_dt_s) {
+      throw UsageError("--dt must be at most " + number_text(max_dt_s) + " s: the spectrum is matched down to " +
+                       number_text(2.0 * max_dt_s) + " s periods, which need two samples per period (got " +
+                       number_text(s.dt_s) + ")");
+    }
+  }
   if (given(app, "--duration")) s.duration_s = parse_positive_number("--duration", raw.duration, " s");
   if (given(app, "--iterations")) {
     s.iterations = static_cast<std::size_t>(parse_whole("--iterations", raw.iterations, 1, kMaxGenerateIterations,

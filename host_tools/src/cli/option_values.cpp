@@ -1,7 +1,12 @@
 #include "option_values.hpp"
 
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstring>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -99,6 +104,65 @@ core::ModelKind parse_model(const std::string& option, const std::string& text) 
 }
 
 const char* model_name(core::ModelKind kind) { return kind == core::ModelKind::full ? "full" : "linear"; }
+
+const char* file_kind_text(unsigned mode) {
+  if (S_ISDIR(mode)) return "a directory";
+  if (S_ISFIFO(mode)) return "a FIFO (named pipe)";
+  if (S_ISCHR(mode)) return "a character device";
+  if (S_ISBLK(mode)) return "a block device";
+  if (S_ISSOCK(mode)) return "a socket";
+  if (S_ISREG(mode)) return "a regular file";
+  return "not a regular file";
+}
+
+namespace {
+
+// stat() of an input path, or a UsageError naming the option: missing, or not reachable.
+struct stat input_status(const std::string& option, const std::string& path, const char* what) {
+  if (path.empty()) throw UsageError(option + " needs a file name");
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) {
+    const int code = errno;
+    if (code == ENOENT || code == ENOTDIR) {
+      throw UsageError(option + " " + path + ": cannot open the file: it does not exist (expected " + what +
+                       ")");
+    }
+    throw UsageError(option + " " + path + ": cannot be read: " + std::strerror(code) + " (expected " + what +
+                     ")");
+  }
+  return st;
+}
+
+}  // namespace
+
+void check_input_file(const std::string& option, const std::string& path, const char* what) {
+  const struct stat st = input_status(option, path, what);
+  if (S_ISDIR(st.st_mode)) throw UsageError(option + " " + path + ": is a directory, expected " + what);
+  if (!S_ISREG(st.st_mode)) {
+    // A FIFO without a writer blocks the open for ever, a device such as /dev/zero never ends.
+    throw UsageError(option + " " + path + ": is " + file_kind_text(st.st_mode) +
+                     ", not a regular file: expected " + what);
+  }
+  if (::access(path.c_str(), R_OK) != 0) {
+    throw UsageError(option + " " + path + ": cannot be read: " + std::strerror(errno) + " (expected " + what +
+                     ")");
+  }
+}
+
+void check_input_directory(const std::string& option, const std::string& path, const char* what) {
+  if (path.empty()) throw UsageError(option + " needs a directory name");
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) {
+    const int code = errno;
+    throw UsageError(option + " " + path + ": " +
+                     (code == ENOENT || code == ENOTDIR ? std::string("no such directory")
+                                                        : std::string("cannot be read: ") + std::strerror(code)) +
+                     " (expected " + what + ")");
+  }
+  if (!S_ISDIR(st.st_mode)) {
+    throw UsageError(option + " " + path + ": is " + file_kind_text(st.st_mode) + ", expected " + what);
+  }
+}
 
 records::AccelUnit parse_units(const std::string& option, const std::string& text) {
   const std::optional<records::AccelUnit> unit = records::parse_accel_unit(text);

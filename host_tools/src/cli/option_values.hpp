@@ -42,6 +42,16 @@ records::AccelUnit parse_units(const std::string& option, const std::string& tex
 // Quotes user text for a message: printable and bounded, so a stray binary argument cannot garble the terminal.
 std::string quoted(const std::string& text);
 
+// Input paths, checked before anything is opened: a FIFO with no writer would block the tool forever and a device
+// such as /dev/zero would never end, so only what the option reads is accepted. `what` completes "expected ...",
+// e.g. "a record file". Throws UsageError "OPTION PATH: does not exist (expected WHAT)", "... is a directory",
+// "... is a FIFO (named pipe), not a regular file", "... cannot be read: REASON".
+void check_input_file(const std::string& option, const std::string& path, const char* what);
+// The same for a directory (a suite directory): it must exist and be a directory.
+void check_input_directory(const std::string& option, const std::string& path, const char* what);
+// "a FIFO (named pipe)", "a character device", "a directory", ... for the file type of `mode` (struct stat st_mode).
+const char* file_kind_text(unsigned mode);
+
 // Shortest text that reads back as the same double ("0.05", not "0.050000000000000003").
 std::string number_text(double value);
 

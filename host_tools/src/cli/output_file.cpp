@@ -1,5 +1,7 @@
 #include "output_file.hpp"
 
+#include <sys/stat.h>
+
 #include <cerrno>
 #include <cstdio>
 #include <fstream>
@@ -8,9 +10,26 @@
 #include <string>
 
 #include "command_runner.hpp"
+#include "option_values.hpp"
 #include "usage_error.hpp"
 
 namespace rockwatch::cli {
+
+void check_output_file(const std::string& option, const std::string& path) {
+  if (path.empty()) throw UsageError(option + " needs a file name");
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) return;  // a new file (a missing directory is reported when it is opened)
+  if (S_ISDIR(st.st_mode)) throw UsageError(option + " " + path + ": is a directory, give a file name");
+  if (!S_ISREG(st.st_mode)) {
+    throw UsageError(option + " " + path + ": is " + file_kind_text(st.st_mode) +
+                     ", not a regular file: give the name of a file to write");
+  }
+}
+
+void remove_output_file(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode)) std::remove(path.c_str());
+}
 
 void write_output_file(const std::string& path, const std::function<void(std::ostream&)>& write_content,
                        const std::string& shown_as) {
@@ -21,7 +40,7 @@ void write_output_file(const std::string& path, const std::function<void(std::os
   file.close();
   if (file.fail()) {
     const std::string reason = system_reason();
-    std::remove(path.c_str());
+    remove_output_file(path);
     throw UsageError("--out: writing " + (shown_as.empty() ? path : shown_as) + " failed" + reason);
   }
 }
@@ -38,7 +57,7 @@ PendingOutputFile::PendingOutputFile(const std::optional<std::string>& path) {
 PendingOutputFile::~PendingOutputFile() {
   if (opened_ && !complete_) {
     file_.close();
-    std::remove(path_.c_str());
+    remove_output_file(path_);
   }
 }
 

@@ -11,6 +11,16 @@
 
 namespace rockwatch::cli {
 
+// An output path the tool may create, truncate and, when the run fails, remove: refused when it exists and is not a
+// regular file. A directory cannot take the file; a FIFO with no reader would block the tool for ever; a device
+// (/dev/null, /dev/full) would be removed with the failed run's output, or (--plot) replaced by a file. Throws
+// UsageError "OPTION PATH: is a directory, give a file name" or "OPTION PATH: is a FIFO (named pipe), not a
+// regular file: give the name of a file to write".
+void check_output_file(const std::string& option, const std::string& path);
+
+// Removes a failed run's output, but only a regular file: never a device or a FIFO that took its place.
+void remove_output_file(const std::string& path);
+
 // Writes a whole --out file at once; a failed write removes it. Throws UsageError "--out: cannot open PATH for
 // writing: REASON" or "--out: writing NAME failed: REASON", NAME being `shown_as` if given (a temporary file named
 // as the file it becomes), else PATH.

@@ -165,6 +165,7 @@ RecordSelection parse_record_selection(const CLI::App& app, const RecordOptionTe
   if (used(app, "--suite")) {
     SuiteSelection suite;
     suite.dir = parse_name("--suite", t.suite, "a suite directory");
+    check_input_directory("--suite", suite.dir, "a suite directory written by rockwatch generate");
     suite.set = parse_set_number(t.set);
     suite.component = s.channel->front();
     s.record_path = records::suite_set_path(suite.dir, suite.set);
@@ -172,11 +173,15 @@ RecordSelection parse_record_selection(const CLI::App& app, const RecordOptionTe
     s.suite = suite;
   } else {
     s.record_path = parse_name("--record", t.record, "a file name");
+    check_input_file("--record", s.record_path, "a readable record file");
   }
   if (s.channel) s.read_options.channel = *s.channel;
 
   s.vertical_from_suite = t.vertical_from_suite;
-  if (used(app, "--vertical")) s.vertical_path = parse_name("--vertical", t.vertical, "a file name");
+  if (used(app, "--vertical")) {
+    s.vertical_path = parse_name("--vertical", t.vertical, "a file name");
+    check_input_file("--vertical", *s.vertical_path, "a readable record file");
+  }
   if (used(app, "--vertical-channel")) {
     s.vertical_channel = parse_name("--vertical-channel", t.vertical_channel, "a channel code");
   }

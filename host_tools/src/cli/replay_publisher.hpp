@@ -1,6 +1,8 @@
 // The paced loop of `rockwatch replay` and `rockwatch demo`: encodes the prepared samples as ground_accel_t (or
 // ground_accel_batch_t) messages, waits for each message's absolute deadline on CLOCK_MONOTONIC
 // (clock_nanosleep TIMER_ABSTIME), publishes it with LCM and/or writes it to an LCM log, and measures lateness.
+// While paced, the thread runs under SCHED_FIFO (low priority) and the process's memory is locked, when the process
+// may have them (replay_publisher.cpp: PacingConditions); both are undone at the end.
 #pragma once
 
 #include <atomic>
@@ -34,6 +36,8 @@ struct ReplayOutcome {
   bool aborted = false;              // the very first message could not be published: nothing else was tried
   bool interrupted = false;          // the cancel flag was set
   bool paced = false;                // deadlines were waited for (publishing with speed > 0)
+  bool realtime = false;             // paced under SCHED_FIFO (the process may: root, CAP_SYS_NICE, RLIMIT_RTPRIO)
+  bool memory_locked = false;        // paced with the process's memory locked (mlockall, when permitted)
   double elapsed_s = 0.0;            // start to the last message
   LatenessSummary lateness;          // paced messages only
 };

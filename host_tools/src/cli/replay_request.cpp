@@ -13,11 +13,15 @@
 #include "command_line.hpp"
 #include "lcm_multicast.hpp"
 #include "option_values.hpp"
+#include "output_file.hpp"
 #include "usage_error.hpp"
 
 namespace rockwatch::cli {
 
 namespace {
+
+constexpr double kMinReplayRateHz = 1.0;  // below: no ground-acceleration sensor samples that slowly
+constexpr double kMinReplaySpeed = 0.01;  // --speed other than 0: 100 times slower than real time
 
 struct RawOptions {
   RecordOptionTexts record;
@@ -93,6 +97,7 @@ void add_options(CLI::App& app, RawOptions& raw) {
 
 std::string file_option(const char* option, const std::string& text) {
   if (text.empty()) throw UsageError(std::string(option) + " needs a file name");
+  check_output_file(option, text);
   return text;
 }
 
@@ -166,6 +171,10 @@ ReplayParse parse_replay_arguments(int argc, const char* const* argv) {
     q.scale_pga_g = parse_positive_number("--scale-pga", raw.scale_pga, " (a multiple of g)");
   if (given(app, "--rate")) {
     q.rate_hz = parse_positive_number("--rate", raw.rate, " Hz");
+    if (q.rate_hz < kMinReplayRateHz) {
+      throw UsageError("--rate must be at least " + number_text(kMinReplayRateHz) +
+                       " Hz: a ground-acceleration sensor samples far faster (got " + number_text(q.rate_hz) + ")");
+    }
     if (q.rate_hz > kMaxReplayRateHz) {
       throw UsageError("--rate must be at most " + number_text(kMaxReplayRateHz) + " Hz, the monitor's limit (got " +
                        number_text(q.rate_hz) + ")");
@@ -176,6 +185,12 @@ ReplayParse parse_replay_arguments(int argc, const char* const* argv) {
     if (!(q.speed >= 0.0)) {
       throw UsageError("--speed must be >= 0: 1 real time, 2 twice as fast, 0 as fast as possible (got " +
                        number_text(q.speed) + ")");
+    }
+    // A replay lasts the record's duration / speed: below 1/100 of real time a 40 s record takes over an hour, so a
+    // smaller value is taken for a typo rather than left to run for days.
+    if (q.speed != 0.0 && q.speed < kMinReplaySpeed) {
+      throw UsageError("--speed must be 0 (as fast as possible) or at least " + number_text(kMinReplaySpeed) +
+                       " (100 times slower than real time; got " + number_text(q.speed) + ")");
     }
   }
   if (given(app, "--batch")) {

@@ -10,6 +10,7 @@
 #include "alarm_options.hpp"
 #include "command_line.hpp"
 #include "option_values.hpp"
+#include "output_file.hpp"
 #include "usage_error.hpp"
 #include "wall_options.hpp"
 
@@ -111,6 +112,7 @@ SimulateParse parse_simulate_arguments(int argc, const char* const* argv) {
   }
   if (given(app, "--out")) {
     if (raw.out.empty()) throw UsageError("--out needs a file name");
+    check_output_file("--out", raw.out);
     q.out_csv_path = raw.out;
     q.analysis.keep_history = true;
   }

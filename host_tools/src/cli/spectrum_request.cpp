@@ -11,6 +11,7 @@
 
 #include "command_line.hpp"
 #include "option_values.hpp"
+#include "output_file.hpp"
 #include "rockwatch/core/design_spectrum.hpp"
 #include "usage_error.hpp"
 
@@ -176,10 +177,18 @@ SpectrumParse parse_spectrum_arguments(int argc, const char* const* argv) {
   q.target = parse_target(app, raw);
   if (given(app, "--out")) {
     if (raw.out.empty()) throw UsageError("--out needs a file name");
+    check_output_file("--out", raw.out);
     q.out_csv_path = raw.out;
   }
   if (given(app, "--plot")) {
     if (raw.plot.empty()) throw UsageError("--plot needs a file name");
+    // matplotlib takes the format from the extension and adds ".png" to a name without one, so "--plot fig" would
+    // write fig.png while the tool reports fig.
+    const std::string suffix = raw.plot.size() >= 4 ? raw.plot.substr(raw.plot.size() - 4) : std::string();
+    if (suffix != ".png" && suffix != ".PNG") {
+      throw UsageError("--plot must name a .png file, the image written (got " + cli::quoted(raw.plot) + ")");
+    }
+    check_output_file("--plot", raw.plot);
     q.plot_path = raw.plot;
   }
   q.json = raw.json;

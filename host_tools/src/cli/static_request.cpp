@@ -248,7 +248,8 @@ core::StaticInputs parse_inputs(const CLI::App& app, const RawOptions& raw, std:
   }
   if (field == "spectrum") throw UsageError(std::string("--spectrum ") + check.message + where);
   throw UsageError("the wall options are too extreme for the static check (a result overflows or underflows): check "
-                   "--b, --h, --h1, --h2, --fp, --rho and --g" + where);
+                   "--b, --h, --h1, --h2, --fp, --rho, --g and --lambda (lambda " + number_text(in.lambda) + ")" +
+                   where);
 }
 
 void validate_cases(const CLI::App& app, const StaticRequest& q) {

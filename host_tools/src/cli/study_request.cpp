@@ -1,5 +1,7 @@
 #include "study_request.hpp"
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -15,11 +17,17 @@
 #include "alarm_options.hpp"
 #include "command_line.hpp"
 #include "option_values.hpp"
+#include "study_files.hpp"
+#include "study_runs_csv.hpp"
 #include "usage_error.hpp"
 
 namespace rockwatch::cli {
 
 namespace {
+
+// The smallest --max-step: each analysis of a 40 s record then takes 4e7 steps. Smaller steps would make every
+// analysis run for minutes to hours, and Ctrl-C waits for the analyses in flight, so a typo such as 1e-12 is refused.
+constexpr double kMinStudyMaxStep_s = 1e-6;
 
 // Options are read as text and converted by option_values, so every message has one form and nan/inf are refused
 // the same way everywhere.
@@ -193,8 +201,13 @@ std::string parse_name(const char* option, const std::string& text, const char* 
 // (suite files state their units and grid).
 void parse_sources(const CLI::App& app, const RawOptions& raw, StudyRequest& q) {
   reject_together(app, "--suite", "--records", "give one record source");
-  if (given(app, "--suite")) q.suite_dir = parse_name("--suite", raw.suite, "a suite directory");
-  if (given(app, "--records")) q.records_list = parse_name("--records", raw.records, "a list file name");
+  if (given(app, "--suite")) {
+    q.suite_dir = parse_name("--suite", raw.suite, "a suite directory");
+    check_input_directory("--suite", *q.suite_dir, "a suite directory written by rockwatch generate");
+  }
+  if (given(app, "--records")) {
+    q.records_list = parse_name("--records", raw.records, "a list file name");
+  }
   if (given(app, "--sets")) {
     if (q.records_list) {
       throw UsageError("--sets selects sets of a suite: it cannot be combined with --records (list the records "
@@ -219,12 +232,22 @@ void parse_sources(const CLI::App& app, const RawOptions& raw, StudyRequest& q) 
   if (given(app, "--vertical-channel")) {
     q.vertical_channel = parse_name("--vertical-channel", raw.vertical_channel, "a channel code");
   }
+  // After the combinations, which are the first mistake to report. A FIFO would block the study and /dev/zero would
+  // be read until memory runs out.
+  if (q.records_list) check_input_file("--records", *q.records_list, "a text file listing records, one per line");
 }
 
 void parse_analysis(const CLI::App& app, const RawOptions& raw, StudyRequest& q) {
   q.analysis.model = parse_model("--model", raw.model);
   if (given(app, "--kappa")) q.analysis.kappa = parse_kappa("--kappa", raw.kappa);
-  if (given(app, "--max-step")) q.analysis.max_step_s = parse_positive_number("--max-step", raw.max_step, " s");
+  if (given(app, "--max-step")) {
+    q.analysis.max_step_s = parse_positive_number("--max-step", raw.max_step, " s");
+    if (q.analysis.max_step_s < kMinStudyMaxStep_s) {
+      throw UsageError("--max-step must be at least " + number_text(kMinStudyMaxStep_s) +
+                       " s: smaller steps make every analysis of the study take hours (got " +
+                       number_text(q.analysis.max_step_s) + ")");
+    }
+  }
   parse_alarm_options(app, raw.alarm, q.analysis);
   q.restitutions = parse_restitution_list(raw.r);
   for (const sim::study::RestitutionCase& c : q.restitutions) {
@@ -240,6 +263,15 @@ void parse_analysis(const CLI::App& app, const RawOptions& raw, StudyRequest& q)
 void parse_run_options(const CLI::App& app, const RawOptions& raw, StudyRequest& q) {
   if (!given(app, "--out")) throw UsageError("--out DIR is required: the directory the study is written to");
   q.out_dir = parse_name("--out", raw.out, "a directory name");
+  // The files a study reads back (--resume) or replaces: a FIFO or device in their place would block or be removed.
+  for (const char* name : {kStudyStateName, kRunsCsvName, kSummaryJsonName, kTable3Name}) {
+    const std::string path = q.out_dir + "/" + name;
+    struct stat st {};
+    if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
+      throw UsageError("--out " + q.out_dir + ": " + std::string(name) + " in it is " + file_kind_text(st.st_mode) +
+                       ", not a regular file: remove it or choose another directory");
+    }
+  }
   if (given(app, "--jobs")) {
     const std::optional<std::uint64_t> jobs = whole_number(raw.jobs, 0, kMaxStudyJobs);
     if (!jobs) {

@@ -1,6 +1,7 @@
 // Engineering Strong-Motion database (ESM, ORFEUS) ASCII records (.ASC): about 64 header lines `KEY: value`
 // (EVENT_NAME, ..., NETWORK, STATION_CODE, STREAM, UNITS, NDATA, SAMPLING_INTERVAL_S, DATA_TYPE, ..., USER5), then
 // one value per line.
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -249,8 +250,11 @@ Record read_esm_ascii(const std::string& path, const ReadOptions& options) {
 
   std::vector<double> values;
   std::vector<int> value_lines;
-  values.reserve(ndata);
-  value_lines.reserve(ndata);
+  // NDATA is only a claim: reserve no more than the rest of the file can hold (a value and a line break need two
+  // bytes), so "NDATA: 99999999999" in a small file is reported as truncated instead of allocating 800 GB.
+  const std::size_t room = std::min(ndata, content.size() / 2 + 1);
+  values.reserve(room);
+  value_lines.reserve(room);
   int last_value_line = header_end_line;
   for (; index < lines.size(); ++index) {
     const auto tokens = detail::split_blanks(lines[index]);

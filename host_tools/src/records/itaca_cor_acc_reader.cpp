@@ -233,7 +233,9 @@ Record read_itaca_cor_acc(const std::string& path, const ReadOptions& options) {
 
   std::vector<double> values;
   std::vector<int> value_lines;
-  values.reserve(npts);
+  // 'Number of Data' is only a claim: reserve no more than the file can hold (14 bytes a value), so a huge count in a
+  // small file is reported as truncated instead of allocating gigabytes.
+  values.reserve(std::min(npts, content.size() / kFieldWidth + 1));
   std::size_t fields_per_line = 0;
   int short_line = 0;  // a line with fewer fields than the first; only the last line may be one
   std::size_t short_line_fields = 0;

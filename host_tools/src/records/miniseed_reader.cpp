@@ -151,8 +151,53 @@ void take_samples(const std::string& path, const MSRecord& msr, std::size_t offs
   }
 }
 
-// Decodes every data record. Text records (sample type 'a', e.g. LOG channels) and records without samples carry no
-// waveform and are left out.
+// Bytes per sample of the encodings libmseed unpacks sample by sample; 0 for Steim frames (libmseed bounds those by
+// the record length itself) and for encodings it refuses.
+std::size_t bytes_per_sample(std::int8_t encoding) {
+  switch (encoding) {
+    case DE_INT32:
+    case DE_FLOAT32:
+      return 4;
+    case DE_FLOAT64:
+      return 8;
+    case DE_GEOSCOPE24:
+      return 3;
+    case DE_INT16:
+    case DE_GEOSCOPE163:
+    case DE_GEOSCOPE164:
+    case DE_CDSN:
+    case DE_SRO:
+    case DE_DWWSSN:
+      return 2;
+    default:
+      return 0;
+  }
+}
+
+// libmseed 2 copies as many samples as the header announces out of an uncompressed data section without comparing
+// them with the record length, and trusts the data offset: a damaged header made it read past the record (and past
+// the file in memory). Checked on the parsed header before the samples are unpacked.
+void check_data_section(const std::string& path, const MSRecord& msr, std::size_t offset) {
+  const std::size_t reclen = static_cast<std::size_t>(msr.reclen);
+  const std::size_t data_offset = msr.fsdh != nullptr ? msr.fsdh->data_offset : 0;
+  if (data_offset < kFixedHeaderBytes || data_offset > reclen) {
+    throw RecordError(path, 0,
+                      offset_text(offset) + ": data offset " + std::to_string(data_offset) +
+                          " outside the record of " + std::to_string(reclen) +
+                          " bytes: expected the data after the 48-byte fixed header (a damaged header?)");
+  }
+  const std::size_t size = bytes_per_sample(msr.encoding);
+  const auto count = static_cast<std::size_t>(msr.samplecnt);
+  if (size > 0 && count > (reclen - data_offset) / size) {
+    throw RecordError(path, 0,
+                      offset_text(offset) + ": the header announces " + std::to_string(count) + " samples of " +
+                          std::to_string(size) + " bytes (" + encoding_name(msr.encoding) + "), but the record holds " +
+                          std::to_string(reclen - data_offset) + " bytes of data: expected an undamaged header");
+  }
+}
+
+// Decodes every data record: the header first, then, once its data section is checked, the samples. Text records
+// (ASCII encoding, e.g. LOG channels) and records without samples carry no waveform and are left out.
 std::vector<Channel> decode(const std::string& path, std::string& content) {
   if (content.size() < kFixedHeaderBytes) {
     throw RecordError(path, 0,
@@ -168,8 +213,8 @@ std::vector<Channel> decode(const std::string& path, std::string& content) {
     const int buffer_length = static_cast<int>(std::min<std::size_t>(remaining, INT_MAX));
     clear_log();
     MSRecord* raw = nullptr;
-    const int status = msr_parse(content.data() + offset, buffer_length, &raw, 0, 1, 0);
-    const MsRecordPtr msr(raw);
+    const int status = msr_parse(content.data() + offset, buffer_length, &raw, 0, 0, 0);
+    MsRecordPtr msr(raw);
     if (status > 0) {
       throw RecordError(path, 0,
                         offset_text(offset) + ": the file ends inside a miniSEED record (" + std::to_string(remaining) +
@@ -183,7 +228,7 @@ std::vector<Channel> decode(const std::string& path, std::string& content) {
       if (g_log.length > 0) message += ": libmseed says " + logged();
       throw RecordError(path, 0, message + "; expected a complete, undamaged miniSEED file");
     }
-    // libmseed only logs a failed Steim integrity check or a sample-count mismatch; either means damaged data.
+    // Header warnings (blockette chain, data offset) are logged the same way.
     if (g_log.length > 0) {
       throw RecordError(
           path, 0,
@@ -196,7 +241,23 @@ std::vector<Channel> decode(const std::string& path, std::string& content) {
     }
     const std::size_t record_offset = offset;
     offset += static_cast<std::size_t>(msr->reclen);
-    if (msr->sampletype == 'a' || msr->samplecnt == 0) continue;
+    if (msr->encoding == DE_ASCII || msr->samplecnt <= 0) continue;
+    check_data_section(path, *msr, record_offset);
+    raw = msr.release();
+    const int unpacked = msr_parse(content.data() + record_offset, raw->reclen, &raw, raw->reclen, 1, 0);
+    msr.reset(raw);
+    if (unpacked != MS_NOERROR || !msr) {
+      std::string message = offset_text(record_offset) + ": cannot unpack the samples of the miniSEED record (" +
+                            std::string(ms_errorstr(unpacked)) + ")";
+      if (g_log.length > 0) message += ": libmseed says " + logged();
+      throw RecordError(path, 0, message + "; expected a complete, undamaged miniSEED file");
+    }
+    // libmseed only logs a failed Steim integrity check or a sample-count mismatch; either means damaged data.
+    if (g_log.length > 0) {
+      throw RecordError(path, 0,
+                        offset_text(record_offset) + ": damaged miniSEED record: libmseed says " + logged() +
+                            "; expected undamaged data");
+    }
     if (msr->numsamples != msr->samplecnt) {
       throw RecordError(path, 0,
                         offset_text(record_offset) + ": decoded " + std::to_string(msr->numsamples) + " of " +

@@ -94,6 +94,11 @@ std::vector<SetEntry> read_manifest(const std::string& dir) {
     throw RecordError(
         path, line_of_byte(content, error.byte == 0 ? 0 : error.byte - 1),
         "malformed JSON (" + parse_problem(error.what()) + "): expected the manifest written by rockwatch generate");
+  } catch (const json::exception& error) {
+    // nlohmann reports a number beyond double ("1e400") as out_of_range, not as a parse_error.
+    throw RecordError(path, 0,
+                      "malformed JSON (" + parse_problem(error.what()) +
+                          "): expected the manifest written by rockwatch generate");
   }
   if (!manifest.is_object()) {
     throw RecordError(path, 0, "expected a JSON object with \"format\" and \"sets\"");
