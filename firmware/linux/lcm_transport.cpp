@@ -111,22 +111,24 @@ bool LcmTransport::publish(const char* channel, const std::uint8_t* data, std::s
 LcmInput::LcmInput(lcm::LCM& lcm, firmware::MonitorLoop& loop)
     : lcm_(lcm), loop_(loop), queue_capacity_(input_queue_capacity(loop.settings().sample_rate_hz)) {
   const firmware::MonitorChannels& c = loop.settings().channels;
-  accel_ = lcm_.subscribeFunction(exact_channel_regex(c.accel), &LcmInput::on_raw, this);
-  batch_ = lcm_.subscribeFunction(exact_channel_regex(c.accel_batch), &LcmInput::on_raw, this);
-  if (accel_ != nullptr) accel_->setQueueCapacity(queue_capacity_);
-  if (batch_ != nullptr) batch_->setQueueCapacity(queue_capacity_);
+  lcm_t* const raw = lcm_.getUnderlyingLCM();
+  accel_ = lcm_subscribe(raw, exact_channel_regex(c.accel).c_str(), &LcmInput::on_raw, this);
+  batch_ = lcm_subscribe(raw, exact_channel_regex(c.accel_batch).c_str(), &LcmInput::on_raw, this);
+  if (accel_ != nullptr) lcm_subscription_set_queue_capacity(accel_, queue_capacity_);
+  if (batch_ != nullptr) lcm_subscription_set_queue_capacity(batch_, queue_capacity_);
 }
 
 LcmInput::~LcmInput() {
-  if (accel_ != nullptr) lcm_.unsubscribe(accel_);
-  if (batch_ != nullptr) lcm_.unsubscribe(batch_);
+  if (accel_ != nullptr) lcm_unsubscribe(lcm_.getUnderlyingLCM(), accel_);
+  if (batch_ != nullptr) lcm_unsubscribe(lcm_.getUnderlyingLCM(), batch_);
 }
 
-void LcmInput::on_raw(const lcm::ReceiveBuffer* rbuf, const std::string& channel, LcmInput* self) {
+void LcmInput::on_raw(const lcm_recv_buf_t* rbuf, const char* channel, void* user) {
+  LcmInput* const self = static_cast<LcmInput*>(user);
   ++self->messages_;
   const std::int64_t receive_utime = rbuf->recv_utime > 0 ? rbuf->recv_utime : realtime_utime();
   const auto size = rbuf->data_size > 0 ? static_cast<std::size_t>(rbuf->data_size) : std::size_t{0};
-  self->loop_.on_message(channel.c_str(), static_cast<const std::uint8_t*>(rbuf->data), size, receive_utime);
+  self->loop_.on_message(channel, static_cast<const std::uint8_t*>(rbuf->data), size, receive_utime);
 }
 
 bool LogTransport::publish(const char* channel, const std::uint8_t* data, std::size_t size) {

@@ -85,12 +85,14 @@ class LcmInput {
   int queue_capacity() const { return queue_capacity_; }
 
  private:
-  static void on_raw(const lcm::ReceiveBuffer* rbuf, const std::string& channel, LcmInput* self);
+  static void on_raw(const lcm_recv_buf_t* rbuf, const char* channel, void* self);
 
   lcm::LCM& lcm_;
   firmware::MonitorLoop& loop_;
-  lcm::Subscription* accel_ = nullptr;
-  lcm::Subscription* batch_ = nullptr;
+  // The C API: lcm-cpp's callbacks take the channel as a std::string, a heap allocation per message for names over
+  // 15 characters (ROCKWATCH_ACCEL_BATCH) — the soak's allocation count found its twin on the publishing side.
+  lcm_subscription_t* accel_ = nullptr;
+  lcm_subscription_t* batch_ = nullptr;
   int queue_capacity_ = 0;
   std::int64_t messages_ = 0;
 };

@@ -196,10 +196,12 @@ void human_summary(std::ostream& err, const std::string& first_line, const firmw
 // Live: LCM in, LCM out.
 
 int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) {
-  lcm::LCM lcm(config.lcm_url);
+  // A 2 MiB receive buffer unless the URL names one (bursts at high rates; the kernel may cap it: said below).
+  const std::string url = with_receive_buffer(config.lcm_url);
+  lcm::LCM lcm(url);
   if (!lcm.good()) {
     err << kPrefix << "error: " << config.lcm_url_origin << ": LCM could not start with "
-        << cli::quoted(config.lcm_url)
+        << cli::quoted(url)
         << " (a malformed URL, or no multicast route: see `ip route` for 224.0.0.0/4)\n";
     return kExitUsage;
   }
@@ -212,7 +214,10 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
       return kExitUsage;
     }
     for (const char* channel : {config.settings.channels.accel, config.settings.channels.accel_batch}) {
-      log_subscriptions.push_back(lcm.subscribeFunction(exact_channel_regex(channel), &log_input, &log));
+      lcm::Subscription* sub = lcm.subscribeFunction(exact_channel_regex(channel), &log_input, &log);
+      // As the loop's input subscriptions: LCM's default queue of 30 would drop logged messages at high rates.
+      if (sub != nullptr) sub->setQueueCapacity(input_queue_capacity(config.settings.sample_rate_hz));
+      log_subscriptions.push_back(sub);
     }
   }
   LcmTransport lcm_transport(lcm);
@@ -234,10 +239,12 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
   loop->publish_status(realtime_utime());
   ++statuses;
   const firmware::MonitorChannels& ch = config.settings.channels;
-  err << kPrefix << "listening on " << config.lcm_url << " (" << config.lcm_url_origin << "): " << ch.accel << ", "
+  const std::string buffer_warning = receive_buffer_warning(url);
+  err << kPrefix << "listening on " << url << " (" << config.lcm_url_origin << "): " << ch.accel << ", "
       << ch.accel_batch << " -> " << ch.wall_state << ", " << ch.alarm << ", " << ch.status << "; "
       << cli::number_text(config.settings.sample_rate_hz) << " Hz; config digest "
       << digest_hex(config.settings.config_digest) << std::endl;
+  if (!buffer_warning.empty()) err << kPrefix << "note: " << buffer_warning << std::endl;
 
   constexpr std::int64_t kSecondNs = 1000000000;
   const std::int64_t start_ns = monotonic_ns();
@@ -279,7 +286,7 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
   json s = common_summary(config, *loop, printer, statuses);
   s["mode"] = "live";
   s["stopped_by"] = failed ? std::string("LCM failure") : StopSignals::stopped_by();
-  s["lcm_url"] = config.lcm_url;
+  s["lcm_url"] = url;
   s["lcm_messages"] = input.messages();
   if (config.log_path) {
     s["log"] = {{"path", *config.log_path},          {"events_written", log.events_written()},

@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -314,6 +315,31 @@ TEST(MonitorAdapterHelpers, Fnv1a64KnownValues) {
   CHECK(fnv1a64("foobar") == 0x85944171f73967e8ull);
   STRCMP_EQUAL("0x85944171f73967e8",
                rockwatch::monitor::digest_hex(static_cast<std::int64_t>(0x85944171f73967e8ull)).c_str());
+}
+
+// The high-rate knobs of the adapter (firmware/linux/README.md, "Not losing samples at high rates").
+TEST(MonitorAdapterHelpers, InputQueueHoldsTwoSecondsAndAtLeastAThousandMessages) {
+  using rockwatch::monitor::input_queue_capacity;
+  LONGS_EQUAL(1000, input_queue_capacity(200.0));
+  LONGS_EQUAL(1000, input_queue_capacity(500.0));
+  LONGS_EQUAL(2000, input_queue_capacity(1000.0));
+  LONGS_EQUAL(20000, input_queue_capacity(10000.0));
+  LONGS_EQUAL(2001, input_queue_capacity(1000.4));  // rounded up
+  LONGS_EQUAL(1000, input_queue_capacity(std::nan("")));
+}
+
+TEST(MonitorAdapterHelpers, ReceiveBufferIsAddedToUdpmUrlsThatNameNone) {
+  using rockwatch::monitor::requested_receive_buffer;
+  using rockwatch::monitor::with_receive_buffer;
+  STRCMP_EQUAL("udpm://239.255.76.67:7667?ttl=0&recv_buf_size=2097152",
+               with_receive_buffer("udpm://239.255.76.67:7667?ttl=0").c_str());
+  STRCMP_EQUAL("udpm://239.255.76.67:7667?recv_buf_size=2097152", with_receive_buffer("udpm://239.255.76.67:7667").c_str());
+  STRCMP_EQUAL("udpm://239.255.76.67:7667?recv_buf_size=4096",
+               with_receive_buffer("udpm://239.255.76.67:7667?recv_buf_size=4096").c_str());  // the user's choice kept
+  STRCMP_EQUAL("memq://", with_receive_buffer("memq://").c_str());
+  LONGS_EQUAL(2097152, static_cast<long>(requested_receive_buffer(with_receive_buffer("udpm://239.255.76.67:7667?ttl=0"))));
+  LONGS_EQUAL(0, static_cast<long>(requested_receive_buffer("udpm://239.255.76.67:7667?ttl=0")));
+  LONGS_EQUAL(0, static_cast<long>(requested_receive_buffer("memq://")));
 }
 
 // Issue 8, invalid values and hangs: the options test_monitor_config did not reach yet.
