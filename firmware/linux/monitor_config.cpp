@@ -290,7 +290,7 @@ class ConfigReader {
     json root;
     try {
       root = json::parse(text, callback);
-    } catch (const json::parse_error& e) {
+    } catch (const json::exception& e) {  // parse_error, and out_of_range for a number beyond double (1e400)
       std::string what = e.what();
       const std::size_t bracket = what.find("] ");
       if (what.rfind("[json.exception", 0) == 0 && bracket != std::string::npos) what = what.substr(bracket + 2);

@@ -144,6 +144,8 @@ TEST(MonitorConfigFile, ChannelsMustBePrintableAndAllDifferent) {
 
 TEST(MonitorConfigFile, MalformedFilesAreRefused) {
   expect_config_rejected("{\"kappa\": 2,\n \"r\": }", {"not valid JSON", "line 2"});
+  // A number beyond double: nlohmann throws out_of_range, not parse_error (was an "internal error"; found by fuzzing).
+  expect_config_rejected(R"({"kappa": 1e400})", {"not valid JSON", "number overflow parsing '1e400'"});
   expect_config_rejected(R"({"kappa": 2, "kappa": 3})", {"kappa:", "appears twice"});
   expect_config_rejected(R"({"wall": {"b": 0.1, "b": 0.2}})", {"wall.b:", "appears twice"});
   expect_rejected({"--config", "/nonexistent/monitor.json"}, {"--config /nonexistent/monitor.json", "it does not exist"});
