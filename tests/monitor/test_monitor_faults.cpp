@@ -24,13 +24,24 @@
 #include <nlohmann/json.hpp>
 
 #include "lcm_transport.hpp"
+#include "monitor_live_support.hpp"
 #include "monitor_test_support.hpp"
 #include "rockwatch/ground_accel_t.hpp"
 
 #include <CppUTest/TestHarness.h>
 
 using nlohmann::json;
+using rockwatch::test::now_s;
+using rockwatch::test::skip_without_multicast;
+using rockwatch::test::sleep_s;
 using rockwatch::test::TempDir;
+
+namespace {
+// Channel names of this test file's own.
+struct Channels : rockwatch::test::LiveChannels {
+  Channels() : LiveChannels("RWF") {}
+};
+}  // namespace
 
 namespace {
 
@@ -40,29 +51,11 @@ std::string fault_url(int offset) {
   return "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0";
 }
 
-struct Channels {
-  std::string accel = rockwatch::test::unique_channel("RWF_ACCEL");
-  std::string batch = rockwatch::test::unique_channel("RWF_ACCEL_BATCH");
-  std::string state = rockwatch::test::unique_channel("RWF_WALL_STATE");
-  std::string alarm = rockwatch::test::unique_channel("RWF_ALARM");
-  std::string status = rockwatch::test::unique_channel("RWF_STATUS");
-};
-
-void sleep_s(double s) {
-  timespec ts{};
-  ts.tv_sec = static_cast<time_t>(s);
-  ts.tv_nsec = static_cast<long>((s - static_cast<double>(ts.tv_sec)) * 1e9);
-  nanosleep(&ts, nullptr);
-}
-
-double now_s() { return static_cast<double>(rockwatch::monitor::monotonic_ns()) * 1e-9; }
-
 // What this process receives from the monitors, in order.
 struct Inbox {
-  std::string state_channel, status_channel, probe_channel;
+  std::string state_channel, status_channel;
   std::vector<rockwatch::wall_state_t> states;
   std::vector<rockwatch::monitor_status_t> statuses;
-  int probes = 0;
 
   static void on_raw(const lcm::ReceiveBuffer* rbuf, const std::string& channel, Inbox* self) {
     const int size = static_cast<int>(rbuf->data_size);
@@ -72,65 +65,20 @@ struct Inbox {
     } else if (channel == self->status_channel) {
       rockwatch::monitor_status_t m{};
       if (m.decode(rbuf->data, 0, size) == size) self->statuses.push_back(m);
-    } else if (channel == self->probe_channel) {
-      ++self->probes;
     }
   }
 };
 
-bool skip_without_multicast(const std::string& url) {
-  lcm::LCM lcm(url);
-  std::string why;
-  if (lcm.good()) {
-    Inbox inbox;
-    inbox.probe_channel = rockwatch::test::unique_channel("RWF_PROBE");
-    lcm.subscribeFunction(inbox.probe_channel, &Inbox::on_raw, &inbox);
-    const std::uint8_t byte = 1;
-    for (int attempt = 0; attempt < 5 && inbox.probes == 0; ++attempt) {
-      lcm.publish(inbox.probe_channel, &byte, 1);
-      const double until = now_s() + 0.2;
-      while (inbox.probes == 0 && now_s() < until) lcm.handleTimeout(20);
-    }
-    if (inbox.probes > 0) return false;
-    why = "a message published on " + url + " never came back (no multicast route on loopback? `ip route add "
-          "224.0.0.0/4 dev lo`)";
-  } else {
-    why = "LCM could not start with " + url;
-  }
-  UT_PRINT(("SKIPPED (multicast unavailable): " + why).c_str());
-  return true;
-}
-
-std::string write_config(const TempDir& dir, const Channels& c) {
-  const std::string path = dir.file("faults.json");
-  const json j{{"channels",
-                {{"accel", c.accel}, {"accel_batch", c.batch}, {"wall_state", c.state}, {"alarm", c.alarm},
-                 {"status", c.status}}}};
-  rockwatch::test::write_file(path, j.dump());
-  return path;
-}
-
+// Starts a monitor, stdout/stderr to DIR/NAME.out/.err, and waits until it says it listens (fails the test else).
 bool listening(const std::string& err_path) {
   return rockwatch::test::read_file(err_path).find("listening on") != std::string::npos;
 }
 
-// Starts a monitor, stdout/stderr to DIR/NAME.out/.err, and waits until it says it listens (fails the test else).
-pid_t start_monitor_and_wait(const TempDir& dir, const std::string& name, const std::string& url, const Channels& c) {
-  const std::string err = dir.file(name + ".err");
-  const pid_t pid = rockwatch::test::spawn_monitor({"--config", write_config(dir, c), "--lcm-url", url},
-                                                   dir.file(name + ".out"), err);
-  const double deadline = now_s() + 20.0;
-  while (!listening(err)) {
-    int status = 0;
-    if (waitpid(pid, &status, WNOHANG) == pid) FAIL(("the monitor exited:\n" + rockwatch::test::read_file(err)).c_str());
-    if (now_s() > deadline) {
-      kill(pid, SIGKILL);
-      rockwatch::test::wait_status(pid);
-      FAIL("the monitor did not say it listens within 20 s");
-    }
-    sleep_s(0.01);
-  }
-  return pid;
+pid_t start_monitor_and_wait(const TempDir& dir, const std::string& name, const std::string& url,
+                             const Channels& c) {
+  return rockwatch::test::start_monitor_listening(
+      {"--config", rockwatch::test::write_channels_config(dir, c, "faults.json"), "--lcm-url", url},
+      dir.file(name + ".out"), dir.file(name + ".err"));
 }
 
 // SIGTERM, clean exit, the summary (last stdout line).
@@ -211,7 +159,8 @@ TEST(MonitorFaults, SigkillMidRecordRestartsFromRestWithinAFewSamples) {
       first_was_moving = inbox.states.back().moving != 0;
       seq_sent_at_spawn = last_seq_sent;
       spawned_at = now_s();
-      second = rockwatch::test::spawn_monitor({"--config", write_config(dir, c), "--lcm-url", url},
+      second = rockwatch::test::spawn_monitor(
+          {"--config", rockwatch::test::write_channels_config(dir, c, "faults.json"), "--lcm-url", url},
                                               dir.file("second.out"), dir.file("second.err"));
     }
     if (second > 0 && second_listening_at < 0.0 && k % 2 == 0 && listening(dir.file("second.err"))) {

@@ -19,13 +19,24 @@
 #include "lcm_transport.hpp"
 #include "monitor_config.hpp"
 #include "monitor_output.hpp"
+#include "monitor_live_support.hpp"
 #include "monitor_test_support.hpp"
 #include "rockwatch/ground_accel_t.hpp"
 
 #include <CppUTest/TestHarness.h>
 
 using nlohmann::json;
+using rockwatch::test::now_s;
+using rockwatch::test::skip_without_multicast;
+using rockwatch::test::sleep_s;
 using rockwatch::test::TempDir;
+
+namespace {
+// Channel names of this test file's own.
+struct Channels : rockwatch::test::LiveChannels {
+  Channels() : LiveChannels("RWT") {}
+};
+}  // namespace
 
 namespace {
 
@@ -34,23 +45,6 @@ std::string test_url(int offset) {
   const int port = 20000 + static_cast<int>(getpid() % 20000) * 2 + offset;
   return "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0";
 }
-
-struct Channels {
-  std::string accel = rockwatch::test::unique_channel("RWT_ACCEL");
-  std::string batch = rockwatch::test::unique_channel("RWT_ACCEL_BATCH");
-  std::string state = rockwatch::test::unique_channel("RWT_WALL_STATE");
-  std::string alarm = rockwatch::test::unique_channel("RWT_ALARM");
-  std::string status = rockwatch::test::unique_channel("RWT_STATUS");
-};
-
-void sleep_s(double s) {
-  timespec ts{};
-  ts.tv_sec = static_cast<time_t>(s);
-  ts.tv_nsec = static_cast<long>((s - static_cast<double>(ts.tv_sec)) * 1e9);
-  nanosleep(&ts, nullptr);
-}
-
-double now_s() { return static_cast<double>(rockwatch::monitor::monotonic_ns()) * 1e-9; }
 
 // Raw messages received by this process, by channel.
 struct Inbox {
@@ -83,67 +77,12 @@ bool pump_until(lcm::LCM& lcm, double timeout_s, Done done) {
   return true;
 }
 
-// Multicast on loopback works when this process receives what it publishes.
-bool multicast_works(const std::string& url, std::string& why) {
-  lcm::LCM lcm(url);
-  if (!lcm.good()) {
-    why = "LCM could not start with " + url;
-    return false;
-  }
-  Inbox inbox;
-  inbox.status_channel = rockwatch::test::unique_channel("RWT_PROBE");
-  lcm.subscribeFunction(inbox.status_channel, &Inbox::on_raw, &inbox);
-  rockwatch::monitor_status_t probe{};
-  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(probe.getEncodedSize()));
-  probe.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
-  for (int attempt = 0; attempt < 5 && inbox.statuses.empty(); ++attempt) {
-    lcm.publish(inbox.status_channel, bytes.data(), static_cast<unsigned int>(bytes.size()));
-    pump_until(lcm, 0.2, [&] { return !inbox.statuses.empty(); });
-  }
-  if (inbox.statuses.empty()) {
-    why = "a message published on " + url + " never came back (no multicast route on loopback? `ip route add "
-          "224.0.0.0/4 dev lo`)";
-    return false;
-  }
-  return true;
-}
-
-bool skip_without_multicast(const std::string& url) {
-  std::string why;
-  if (multicast_works(url, why)) return false;
-  UT_PRINT(("SKIPPED (multicast unavailable): " + why).c_str());
-  return true;
-}
-
-std::string write_config(const TempDir& dir, const Channels& c) {
-  const std::string path = dir.file("live.json");
-  const json j{{"channels",
-                {{"accel", c.accel}, {"accel_batch", c.batch}, {"wall_state", c.state}, {"alarm", c.alarm},
-                 {"status", c.status}}}};
-  rockwatch::test::write_file(path, j.dump());
-  return path;
-}
-
-// Starts the monitor and waits until it says it listens. Fails the test (after killing it) when it does not.
 pid_t start_monitor(const TempDir& dir, const std::string& url, const Channels& c,
                     const std::vector<std::string>& extra_args = {}) {
-  std::vector<std::string> args{"--config", write_config(dir, c), "--lcm-url", url};
+  std::vector<std::string> args{"--config", rockwatch::test::write_channels_config(dir, c, "live.json"), "--lcm-url",
+                                url};
   args.insert(args.end(), extra_args.begin(), extra_args.end());
-  const pid_t pid = rockwatch::test::spawn_monitor(args, dir.file("stdout"), dir.file("stderr"));
-  const double deadline = now_s() + 20.0;
-  while (rockwatch::test::read_file(dir.file("stderr")).find("listening on") == std::string::npos) {
-    int status = 0;
-    if (waitpid(pid, &status, WNOHANG) == pid) {
-      FAIL(("the monitor exited before listening:\n" + rockwatch::test::read_file(dir.file("stderr"))).c_str());
-    }
-    if (now_s() > deadline) {
-      kill(pid, SIGKILL);
-      rockwatch::test::wait_status(pid);
-      FAIL("the monitor did not say it listens within 20 s");
-    }
-    sleep_s(0.02);
-  }
-  return pid;
+  return rockwatch::test::start_monitor_listening(args, dir.file("stdout"), dir.file("stderr"));
 }
 
 // Signals the monitor, waits for it, and returns its stdout lines; checks a clean exit with the summary last.
