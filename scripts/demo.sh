@@ -6,7 +6,8 @@
 # Arguments go to `rockwatch demo` (e.g. --speed 4; see build/release/host_tools/rockwatch demo --help).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-./scripts/build.sh release
+# Only the two programs the demo runs, with only the packages they need (no ARM toolchain, clang or valgrind).
+./scripts/build.sh release demo rockwatch rockwatch-monitor
 
 # Multicast needs a route (added on lo when root and missing; otherwise `rockwatch demo` checks and says what to do).
 source scripts/multicast-route.sh

@@ -1,9 +1,16 @@
 #!/usr/bin/env bash
-# Installs the Debian packages rockwatch needs to build, test and run its demo.
-# Only missing packages are installed; `apt-get update` runs at most once; sudo is used when not root.
+# Installs the Debian packages rockwatch needs. Only missing packages are installed; `apt-get update` runs at most
+# once; sudo is used when not root.
+#
+#   scripts/install-deps.sh demo    what building the programs and running the demo needs (scripts/demo.sh)
+#   scripts/install-deps.sh [all]   that, plus the test-only tools: the Cortex-M4 toolchain, valgrind, clang and its
+#                                   fuzzing runtimes (scripts/test.sh, scripts/fuzz.sh, scripts/soak.sh)
 set -euo pipefail
+set_name="${1:-all}"
 
-PACKAGES=(
+# Configuring the release preset needs CppUTest and Google Benchmark (the test and benchmark targets are part of
+# the project), so they are in the demo set too; they are small.
+DEMO_PACKAGES=(
   build-essential cmake ninja-build pkg-config git
   libeigen3-dev          # fixed-size matrices (core, firmware)
   libcpputest-dev        # unit tests (found through pkg-config)
@@ -15,11 +22,19 @@ PACKAGES=(
   liblcm-dev liblcm-bin libglib2.0-dev   # LCM transport (firmware); lcm.pc needs glib-2.0
   iproute2               # ip: scripts/multicast-route.sh adds the multicast route on lo when there is none
   python3-matplotlib     # PNG plots (host_tools)
+)
+TEST_PACKAGES=(
   gcc-arm-none-eabi libstdc++-arm-none-eabi-newlib libnewlib-arm-none-eabi   # Cortex-M4 build (scripts/embedded-build.sh)
   binutils               # nm, size (symbol audit: tests/tools/symbol_audit.sh)
   valgrind               # callgrind instruction counts (tests/bench)
   clang libclang-rt-dev  # fuzzing (scripts/fuzz.sh, preset "fuzz"): clang++ and its libFuzzer/ASan/UBSan runtimes
 )
+
+case "$set_name" in
+  demo) PACKAGES=("${DEMO_PACKAGES[@]}") ;;
+  all) PACKAGES=("${DEMO_PACKAGES[@]}" "${TEST_PACKAGES[@]}") ;;
+  *) echo "install-deps: unknown package set '$set_name' (expected 'demo' or 'all')" >&2; exit 2 ;;
+esac
 
 missing=()
 for p in "${PACKAGES[@]}"; do
@@ -29,7 +44,7 @@ for p in "${PACKAGES[@]}"; do
 done
 
 if [ ${#missing[@]} -eq 0 ]; then
-  echo "install-deps: all ${#PACKAGES[@]} packages present"
+  echo "install-deps: all ${#PACKAGES[@]} packages of the '$set_name' set present"
   exit 0
 fi
 
