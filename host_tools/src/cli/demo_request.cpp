@@ -21,7 +21,7 @@ namespace {
 
 constexpr double kMaxDemoSpeed = 20.0;
 constexpr double kMinDemoSpeed = 0.01;
-// rockwatch-monitor's range (firmware/linux/monitor_config.cpp: a sample period of at most 0.03 s, up to 10 kHz): a
+// rockwatch-monitor's range (host_tools/monitor/monitor_config.cpp: a sample period of at most 0.03 s, up to 10 kHz): a
 // rate outside it would only fail once the monitor starts.
 constexpr double kMinDemoRateHz = 1.0 / 0.03;
 // A PGA above this many g is no earthquake.

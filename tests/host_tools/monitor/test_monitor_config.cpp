@@ -319,7 +319,7 @@ TEST(MonitorAdapterHelpers, Fnv1a64KnownValues) {
                rockwatch::monitor::digest_hex(static_cast<std::int64_t>(0x85944171f73967e8ull)).c_str());
 }
 
-// The high-rate knobs of the adapter (firmware/linux/README.md, "Not losing samples at high rates").
+// The high-rate knobs of the adapter (host_tools/monitor/README.md, "Not losing samples at high rates").
 TEST(MonitorAdapterHelpers, InputQueueHoldsTwoSecondsAndAtLeastAThousandMessages) {
   using rockwatch::monitor::input_queue_capacity;
   LONGS_EQUAL(1000, input_queue_capacity(200.0));

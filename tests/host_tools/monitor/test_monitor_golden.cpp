@@ -161,9 +161,9 @@ TEST(MonitorGoldenReplay, OfflineOutputMatchesTheGoldenFile) {
     const json file{
         {"about",
          {{"what", "rockwatch-monitor --offline-in " + std::string(rockwatch::test::kShippedLog) +
-                       " --offline-out OUT (default settings), OUT decoded by tests/monitor/test_monitor_golden.cpp"},
+                       " --offline-out OUT (default settings), OUT decoded by tests/host_tools/monitor/test_monitor_golden.cpp"},
           {"input", "tests/data/monitor/README.md"},
-          {"regenerate", std::string(kRegenerateVariable) + "=1 build/release/tests/monitor/test_monitor -g MonitorGoldenReplay"}}},
+          {"regenerate", std::string(kRegenerateVariable) + "=1 build/release/tests/host_tools/monitor/test_monitor -g MonitorGoldenReplay"}}},
         {"expected", actual}};
     rockwatch::test::write_file(golden_path, file.dump(1) + "\n");
     UT_PRINT(("rewrote " + golden_path).c_str());
