@@ -385,6 +385,11 @@ void MonitorLoop::note_log_write_failure() {
   quality_since_status_ |= Status::QUALITY_LOG_WRITE_FAILED;
 }
 
+void MonitorLoop::note_bad_datagram() {
+  if (!ready_) return;
+  quality_since_status_ |= Status::QUALITY_BAD_DATAGRAM;
+}
+
 void MonitorLoop::publish_status(std::int64_t now_utime) {
   if (!ready_) return;
   Status m;

@@ -17,10 +17,12 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "rockwatch/core/restitution.hpp"
+#include "datagram_input.hpp"
 #include "rockwatch/firmware/monitor_loop.hpp"
 
 namespace rockwatch::monitor {
@@ -35,6 +37,7 @@ struct MonitorConfig {
   std::string lcm_url_origin = "default";  // "--lcm-url", "--config FILE: lcm_url", "$LCM_DEFAULT_URL", "default"
   std::string config_path;               // empty without --config
   std::optional<std::string> offline_in, offline_out;  // offline mode: read one LCM log, write another
+  std::vector<SourceNetwork> accept_from;  // --accept-from / accept_from: sources of input datagrams; empty = any
   std::optional<std::string> log_path;   // live mode: the monitor's own LCM log of its inputs and outputs (--log)
   bool print_config = false;             // --print-config: print the normalised settings and exit
   std::string rate_origin = "default";   // where sample_rate_hz came from, for the engine's messages

@@ -18,11 +18,13 @@
 #include <lcm/lcm-cpp.hpp>
 #include <nlohmann/json.hpp>
 
+#include "datagram_input.hpp"
 #include "lcm_transport.hpp"
 #include "monitor_config.hpp"
 #include "monitor_output.hpp"
 #include "option_values.hpp"
 #include "traffic_log.hpp"
+#include "udp_receiver.hpp"
 #include "usage_error.hpp"
 
 namespace rockwatch::monitor {
@@ -101,10 +103,41 @@ class LoggedTransport final : public firmware::Transport {
 
 // The input side of --log: a second subscription to the input channels, made before the loop's, so each input
 // event precedes in the log the outputs it caused.
-void log_input(const lcm::ReceiveBuffer* rbuf, const std::string& channel, TrafficLog* log) {
-  const std::int64_t utime = rbuf->recv_utime > 0 ? rbuf->recv_utime : realtime_utime();
-  log->add(channel.c_str(), static_cast<const std::uint8_t*>(rbuf->data),
-           rbuf->data_size > 0 ? static_cast<std::size_t>(rbuf->data_size) : std::size_t{0}, utime);
+// Input messages from the receive path: into the traffic log (when --log), then the loop.
+class LoopInputSink final : public InputMessageSink {
+ public:
+  LoopInputSink(firmware::MonitorLoop& loop, TrafficLog* log) : loop_(loop), log_(log) {}
+  void on_input_message(const char* channel, const std::uint8_t* data, std::size_t size,
+                        std::int64_t receive_utime) override {
+    if (log_ != nullptr) log_->add(channel, data, size, receive_utime);
+    loop_.on_message(channel, data, size, receive_utime);
+  }
+
+ private:
+  firmware::MonitorLoop& loop_;
+  TrafficLog* log_;
+};
+
+// Every datagram the socket received, and where it went (datagram_input.hpp).
+json datagram_summary(const UdpReceiver& receiver, const DatagramInput& input) {
+  const firmware::DatagramCounters& d = input.datagram_counters();
+  static const char* const kReasons[firmware::kDatagramRejectReasons] = {
+      "truncated_header", "bad_magic", "channel_unterminated", "channel_length", "message_too_large",
+      "fragment_count", "fragment_bounds", "fragment_mismatch", "fragment_duplicate"};
+  json reasons = json::object();
+  for (int k = 0; k < firmware::kDatagramRejectReasons; ++k) reasons[kReasons[k]] = d.rejected_by_reason[k];
+  return {{"received", receiver.datagrams()},
+          {"from_other_sources", input.counters().from_other_sources},
+          {"short_messages", d.short_messages},
+          {"fragments", d.fragments},
+          {"messages_reassembled", d.messages_reassembled},
+          {"rejected", d.rejected},
+          {"rejected_by_reason", reasons},
+          {"abandoned", d.abandoned},
+          {"evicted", d.evicted},
+          {"expired", d.expired},
+          {"input_messages", input.counters().input_messages},
+          {"other_channels", input.counters().other_channels}};
 }
 
 // Writes the log's buffer; a failure is counted by the loop (status flag, counter) and reported on stderr once per
@@ -198,6 +231,15 @@ void human_summary(std::ostream& err, const std::string& first_line, const firmw
 int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) {
   // A 2 MiB receive buffer unless the URL names one (bursts at high rates; the kernel may cap it: said below).
   const std::string url = with_receive_buffer(config.lcm_url);
+  UdpmEndpoint endpoint;
+  std::string problem;
+  if (!parse_udpm_url(url, &endpoint, &problem)) {
+    err << kPrefix << "error: " << config.lcm_url_origin << ": " << cli::quoted(config.lcm_url) << ": " << problem
+        << "\n";
+    return kExitUsage;
+  }
+  // liblcm only publishes: the monitor never subscribes or handles through it, so liblcm's receive thread (and its
+  // fragment reassembly, which two crafted datagrams crash) never starts.
   lcm::LCM lcm(url);
   if (!lcm.good()) {
     err << kPrefix << "error: " << config.lcm_url_origin << ": LCM could not start with "
@@ -205,20 +247,17 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
         << " (a malformed URL, or no multicast route: see `ip route` for 224.0.0.0/4)\n";
     return kExitUsage;
   }
+  UdpReceiver receiver;
+  if (!receiver.open(endpoint, &problem)) {
+    err << kPrefix << "error: " << config.lcm_url_origin << ": cannot receive on " << cli::quoted(url) << ": "
+        << problem << "\n";
+    return kExitUsage;
+  }
   TrafficLog log;
-  std::vector<lcm::Subscription*> log_subscriptions;
-  if (config.log_path) {
-    if (!log.open(*config.log_path)) {
-      err << kPrefix << "error: --log " << cli::quoted(*config.log_path) << ": cannot create the log (" << log.error()
-          << ")\n";
-      return kExitUsage;
-    }
-    for (const char* channel : {config.settings.channels.accel, config.settings.channels.accel_batch}) {
-      lcm::Subscription* sub = lcm.subscribeFunction(exact_channel_regex(channel), &log_input, &log);
-      // As the loop's input subscriptions: LCM's default queue of 30 would drop logged messages at high rates.
-      if (sub != nullptr) sub->setQueueCapacity(input_queue_capacity(config.settings.sample_rate_hz));
-      log_subscriptions.push_back(sub);
-    }
+  if (config.log_path && !log.open(*config.log_path)) {
+    err << kPrefix << "error: --log " << cli::quoted(*config.log_path) << ": cannot create the log (" << log.error()
+        << ")\n";
+    return kExitUsage;
   }
   LcmTransport lcm_transport(lcm);
   LoggedTransport logged_transport(lcm_transport, log);
@@ -229,11 +268,8 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
   const auto loop = std::make_unique<firmware::MonitorLoop>();
   if (!init_loop(*loop, config, transport, printer, err)) return kExitUsage;
   loop->set_step_clock(&monotonic_ns);
-  const LcmInput input(lcm, *loop);
-  if (!input.good()) {
-    err << kPrefix << "error: LCM refused the subscription to the input channels\n";
-    return kExitRuntime;
-  }
+  LoopInputSink sink(*loop, config.log_path ? &log : nullptr);
+  DatagramInput input(config.settings.channels, config.accept_from, sink);
 
   std::int64_t statuses = 0;
   loop->publish_status(realtime_utime());
@@ -249,6 +285,7 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
   constexpr std::int64_t kSecondNs = 1000000000;
   const std::int64_t start_ns = monotonic_ns();
   std::int64_t next_status_ns = start_ns + kSecondNs;
+  std::int64_t bad_datagrams_noted = 0;
   int consecutive_errors = 0;
   bool failed = false;
   while (!StopSignals::stopped()) {
@@ -262,7 +299,11 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
     }
     const std::int64_t wait_ms = std::clamp<std::int64_t>((next_status_ns - now_ns + 999999) / 1000000, 0, 100);
     errno = 0;
-    const int rc = lcm.handleTimeout(static_cast<int>(wait_ms));
+    const int rc = receiver.receive(input, static_cast<int>(wait_ms), &realtime_utime);
+    if (input.bad_datagrams() != bad_datagrams_noted) {
+      bad_datagrams_noted = input.bad_datagrams();
+      loop->note_bad_datagram();
+    }
     if (rc >= 0) {
       consecutive_errors = 0;
       continue;
@@ -270,7 +311,7 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
     if (StopSignals::stopped()) break;
     if (errno == EINTR) continue;
     if (++consecutive_errors > 100) {
-      err << kPrefix << "error: LCM failed " << consecutive_errors << " times in a row while receiving ("
+      err << kPrefix << "error: the receive socket failed " << consecutive_errors << " times in a row ("
           << std::strerror(errno) << "); stopping\n";
       failed = true;
       break;
@@ -279,15 +320,15 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
   flusher.flush(*loop);
   loop->publish_status(realtime_utime());
   ++statuses;
-  for (lcm::Subscription* sub : log_subscriptions) lcm.unsubscribe(sub);
   const bool log_ok = log.close();
   const double run_time_s = static_cast<double>(monotonic_ns() - start_ns) * 1e-9;
 
   json s = common_summary(config, *loop, printer, statuses);
   s["mode"] = "live";
-  s["stopped_by"] = failed ? std::string("LCM failure") : StopSignals::stopped_by();
+  s["stopped_by"] = failed ? std::string("receive failure") : StopSignals::stopped_by();
   s["lcm_url"] = url;
-  s["lcm_messages"] = input.messages();
+  s["lcm_messages"] = input.counters().input_messages;
+  s["datagrams"] = datagram_summary(receiver, input);
   if (config.log_path) {
     s["log"] = {{"path", *config.log_path},          {"events_written", log.events_written()},
                 {"events_lost", log.events_lost()}, {"write_failures", log.write_failures()},

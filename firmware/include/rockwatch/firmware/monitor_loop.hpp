@@ -132,6 +132,9 @@ class MonitorLoop {
   // The host's own log of the traffic could not be written: counted and flagged in the next status (monitoring goes
   // on; the firmware itself writes no files).
   void note_log_write_failure();
+  // The host's receive path rejected a datagram (malformed, or from a source not accepted; the host counts them by
+  // reason): flagged in the next status.
+  void note_bad_datagram();
 
   // Encodes and publishes monitor_status_t (the adapter calls it once per second and on exit).
   void publish_status(std::int64_t now_utime);
