@@ -63,7 +63,6 @@ DatagramOutcome LcmDatagramReassembler::accept_short(const std::uint8_t* data, s
   if (bad != 0) return reject(bad, reasons);
   const std::size_t payload_offset = kShortHeaderBytes + channel_length + 1;  // ≤ size: the NUL was inside
   const std::size_t payload_size = size - payload_offset;
-  if (payload_size > kMaxMessageBytes) return reject(kRejectMessageTooLarge, reasons);
   ++counters_.short_messages;
   if (out != nullptr) {
     out->channel = reinterpret_cast<const char*>(data + kShortHeaderBytes);
@@ -133,7 +132,6 @@ DatagramOutcome LcmDatagramReassembler::accept_fragment(const std::uint8_t* data
   const std::uint16_t n_fragments = read_be16(data + 18);
 
   // Everything that can be checked on the datagram alone, before any slot is touched.
-  if (payload_size > kMaxMessageBytes) return reject(kRejectMessageTooLarge, reasons);
   if (n_fragments == 0 || n_fragments > kMaxFragments || fragment_number >= n_fragments) {
     return reject(kRejectFragmentCount, reasons);
   }
@@ -148,6 +146,11 @@ DatagramOutcome LcmDatagramReassembler::accept_fragment(const std::uint8_t* data
   const std::uint64_t data_length = size - data_offset;
   if (std::uint64_t{fragment_offset} + data_length > std::uint64_t{payload_size}) {
     return reject(kRejectFragmentBounds, reasons);
+  }
+
+  if (payload_size > kMaxMessageBytes) {
+    ++counters_.skipped_too_large;
+    return DatagramOutcome::skipped;
   }
 
   Slot& s = slot_for(source, sequence_number, now_us);

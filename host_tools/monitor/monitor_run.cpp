@@ -122,7 +122,7 @@ class LoopInputSink final : public InputMessageSink {
 json datagram_summary(const UdpReceiver& receiver, const DatagramInput& input) {
   const firmware::DatagramCounters& d = input.datagram_counters();
   static const char* const kReasons[firmware::kDatagramRejectReasons] = {
-      "truncated_header", "bad_magic", "channel_unterminated", "channel_length", "message_too_large",
+      "truncated_header", "bad_magic", "channel_unterminated", "channel_length", "(retired)",
       "fragment_count", "fragment_bounds", "fragment_mismatch", "fragment_duplicate"};
   json reasons = json::object();
   for (int k = 0; k < firmware::kDatagramRejectReasons; ++k) reasons[kReasons[k]] = d.rejected_by_reason[k];
@@ -131,6 +131,7 @@ json datagram_summary(const UdpReceiver& receiver, const DatagramInput& input) {
           {"short_messages", d.short_messages},
           {"fragments", d.fragments},
           {"messages_reassembled", d.messages_reassembled},
+          {"skipped_too_large", d.skipped_too_large},
           {"rejected", d.rejected},
           {"rejected_by_reason", reasons},
           {"abandoned", d.abandoned},

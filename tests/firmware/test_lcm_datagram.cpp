@@ -246,14 +246,26 @@ TEST(LcmDatagram, FragmentCountsAndBounds) {
   check_rejected(feed(r, fragment(1, 10, 0, 2, 2, nullptr, Bytes(10, 0))), fw::kRejectFragmentCount);
   check_rejected(feed(r, fragment(1, 10, 0, 0, static_cast<std::uint16_t>(R::kMaxFragments + 1), &channel, {})),
                  fw::kRejectFragmentCount);
-  check_rejected(feed(r, fragment(1, static_cast<std::uint32_t>(R::kMaxMessageBytes + 1), 0, 0, 2, &channel, {})),
-                 fw::kRejectMessageTooLarge);
   check_rejected(feed(r, fragment(1, 10, 4, 0, 2, &channel, Bytes(2, 0))), fw::kRejectFragmentBounds);
   check_rejected(feed(r, fragment(1, 10, 5, 1, 2, nullptr, Bytes(6, 0))), fw::kRejectFragmentBounds);
   check_rejected(feed(r, fragment(1, 10, 0xffffffffu, 1, 2, nullptr, Bytes(1, 0))), fw::kRejectFragmentBounds);
-  check_rejected(feed(r, short_datagram(1, "C", Bytes(R::kMaxMessageBytes + 1, 0))), fw::kRejectMessageTooLarge);
   UNSIGNED_LONGS_EQUAL(0, r.in_flight());
-  LONGS_EQUAL(8, r.counters().rejected);
+  LONGS_EQUAL(6, r.counters().rejected);
+}
+
+// Another program's large messages on the same group: passed through in one datagram, skipped when fragmented.
+TEST(LcmDatagram, LargeMessagesAreNotErrors) {
+  R r;
+  const Bytes big_short = short_datagram(1, "CAMERA", Bytes(60000, 7));
+  const Fed f = feed(r, big_short);
+  CHECK(f.outcome == fw::DatagramOutcome::message);
+  UNSIGNED_LONGS_EQUAL(60000, f.view.size);
+  const std::vector<Bytes> parts = fragments_of(2, "CAMERA", Bytes(R::kMaxMessageBytes + 1, 7), 2);
+  CHECK(feed(r, parts[0]).outcome == fw::DatagramOutcome::skipped);
+  CHECK(feed(r, parts[1]).outcome == fw::DatagramOutcome::skipped);
+  LONGS_EQUAL(2, r.counters().skipped_too_large);
+  LONGS_EQUAL(0, r.counters().rejected);
+  UNSIGNED_LONGS_EQUAL(0, r.in_flight());
 }
 
 TEST(LcmDatagram, InFlightIsBoundedPerSenderAndInAll) {

@@ -37,7 +37,7 @@ enum DatagramReject : std::uint32_t {
   kRejectBadMagic = 1u << 1,               // neither LC02 nor LC03
   kRejectChannelUnterminated = 1u << 2,    // no NUL after the channel name within the datagram
   kRejectChannelLength = 1u << 3,          // channel name empty or longer than kMaxChannelLength
-  kRejectMessageTooLarge = 1u << 4,        // LC03 payload_size > kMaxMessageBytes (or a short message's payload)
+  kRejectRetired4 = 1u << 4,               // (was: message too large; now DatagramOutcome::skipped, not an error)
   kRejectFragmentCount = 1u << 5,          // n_fragments 0 or > kMaxFragments, or fragment_number ≥ n_fragments
   kRejectFragmentBounds = 1u << 6,         // fragment_offset + data length > payload_size, or fragment 0 at offset ≠ 0
   kRejectFragmentMismatch = 1u << 7,       // disagrees with the message in flight (size, count) or lengths ≠ size
@@ -50,6 +50,7 @@ struct DatagramCounters {
   std::int64_t short_messages = 0;          // LC02 accepted
   std::int64_t fragments = 0;               // LC03 accepted (stored)
   std::int64_t messages_reassembled = 0;    // LC03 messages completed
+  std::int64_t skipped_too_large = 0;       // valid LC03 fragments of a message over kMaxMessageBytes (not stored)
   std::int64_t rejected = 0;                // datagrams rejected (any reason)
   std::int64_t rejected_by_reason[kDatagramRejectReasons] = {};  // index k: bit 1 << k
   std::int64_t abandoned = 0;               // in flight, replaced by the same sender's next message
@@ -71,6 +72,7 @@ enum class DatagramOutcome : std::uint8_t {
   message = 0,          // *out holds a complete message
   fragment_stored = 1,  // a valid fragment of a message not yet complete
   rejected = 2,         // *reasons holds DatagramReject bits
+  skipped = 3,          // a well-formed fragment of a message too large to reassemble (another program's traffic)
 };
 
 class LcmDatagramReassembler {
@@ -80,8 +82,9 @@ class LcmDatagramReassembler {
   static constexpr std::size_t kShortHeaderBytes = 8;
   static constexpr std::size_t kFragmentHeaderBytes = 20;
   static constexpr std::size_t kMaxChannelLength = 63;  // LCM's limit (LCM_MAX_CHANNEL_NAME_LENGTH)
-  // The largest message reassembled. The monitor's largest input (ground_accel_batch_t) encodes to 840 bytes; a
-  // message larger than this is not one the monitor reads, so it is rejected without being stored.
+  // The largest fragmented message reassembled. The monitor's largest input (ground_accel_batch_t) encodes to 840
+  // bytes; liblcm sends messages up to 64 KiB in one LC02 datagram (passed through whatever their size, without a
+  // copy) and fragments only larger ones, which are not the monitor's inputs: their fragments are skipped, not stored.
   static constexpr std::size_t kMaxMessageBytes = 4096;
   static constexpr std::size_t kMaxFragments = 64;  // ≥ kMaxMessageBytes / (smallest useful fragment, 64 B)
   static constexpr std::size_t kSlots = 4;          // messages in flight (senders fragmenting at once)
