@@ -33,6 +33,7 @@ targets=(
   "fuzz_monitor_config    4096  6"
   "fuzz_monitor_args      1024  4"
   "fuzz_monitor_loop     32768 10"
+  "fuzz_monitor_datagrams 16384 8"
 )
 
 field() { echo "$1" | awk -v n="$2" '{print $n}'; }

@@ -96,6 +96,8 @@ MonitorError MonitorLoop::init(const MonitorSettings& s, Transport& transport, M
   have_last_ = false;
   last_seq_ = 0;
   last_utime_ = 0;
+  have_trusted_time_ = false;
+  last_trusted_utime_ = 0;
   seen_mask_ = 0;
   last_ug_ = 0.0;
   last_vg_ = 0.0;
@@ -170,6 +172,14 @@ void MonitorLoop::on_accel_batch(const std::uint8_t* data, std::size_t size, std
 void MonitorLoop::process_sample(std::int64_t utime, std::int64_t seq, double ug, double vg,
                                  std::int32_t sensor_status, std::int64_t delay_us) {
   std::int32_t quality = 0;
+  // A sample time far from the monitor's clock (a publisher's clock that jumped, a forged or corrupted utime) is not
+  // evidence of anything: counted and flagged, and kept out of the time-based restart test below, so one bad stamp
+  // cannot make a restarted publisher's samples look like duplicates. Its value is processed as usual.
+  const bool time_trusted = delay_us >= -kClockTolerance_us && delay_us <= kClockTolerance_us;
+  if (!time_trusted) {
+    ++counters_.time_untrusted;
+    quality |= Status::QUALITY_TIME_UNTRUSTED;
+  }
   bool reset = !have_last_;
   std::int64_t missing = 0;  // samples to bridge before this one
   if (have_last_) {
@@ -177,7 +187,8 @@ void MonitorLoop::process_sample(std::int64_t utime, std::int64_t seq, double ug
     if (d <= 0) {
       // A sequence number that goes back while the sample time goes forward is a new publisher session (a replay
       // or sensor restarted), however few samples it had sent; so is a jump back beyond the restart window.
-      if (d < -settings_.restart_window || utime > last_utime_) {
+      const bool time_went_forward = time_trusted && have_trusted_time_ && utime > last_trusted_utime_;
+      if (d < -settings_.restart_window || time_went_forward) {
         ++counters_.publisher_restarts;
         quality |= Status::QUALITY_PUBLISHER_RESTART;
         reset = true;
@@ -190,6 +201,7 @@ void MonitorLoop::process_sample(std::int64_t utime, std::int64_t seq, double ug
           ++counters_.out_of_order;
           quality_since_status_ |= Status::QUALITY_OUT_OF_ORDER;
         }
+        quality_since_status_ |= quality & Status::QUALITY_TIME_UNTRUSTED;
         return;
       }
     } else if (d > 1) {
@@ -251,6 +263,10 @@ void MonitorLoop::process_sample(std::int64_t utime, std::int64_t seq, double ug
   have_last_ = true;
   last_seq_ = seq;
   last_utime_ = utime;
+  if (time_trusted) {
+    have_trusted_time_ = true;
+    last_trusted_utime_ = utime;
+  }
   step_and_publish(utime, seq, ug, vg, quality, reset, false);
 }
 

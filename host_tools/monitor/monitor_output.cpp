@@ -51,6 +51,7 @@ json counters_json(const firmware::MonitorCounters& c) {
               {"publish_failures", c.publish_failures},
               {"messages_ignored", c.messages_ignored},
               {"log_write_failures", c.log_write_failures},
+              {"time_untrusted", c.time_untrusted},
               {"worst_step_ns", c.worst_step_ns},
               {"alarm_events", c.alarm_events},
               {"states_published", c.states_published}};

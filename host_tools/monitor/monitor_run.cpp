@@ -220,7 +220,7 @@ void human_summary(std::ostream& err, const std::string& first_line, const firmw
       << "  faults: " << c.rejected_not_finite << " not finite, " << c.rejected_out_of_range << " out of range, "
       << c.lift_off << " lift-off, " << c.sensor_flags << " sensor flags, " << c.decode_errors << " decode errors, "
       << c.saturated << " saturated, " << c.publisher_restarts << " publisher restarts, " << c.publish_failures
-      << " publish failures, " << c.messages_ignored << " ignored, " << c.log_write_failures << " log write failures\n"
+      << " publish failures, " << c.messages_ignored << " ignored, " << c.log_write_failures << " log write failures, " << c.time_untrusted << " untrusted times\n"
       << "  alarm: " << printer.events() << " transitions, highest " << level_name(printer.max_level()) << ", now "
       << level_name(static_cast<std::int64_t>(loop.alarm_level())) << "; " << c.states_published
       << " wall states, " << statuses << " status messages; worst step " << c.worst_step_ns << " ns\n";

@@ -651,6 +651,51 @@ TEST(MonitorLoop, SequenceBackWithTimeForwardIsAPublisherRestart) {
   check_counters(rig.loop.counters(), e);
 }
 
+// One sample stamped an hour ahead of the monitor's clock, after 100 good ones, then the publisher restarts (seq
+// from 0, the current time): the stamp is flagged and counted, and does not hide the restart — before the fix the
+// restarted publisher's first 101 samples were dropped as duplicates and out of order.
+TEST(MonitorLoop, ASampleStampedFarAheadDoesNotHideAPublisherRestart) {
+  Rig rig;
+  rig.stream(0, 99);
+  ground_accel_t future = accel(100, rocking_ug(100));
+  future.utime = kT0 + 100 * kPeriodUs + 3600LL * 1000000;
+  const std::vector<std::uint8_t> b = encode(future);
+  const std::int64_t receive_utime = kT0 + 100 * kPeriodUs + kReceiveDelayUs;  // the monitor's clock
+  rig.loop.on_message(kAccel, b.data(), b.size(), receive_utime);
+  rig.ref.process_wall(q(rocking_ug(100)), q(0.0));  // its value is processed by its seq
+  rig.check_matches_reference();
+  LONGS_EQUAL(Status::QUALITY_TIME_UNTRUSTED, rig.last_state().data_quality);
+  LONGS_EQUAL(1, rig.loop.counters().time_untrusted);
+  // The restarted publisher: seq 0, 1, … stamped with the current time, which is before the bad stamp.
+  for (std::int64_t k = 0; k <= 100; ++k) {
+    ground_accel_t m = accel(k, 0.0);
+    m.utime = kT0 + (200 + k) * kPeriodUs;
+    rig.send(m);
+  }
+  Expected e;
+  e.received = 100 + 1 + 101;
+  e.processed = e.received;
+  e.restarts = 1;
+  check_counters(rig.loop.counters(), e);
+  LONGS_EQUAL(100, rig.last_state().input_seq);
+  LONGS_EQUAL(1, rig.loop.counters().time_untrusted);
+}
+
+// A stamp far in the past is untrusted too; a sample within the tolerance is not (late, at most).
+TEST(MonitorLoop, TimeToleranceBothWays) {
+  Rig rig;
+  rig.stream(0, 9);
+  rig.send(accel(10, 0.0), fw::kClockTolerance_us + 1);  // received 10 s after its stamp: untrusted (and late)
+  LONGS_EQUAL(1, rig.loop.counters().time_untrusted);
+  LONGS_EQUAL(1, rig.loop.counters().late);
+  rig.send(accel(11, 0.0), fw::kClockTolerance_us);  // exactly at the tolerance: trusted, late
+  rig.send(accel(12, 0.0), -fw::kClockTolerance_us);  // stamped 10 s ahead: trusted
+  LONGS_EQUAL(1, rig.loop.counters().time_untrusted);
+  rig.send(accel(13, 0.0), -fw::kClockTolerance_us - 1);
+  LONGS_EQUAL(2, rig.loop.counters().time_untrusted);
+  LONGS_EQUAL(Status::QUALITY_TIME_UNTRUSTED, rig.last_state().data_quality);
+}
+
 TEST(MonitorLoop, WrongMessageTypesOnTheInputChannelsAreDecodeErrors) {
   Rig rig;
   rig.stream(0, 5);

@@ -24,6 +24,9 @@
 //   flagged; each bad component is replaced by the last good value of that component (0 before any).
 // - G = g + v̈ ≤ 0 (or the engine reports its input invalid): counted (lift_off), flagged; the engine holds its
 //   state (SPEC §1) and sets REASON_INPUT_INVALID.
+// - |receive time − sample time| > kClockTolerance_us (10 s): time_untrusted, QUALITY_TIME_UNTRUSTED; processed by
+//   its seq, but its time is not used for the restart test above (one sample stamped an hour ahead must not make a
+//   restarted publisher's samples look older than the last one).
 // - receive time − sample time > late_limit_s: counted as late (still processed); for a batch the time of its newest
 //   sample counts for all its samples (a batch cannot be sent before its last sample). Only processed samples are
 //   checked for lateness, sensor flags, range and lift-off; dropped ones count only as duplicate / out of order.
@@ -49,6 +52,9 @@
 namespace rockwatch::firmware {
 
 inline constexpr std::size_t kChannelNameMax = 64;  // bytes including the terminating NUL
+// A sample stamped further than this from the monitor's clock at reception (future or past) has a time the monitor
+// does not trust: counted (time_untrusted), flagged (QUALITY_TIME_UNTRUSTED), not used to detect publisher restarts.
+inline constexpr std::int64_t kClockTolerance_us = 10000000;
 
 struct MonitorChannels {
   char accel[kChannelNameMax] = "ROCKWATCH_ACCEL";
@@ -114,6 +120,7 @@ struct MonitorCounters {
   std::int64_t lift_off = 0, publisher_restarts = 0, decode_errors = 0, saturated = 0, sensor_flags = 0;
   std::int64_t publish_failures = 0, messages_ignored = 0;  // ignored: on channels the monitor does not read
   std::int64_t log_write_failures = 0;  // reported by the host (note_log_write_failure)
+  std::int64_t time_untrusted = 0;  // samples stamped more than kClockTolerance_us from the receive time
   std::int64_t worst_step_ns = 0;
   std::int64_t alarm_events = 0, states_published = 0;
 };
@@ -188,6 +195,8 @@ class MonitorLoop {
   bool have_last_ = false;
   std::int64_t last_seq_ = 0;
   std::int64_t last_utime_ = 0;
+  bool have_trusted_time_ = false;
+  std::int64_t last_trusted_utime_ = 0;  // time of the last sample whose time was trusted (restart detection)
   std::uint64_t seen_mask_ = 0;  // bit k: seq last_seq_ − k was a received, processed sample
   double last_ug_ = 0.0, last_vg_ = 0.0;  // last good value of each component [m/s²]
   std::int64_t period_us_ = 5000;  // 1/sample_rate_hz [µs] (times of bridged samples)
