@@ -23,6 +23,7 @@
 #include "monitor_config.hpp"
 #include "monitor_output.hpp"
 #include "option_values.hpp"
+#include "service_notify.hpp"
 #include "traffic_log.hpp"
 #include "udp_receiver.hpp"
 #include "usage_error.hpp"
@@ -282,6 +283,8 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
       << cli::number_text(config.settings.sample_rate_hz) << " Hz; config digest "
       << digest_hex(config.settings.config_digest) << std::endl;
   if (!buffer_warning.empty()) err << kPrefix << "note: " << buffer_warning << std::endl;
+  ServiceNotifier service;  // systemd (Type=notify, WatchdogSec=): ready now, fed from the loop below
+  service.ready();
 
   constexpr std::int64_t kSecondNs = 1000000000;
   const std::int64_t start_ns = monotonic_ns();
@@ -291,6 +294,7 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
   bool failed = false;
   while (!StopSignals::stopped()) {
     const std::int64_t now_ns = monotonic_ns();
+    service.feed(now_ns);
     if (now_ns >= next_status_ns) {
       flusher.flush(*loop);  // before the status, which then carries a log failure
       loop->publish_status(realtime_utime());
@@ -318,6 +322,7 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
       break;
     }
   }
+  service.stopping();
   flusher.flush(*loop);
   loop->publish_status(realtime_utime());
   ++statuses;
