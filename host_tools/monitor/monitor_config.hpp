@@ -30,6 +30,10 @@ namespace rockwatch::monitor {
 // The LCM URL when neither --lcm-url nor lcm_url nor $LCM_DEFAULT_URL gives one: multicast that stays on this machine.
 inline constexpr const char* kDefaultLcmUrl = "udpm://239.255.76.67:7667?ttl=0";
 
+// Where the live monitor's input comes from: its own checked receive path (default), or liblcm's subscription
+// (--receive-path liblcm: only for measuring the two side by side; liblcm 1.3.1 crashes on crafted datagrams).
+enum class ReceivePath { own, liblcm };
+
 struct MonitorConfig {
   firmware::MonitorSettings settings{};  // everything the loop needs; settings.config_digest set
   core::Restitution restitution{};       // the choice behind settings.engine.r_energy
@@ -37,6 +41,7 @@ struct MonitorConfig {
   std::string lcm_url_origin = "default";  // "--lcm-url", "--config FILE: lcm_url", "$LCM_DEFAULT_URL", "default"
   std::string config_path;               // empty without --config
   std::optional<std::string> offline_in, offline_out;  // offline mode: read one LCM log, write another
+  ReceivePath receive_path = ReceivePath::own;  // --receive-path (command line only; not in the digest)
   std::vector<SourceNetwork> accept_from;  // --accept-from / accept_from: sources of input datagrams; empty = any
   std::optional<std::string> log_path;   // live mode: the monitor's own LCM log of its inputs and outputs (--log)
   bool print_config = false;             // --print-config: print the normalised settings and exit

@@ -249,8 +249,11 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
         << " (a malformed URL, or no multicast route: see `ip route` for 224.0.0.0/4)\n";
     return kExitUsage;
   }
+  // --receive-path liblcm: liblcm's own receive thread, kept only to measure the two paths side by side
+  // (docs/BENCHMARKS.md); it is the path two crafted datagrams crash.
+  const bool via_liblcm = config.receive_path == ReceivePath::liblcm;
   UdpReceiver receiver;
-  if (!receiver.open(endpoint, &problem)) {
+  if (!via_liblcm && !receiver.open(endpoint, &problem)) {
     err << kPrefix << "error: " << config.lcm_url_origin << ": cannot receive on " << cli::quoted(url) << ": "
         << problem << "\n";
     return kExitUsage;
@@ -272,6 +275,14 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
   loop->set_step_clock(&monotonic_ns);
   LoopInputSink sink(*loop, config.log_path ? &log : nullptr);
   DatagramInput input(config.settings.channels, config.accept_from, sink);
+  std::unique_ptr<LcmInput> lcm_input;
+  if (via_liblcm) {
+    lcm_input = std::make_unique<LcmInput>(lcm, *loop);
+    if (!lcm_input->good()) {
+      err << kPrefix << "error: LCM refused the subscription to the input channels\n";
+      return kExitRuntime;
+    }
+  }
 
   std::int64_t statuses = 0;
   loop->publish_status(realtime_utime());
@@ -304,7 +315,8 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
     }
     const std::int64_t wait_ms = std::clamp<std::int64_t>((next_status_ns - now_ns + 999999) / 1000000, 0, 100);
     errno = 0;
-    const int rc = receiver.receive(input, static_cast<int>(wait_ms), &realtime_utime);
+    const int rc = via_liblcm ? lcm.handleTimeout(static_cast<int>(wait_ms))
+                              : receiver.receive(input, static_cast<int>(wait_ms), &realtime_utime);
     if (input.bad_datagrams() != bad_datagrams_noted) {
       bad_datagrams_noted = input.bad_datagrams();
       loop->note_bad_datagram();
@@ -333,8 +345,9 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
   s["mode"] = "live";
   s["stopped_by"] = failed ? std::string("receive failure") : StopSignals::stopped_by();
   s["lcm_url"] = url;
-  s["lcm_messages"] = input.counters().input_messages;
-  s["datagrams"] = datagram_summary(receiver, input);
+  s["receive_path"] = via_liblcm ? "liblcm" : "own";
+  s["lcm_messages"] = via_liblcm ? lcm_input->messages() : input.counters().input_messages;
+  if (!via_liblcm) s["datagrams"] = datagram_summary(receiver, input);
   if (config.log_path) {
     s["log"] = {{"path", *config.log_path},          {"events_written", log.events_written()},
                 {"events_lost", log.events_lost()}, {"write_failures", log.write_failures()},
