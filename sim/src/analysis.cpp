@@ -25,15 +25,15 @@ std::string number_text(double v) {
   return s.str();
 }
 
-// Each setting on its own, so the message names the one at fault (core::alarm_settings_valid is their conjunction).
+// Each setting on its own (core's validators), so the message names the one at fault.
 void check_alarm_settings(const core::AlarmSettings& a) {
-  if (!(a.lambda_warning > 0.0 && a.lambda_warning <= 1.0)) {
+  if (!core::lambda_warning_valid(a.lambda_warning)) {
     throw AnalysisError("alarm lambda_warning must be in (0, 1] (got " + number_text(a.lambda_warning) + ")");
   }
-  if (!(a.hold_s >= 0.0 && a.hold_s <= 3600.0)) {
+  if (!core::hold_valid(a.hold_s)) {
     throw AnalysisError("alarm hold_s must be in [0, 3600] s (got " + number_text(a.hold_s) + ")");
   }
-  if (!(a.energy_margin >= 1.0 && a.energy_margin <= 100.0)) {
+  if (!core::energy_margin_valid(a.energy_margin)) {
     throw AnalysisError("alarm energy_margin must be in [1, 100] (got " + number_text(a.energy_margin) + ")");
   }
   if (!core::alarm_settings_valid(a)) throw AnalysisError("alarm settings are invalid");  // a bound added in core

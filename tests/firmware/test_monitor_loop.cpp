@@ -1,4 +1,4 @@
-// firmware::MonitorLoop (issue 7): an in-memory transport decodes what the loop publishes. A clean stream gives one
+// firmware::MonitorLoop: an in-memory transport decodes what the loop publishes. A clean stream gives one
 // wall_state_t per sample, bit-identical to a WallEngine fed the same samples, and the alarm timeline of
 // sim::analyse(..., fixed_point, evaluate_alarm) on a collapsing suite record; each input fault is injected on its
 // own with the flags and counters it must produce; the status message carries them; bad settings are refused.

@@ -2,7 +2,8 @@
 // instability_indicators.hpp (double), in fixed point and with constant work.
 //   y = s·x − x_inst,s,  ẏ = s·ẋ,  ρ = E/E_barrier = 1 + (ẏ/(ω x_i))² − (y/x_i)²  (linear model, SPEC §2),
 //   IMMINENT by energy when moving, ẏ > 0 and ρ ≥ margin; predicted time to x_inst under zero input
-//   t = atanh(ω|y|/ẏ)/ω (0 once |x| ≥ x_inst; none below the barrier or moving inward), capped at kMaxPredictionS.
+//   t = atanh(ω|y|/ẏ)/ω (0 once |x| ≥ x_inst; none below the barrier or moving inward), capped at
+//   kInstabilityPredictionCap_s (instability_indicators.hpp).
 #pragma once
 
 #include <cmath>
@@ -11,6 +12,7 @@
 #include "rockwatch/core/alarm.hpp"
 #include "rockwatch/core/fixed_math.hpp"
 #include "rockwatch/core/fixed_rocking_stepper.hpp"
+#include "rockwatch/core/instability_indicators.hpp"
 
 namespace rockwatch::core {
 
@@ -27,8 +29,6 @@ struct FixedInstabilityConstants {
   RatioQ7_24 energy_margin;      // IMMINENT when ρ ≥ margin [-]
   TimeQ7_24 t_max_s;             // prediction cap [s]
 };
-
-inline constexpr double kMaxPredictionS = 60.0;
 
 // Initialisation time. ω_s² = −p4(s)/p1 of the linear model with ü = v̈ = 0 (the rate the wall leaves x_inst).
 // Returns false when a constant does not fit its format (x_inst below 8 mm or above 1.9 m).
@@ -48,7 +48,7 @@ inline bool make_fixed_instability_constants(const StepperSetup<double>& s, cons
     ok = ok && 1.0 / (omega * xi) < 100.0 && 1.0 / omega < 100.0;
   }
   out.energy_margin = RatioQ7_24(a.energy_margin);
-  out.t_max_s = TimeQ7_24(kMaxPredictionS);
+  out.t_max_s = TimeQ7_24(kInstabilityPredictionCap_s);
   return ok;
 }
 
