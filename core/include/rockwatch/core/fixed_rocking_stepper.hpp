@@ -17,6 +17,15 @@
 // The equation is divided through by p1 at initialisation (p1 is constant in the linear model):
 //   ẍ = f − k x,  f = p6/p1 = −s(F_fp,s + F_g G) − F_u ü,  k = p4/p1 = K_fp,s + K_g G + s K_u ü.
 //
+// Why a second stepper and not RockingStepper<Scalar> on a fixed type: RockingStepper's step is a loop of
+// advance_segment calls (up to kMaxSegmentsPerStep segments per step, each impact located by regula falsi to
+// convergence, up to kRootIterations): data-dependent work, which the firmware cannot have, and iteration counts
+// that would differ in fixed point anyway. Changing either stepper to the other's arrangement changes its results,
+// and both are pinned bit for bit (golden files, `rockwatch simulate --arith double|fixed`, the monitor). What is
+// shared: the model and its set-up (make_stepper_setup in double, StepperSetup, SPEC §1–4), the report's meaning
+// (StepReport/FixedStepReport: same fields and fractions of the step), the indicators' definitions and the
+// stepper → indicators → alarm composition (stepper_alarm_chain.hpp).
+//
 // Differences from the double engine, all at the scale of a step and measured in docs/FIXED_POINT.md:
 // - one event per sample: an impact, else a collapse, else the first passage of x_inst; a second event in the
 //   same sample is handled without locating it (exceed and collapse together: exceed by linear interpolation;
