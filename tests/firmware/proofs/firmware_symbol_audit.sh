@@ -7,9 +7,9 @@
 #      here into WORK_DIR with --objects-only), when arm-none-eabi-g++ is installed (else reported as skipped: the
 #      embedded_build test skips as well).
 #
-#   tests/tools/firmware_symbol_audit.sh HOST_FIRMWARE_LIB SELFTEST_OBJECT SELFTEST_SOURCE WORK_DIR
+#   tests/firmware/proofs/firmware_symbol_audit.sh HOST_FIRMWARE_LIB SELFTEST_OBJECT SELFTEST_SOURCE WORK_DIR
 set -euo pipefail
-root=$(cd "$(dirname "$0")/../.." && pwd)
+root=$(cd "$(dirname "$0")/../../.." && pwd)
 audit=$root/tests/tools/symbol_audit.sh
 
 if [[ $# -ne 4 ]]; then

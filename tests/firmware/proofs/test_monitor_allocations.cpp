@@ -7,7 +7,7 @@
 // stream really exercised all of that. A self-check first makes sure deliberate allocations are counted.
 //
 // A plain program, not a CppUTest suite (CppUTest replaces operator new), and not built with sanitizers
-// (tests/engine/CMakeLists.txt registers it as `monitor_allocations` only in builds without -fsanitize).
+// (tests/firmware/proofs/CMakeLists.txt registers it as `monitor_allocations` only in builds without -fsanitize).
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
