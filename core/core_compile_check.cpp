@@ -16,6 +16,7 @@
 #include "rockwatch/core/alarm.hpp"
 #include "rockwatch/core/instability_indicators.hpp"
 #include "rockwatch/core/static_check.hpp"
+#include "rockwatch/core/stepper_alarm_chain.hpp"
 #include "rockwatch/core/wall.hpp"
 
 template class rockwatch::core::RockingStepper<double>;
@@ -51,3 +52,7 @@ FixedInstabilityIndicators fixed_indicators(const FixedInstabilityConstants& c, 
   return evaluate_instability(c, s, FixedStepReport{});
 }
 }  // namespace rockwatch::core::compile_check
+
+// The stepper → indicators → alarm chain over both steppers.
+template class rockwatch::core::StepperAlarmChain<rockwatch::core::RockingStepper<double>>;
+template class rockwatch::core::StepperAlarmChain<rockwatch::core::FixedRockingStepper>;

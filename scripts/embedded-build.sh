@@ -1,14 +1,16 @@
 #!/usr/bin/env bash
-# Embedded build proof (issue 6): compiles core (core/core_compile_check.cpp: every core header, explicit
-# instantiations) and the firmware's per-sample engine (firmware/src/wall_engine.cpp) for a Cortex-M4F with
-# arm-none-eabi-g++, no exceptions, no RTTI, the project's warning flags as errors; links a minimal image
-# (firmware/embedded/embedded_main.cpp: a WallEngine for the paper wall over a short built-in input; newlib-nano,
+# Embedded build proof: compiles core (core/core_compile_check.cpp: every core header, explicit instantiations) and
+# every firmware source (firmware/src/*.cpp: the per-sample engine and the monitor loop, with the C++ headers lcm-gen
+# writes for firmware/lcmtypes/*.lcm into OUT_DIR and LCM's lcm/lcm_coretypes.h, copied from the include directory
+# pkg-config gives for lcm) for a Cortex-M4F with arm-none-eabi-g++, no exceptions, no RTTI, the project's warning
+# flags as errors; links a minimal image (firmware/embedded/embedded_main.cpp: a WallEngine for the paper wall over a
+# short built-in input, on the sensor path and inside a MonitorLoop fed encoded ground_accel_t messages; newlib-nano,
 # nosys stubs, --gc-sections) and prints arm-none-eabi-size for the objects and the image.
 #
 #   scripts/embedded-build.sh [OUT_DIR]        (default build/embedded)
 #   scripts/embedded-build.sh --objects-only [OUT_DIR]   compile only (used by the symbol audit)
 # Exit status: 0 built; 1 compile/link failure; 77 arm-none-eabi-g++ not installed (ctest SKIP_RETURN_CODE).
-# Environment: ARM_GXX, ARM_SIZE, ARM_NM override the tools.
+# Environment: ARM_GXX, ARM_SIZE, ARM_NM, LCM_GEN override the tools.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 
@@ -28,6 +30,10 @@ if ! command -v "$gxx" >/dev/null; then
   exit 77
 fi
 command -v pkg-config >/dev/null || { echo "embedded-build: pkg-config not found" >&2; exit 1; }
+lcm_gen=${LCM_GEN:-lcm-gen}
+command -v "$lcm_gen" >/dev/null || { echo "embedded-build: $lcm_gen not found (Debian: liblcm-bin)" >&2; exit 1; }
+lcm_include=$(pkg-config --variable=includedir lcm) || { echo "embedded-build: pkg-config knows no lcm" >&2; exit 1; }
+[[ -f $lcm_include/lcm/lcm_coretypes.h ]] || { echo "embedded-build: $lcm_include/lcm/lcm_coretypes.h not found" >&2; exit 1; }
 
 # Eigen as a system include (as CMake does), so -Werror applies to project code only.
 eigen_flags=()
@@ -49,22 +55,46 @@ for w in "${warnings[@]}"; do
   [[ $w == -W* ]] || { echo "embedded-build: unexpected token '$w' in rockwatch_warnings" >&2; exit 1; }
 done
 
-target_flags=(-mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16)
-cxx_flags=(-std=c++17 "${target_flags[@]}" -fno-exceptions -fno-rtti -Os -ffunction-sections -fdata-sections
-           "${warnings[@]}" "${eigen_flags[@]}" -I"$root/core/include" -I"$root/firmware/include")
+# The project version, as CMake passes it to the monitor loop (monitor_status_t carries it).
+version=$(sed -n 's/^project(rockwatch VERSION \([0-9]*\.[0-9]*\.[0-9]*\).*/\1/p' "$root/CMakeLists.txt")
+[[ $version =~ ^[0-9]+\.[0-9]+\.[0-9]+$ ]] || { echo "embedded-build: no project VERSION in CMakeLists.txt" >&2; exit 1; }
+IFS=. read -r version_major version_minor version_patch <<<"$version"
 
 mkdir -p "$out_dir"
+# The LCM message headers (lcm-gen, as firmware/CMakeLists.txt does) and lcm_coretypes.h alone: the host's include
+# directory itself must not be searched (its C library headers are not newlib's).
+rm -rf "$out_dir/lcmtypes" "$out_dir/lcm-include"
+mkdir -p "$out_dir/lcmtypes" "$out_dir/lcm-include/lcm"
+"$lcm_gen" -x --cpp-hpath "$out_dir/lcmtypes" "$root"/firmware/lcmtypes/*.lcm >/dev/null
+cp "$lcm_include/lcm/lcm_coretypes.h" "$out_dir/lcm-include/lcm/"
+
+target_flags=(-mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16)
+cxx_flags=(-std=c++17 "${target_flags[@]}" -fno-exceptions -fno-rtti -Os -ffunction-sections -fdata-sections
+           "${warnings[@]}" "${eigen_flags[@]}" -I"$root/core/include" -I"$root/firmware/include"
+           -isystem "$out_dir/lcmtypes" -isystem "$out_dir/lcm-include"
+           -DROCKWATCH_VERSION_MAJOR="$version_major" -DROCKWATCH_VERSION_MINOR="$version_minor"
+           -DROCKWATCH_VERSION_PATCH="$version_patch")
+
 echo "embedded-build: $("$gxx" --version | head -n 1)"
 echo "embedded-build: flags: ${cxx_flags[*]}"
 compile() {
   local src=$1 obj=$2
-  echo "embedded-build: compile ${src#"$root"/}"
-  "$gxx" "${cxx_flags[@]}" -c "$src" -o "$obj"
+  local extra=()
+  # lcm_coretypes.h reads and writes doubles through int64_t pointers: as in CMake (firmware/CMakeLists.txt), every
+  # translation unit that includes the generated headers is compiled with -fno-strict-aliasing.
+  if grep -qE '#include "rockwatch/(firmware/monitor_loop|[a-z_]+_t)\.hpp"' "$src"; then
+    extra=(-fno-strict-aliasing)
+  fi
+  echo "embedded-build: compile ${src#"$root"/} ${extra[*]}"
+  "$gxx" "${cxx_flags[@]}" "${extra[@]}" -c "$src" -o "$obj"
 }
-compile "$root/core/core_compile_check.cpp" "$out_dir/core_compile_check.o"
-compile "$root/firmware/src/wall_engine.cpp" "$out_dir/wall_engine.o"
-compile "$root/firmware/embedded/embedded_main.cpp" "$out_dir/embedded_main.o"
-objects=("$out_dir/core_compile_check.o" "$out_dir/wall_engine.o" "$out_dir/embedded_main.o")
+rm -f "$out_dir"/*.o
+objects=()
+for src in "$root/core/core_compile_check.cpp" "$root"/firmware/src/*.cpp "$root/firmware/embedded/embedded_main.cpp"; do
+  obj=$out_dir/$(basename "${src%.cpp}").o
+  compile "$src" "$obj"
+  objects+=("$obj")
+done
 if [[ $objects_only -eq 1 ]]; then
   exit 0
 fi
@@ -72,7 +102,7 @@ fi
 image=$out_dir/rockwatch_embedded.elf
 echo "embedded-build: link ${image#"$root"/}"
 "$gxx" "${target_flags[@]}" -Os --specs=nano.specs --specs=nosys.specs -Wl,--gc-sections \
-  -Wl,-Map="$out_dir/rockwatch_embedded.map" "$out_dir/embedded_main.o" "$out_dir/wall_engine.o" -o "$image"
+  -Wl,-Map="$out_dir/rockwatch_embedded.map" "${objects[@]:1}" -o "$image"
 
 echo
 echo "== arm-none-eabi-size (objects: all sections before --gc-sections; image: what is linked)"

@@ -1,4 +1,4 @@
-// The monitor loop (issue 7): decode → input checks → WallEngine → encode and publish. The input rules are in
+// The monitor loop: decode → input checks → the engine (SampleEngine) → encode and publish. The input rules are in
 // monitor_loop.hpp. Firmware rules: no allocation, no exceptions, no stdio; every loop is bounded (batch ≤
 // MAX_SAMPLES samples, ≤ max_bridge_samples bridged steps per message).
 #include "rockwatch/firmware/monitor_loop.hpp"
@@ -61,7 +61,8 @@ const char* monitor_error_message(MonitorError e) {
   return "?";
 }
 
-MonitorError MonitorLoop::init(const MonitorSettings& s, Transport& transport, MonitorListener* listener) {
+MonitorError MonitorLoop::init(const MonitorSettings& s, SampleEngine& engine, Transport& transport,
+                               MonitorListener* listener) {
   ready_ = false;
   if (!(s.sample_rate_hz > 0.0 && s.sample_rate_hz <= 10000.0 && 1.0 / s.sample_rate_hz <= 0.03)) {
     return MonitorError::sample_rate_out_of_range;
@@ -83,11 +84,12 @@ MonitorError MonitorLoop::init(const MonitorSettings& s, Transport& transport, M
 
   settings_ = s;
   settings_.engine.dt_s = 1.0 / s.sample_rate_hz;
-  if (s.arithmetic != MonitorArithmetic::fixed_point && s.arithmetic != MonitorArithmetic::double_precision) {
+  if ((s.arithmetic != MonitorArithmetic::fixed_point && s.arithmetic != MonitorArithmetic::double_precision) ||
+      engine.arithmetic() != s.arithmetic) {
     return MonitorError::arithmetic_invalid;
   }
-  engine_error_ = s.arithmetic == MonitorArithmetic::fixed_point ? engine_.init(settings_.engine)
-                                                                 : double_engine_.init(settings_.engine);
+  engine_ = &engine;
+  engine_error_ = engine.init(settings_.engine);
   if (engine_error_ != WallEngineError::ok) return MonitorError::engine;
 
   transport_ = &transport;
@@ -107,11 +109,7 @@ MonitorError MonitorLoop::init(const MonitorSettings& s, Transport& transport, M
   alarm_seq_ = 0;
   status_seq_ = 0;
   quality_since_status_ = Status::QUALITY_MONITOR_RESTARTED;
-  if (s.arithmetic == MonitorArithmetic::fixed_point) {
-    engine_.reset_wall(core::AccelQ7_56{}, core::AccelQ7_56{});
-  } else {
-    double_engine_.reset_wall(0.0, 0.0);
-  }
+  engine.start(0.0, 0.0);
   level_ = core::AlarmLevel::quiet;
   ready_ = true;
   return MonitorError::ok;
@@ -270,50 +268,11 @@ void MonitorLoop::process_sample(std::int64_t utime, std::int64_t seq, double ug
   step_and_publish(utime, seq, ug, vg, quality, reset, false);
 }
 
-MonitorLoop::EngineSample MonitorLoop::run_engine(double ug, double vg, bool reset) {
+EngineSample MonitorLoop::run_engine(double ug, double vg, bool reset) {
   const bool first = reset && counters_.samples_processed == 0;
-  EngineSample e;
-  if (settings_.arithmetic == MonitorArithmetic::fixed_point) {
-    // Straight to Q7.56: bit-identical to `rockwatch simulate --arith fixed` on the same doubles.
-    const core::AccelQ7_56 ug_q(ug), vg_q(vg);
-    if (first) {
-      engine_.reset_wall(ug_q, vg_q);  // the monitor's first sample: wall at rest, alarm QUIET
-    } else if (reset) {
-      engine_.restart_motion(ug_q, vg_q);  // state unknown: motion from rest, the alarm keeps its level
-    } else {
-      engine_.process_wall(ug_q, vg_q);
-    }
-    const WallEngineOutput& out = engine_.last();
-    const core::FixedRockingStepper& stepper = engine_.stepper();
-    e.x_m = stepper.x_m().to_double();
-    e.xd_mps = stepper.xd_mps().to_double();
-    e.energy_ratio = out.indicators.energy_ratio.to_double();
-    if (out.indicators.t_valid) e.t_to_instability_s = out.indicators.t_to_instability_s.to_double();
-    e.side_positive = stepper.side() == core::Side::positive;
-    e.moving = stepper.moving();
-    e.input_invalid = out.step.input_invalid;
-    e.saturated = out.step.saturated;
-    e.alarm = out.alarm;
-  } else {
-    if (first) {
-      double_engine_.reset_wall(ug, vg);
-    } else if (reset) {
-      double_engine_.restart_motion(ug, vg);
-    } else {
-      double_engine_.process_wall(ug, vg);
-    }
-    const DoubleWallEngineOutput& out = double_engine_.last();
-    const core::RockingStepper<double>& stepper = double_engine_.stepper();
-    e.x_m = stepper.state().x_m;
-    e.xd_mps = stepper.state().xd_mps;
-    e.energy_ratio = out.indicators.energy_ratio;
-    if (out.indicators.t_valid) e.t_to_instability_s = out.indicators.t_to_instability_s;
-    e.side_positive = stepper.side() == core::Side::positive;
-    e.moving = stepper.moving();
-    e.input_invalid = out.step.input_invalid;
-    e.alarm = out.alarm;
-  }
-  return e;
+  if (first) return engine_->start(ug, vg);      // the monitor's first sample: wall at rest, alarm QUIET
+  if (reset) return engine_->restart(ug, vg);    // state unknown: motion from rest, the alarm keeps its level
+  return engine_->step(ug, vg);
 }
 
 void MonitorLoop::step_and_publish(std::int64_t utime, std::int64_t seq, double ug, double vg, std::int32_t quality,
@@ -434,7 +393,7 @@ void MonitorLoop::publish_status(std::int64_t now_utime) {
   m.worst_step_ns = c.worst_step_ns;
   m.data_quality = quality_since_status_;
   m.alarm_level = level_code(alarm_level());
-  m.arithmetic = settings_.arithmetic == MonitorArithmetic::double_precision ? Status::ARITH_DOUBLE : Status::ARITH_FIXED;
+  m.arithmetic = engine_->arithmetic() == MonitorArithmetic::double_precision ? Status::ARITH_DOUBLE : Status::ARITH_FIXED;
   m.sensor_flags = c.sensor_flags;
   m.messages_ignored = c.messages_ignored;
   m.publish_failures = c.publish_failures;

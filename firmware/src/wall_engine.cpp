@@ -18,15 +18,6 @@ const char* wall_engine_error_message(WallEngineError e) {
   return "?";
 }
 
-WallEngineError validate_wall_engine_config(const WallEngineConfig& c) {
-  if (!core::validate_wall(c.wall).ok()) return WallEngineError::wall_invalid;
-  if (!(c.r_energy >= 0.0 && c.r_energy <= 1.0)) return WallEngineError::restitution_out_of_range;
-  if (!(c.kappa >= 1.0 && c.kappa < 100.0)) return WallEngineError::kappa_out_of_range;
-  if (!core::alarm_settings_valid(c.alarm)) return WallEngineError::alarm_settings_invalid;
-  if (!core::sensor_axes_valid(c.axes)) return WallEngineError::sensor_axes_invalid;
-  return WallEngineError::ok;
-}
-
 WallEngineError WallEngine::init(const WallEngineConfig& c) {
   const WallEngineError common = validate_wall_engine_config(c);
   if (common != WallEngineError::ok) return common;
@@ -35,19 +26,19 @@ WallEngineError WallEngine::init(const WallEngineConfig& c) {
   so.dt_s = c.dt_s;
   so.kappa = c.kappa;
   const core::StepperSetup<double> setup = core::make_stepper_setup(c.wall, core::ModelKind::linear, c.r_energy, so);
-  fixed_error_ = stepper_.init(setup);
-  if (fixed_error_ != core::FixedSetupError::ok) return WallEngineError::fixed_point_setup;
-  if (!core::make_fixed_instability_constants(setup, c.alarm, constants_)) return WallEngineError::indicator_constants;
+  switch (chain_.init(setup, c.alarm, c.dt_s)) {
+    case core::AlarmChainError::ok: break;
+    case core::AlarmChainError::stepper_setup: return WallEngineError::fixed_point_setup;
+    case core::AlarmChainError::indicator_constants: return WallEngineError::indicator_constants;
+  }
   axes_ = core::cast_sensor_axes<core::AccelQ7_24>(c.axes);
-  alarm_.init(core::hold_samples(c.alarm, c.dt_s));
   out_ = WallEngineOutput{};
   return WallEngineError::ok;
 }
 
 void WallEngine::reset(const SensorSampleQ& sensor_mps2) {
   const Eigen::Matrix<core::AccelQ7_24, 2, 1> wall_inputs = core::wall_inputs(axes_, sensor_mps2);
-  stepper_.reset(core::wide_convert<core::AccelQ7_56>(wall_inputs(0)), core::wide_convert<core::AccelQ7_56>(wall_inputs(1)));
-  alarm_.reset();
+  chain_.reset(core::wide_convert<core::AccelQ7_56>(wall_inputs(0)), core::wide_convert<core::AccelQ7_56>(wall_inputs(1)));
   out_ = WallEngineOutput{};
 }
 
@@ -55,33 +46,56 @@ const WallEngineOutput& WallEngine::process(const SensorSampleQ& sensor_mps2) {
   const Eigen::Matrix<core::AccelQ7_24, 2, 1> wall_inputs = core::wall_inputs(axes_, sensor_mps2);
   out_.ug_mps2 = wall_inputs(0);
   out_.vg_mps2 = wall_inputs(1);
-  out_.step = stepper_.step(core::wide_convert<core::AccelQ7_56>(out_.ug_mps2),
-                            core::wide_convert<core::AccelQ7_56>(out_.vg_mps2));
-  out_.indicators = core::evaluate_instability(constants_, stepper_, out_.step);
-  out_.alarm = alarm_.update(out_.indicators.conditions);
+  chain_.step(core::wide_convert<core::AccelQ7_56>(out_.ug_mps2), core::wide_convert<core::AccelQ7_56>(out_.vg_mps2),
+              out_);
   return out_;
 }
 
 const WallEngineOutput& WallEngine::process_wall(core::AccelQ7_56 ug_mps2, core::AccelQ7_56 vg_mps2) {
   out_.ug_mps2 = core::wide_convert<core::AccelQ7_24>(ug_mps2);
   out_.vg_mps2 = core::wide_convert<core::AccelQ7_24>(vg_mps2);
-  out_.step = stepper_.step(ug_mps2, vg_mps2);
-  out_.indicators = core::evaluate_instability(constants_, stepper_, out_.step);
-  out_.alarm = alarm_.update(out_.indicators.conditions);
+  chain_.step(ug_mps2, vg_mps2, out_);
   return out_;
 }
 
 void WallEngine::reset_wall(core::AccelQ7_56 ug_mps2, core::AccelQ7_56 vg_mps2) {
-  stepper_.reset(ug_mps2, vg_mps2);
-  alarm_.reset();
+  chain_.reset(ug_mps2, vg_mps2);
   out_ = WallEngineOutput{};
 }
 
 void WallEngine::restart_motion(core::AccelQ7_56 ug_mps2, core::AccelQ7_56 vg_mps2) {
-  stepper_.reset(ug_mps2, vg_mps2);
-  out_.step = core::FixedStepReport{};
-  out_.indicators = core::evaluate_instability(constants_, stepper_, out_.step);
-  out_.alarm = alarm_.update(out_.indicators.conditions);
+  chain_.restart_motion(ug_mps2, vg_mps2, out_);
+}
+
+// Straight to Q7.56: bit-identical to `rockwatch simulate --arith fixed` on the same doubles.
+EngineSample WallEngine::start(double ug_mps2, double vg_mps2) {
+  reset_wall(core::AccelQ7_56(ug_mps2), core::AccelQ7_56(vg_mps2));
+  return sample();
+}
+
+EngineSample WallEngine::restart(double ug_mps2, double vg_mps2) {
+  restart_motion(core::AccelQ7_56(ug_mps2), core::AccelQ7_56(vg_mps2));
+  return sample();
+}
+
+EngineSample WallEngine::step(double ug_mps2, double vg_mps2) {
+  process_wall(core::AccelQ7_56(ug_mps2), core::AccelQ7_56(vg_mps2));
+  return sample();
+}
+
+EngineSample WallEngine::sample() const {
+  const core::FixedRockingStepper& stepper = chain_.stepper();
+  EngineSample e;
+  e.x_m = stepper.x_m().to_double();
+  e.xd_mps = stepper.xd_mps().to_double();
+  e.energy_ratio = out_.indicators.energy_ratio.to_double();
+  if (out_.indicators.t_valid) e.t_to_instability_s = out_.indicators.t_to_instability_s.to_double();
+  e.side_positive = stepper.side() == core::Side::positive;
+  e.moving = stepper.moving();
+  e.input_invalid = out_.step.input_invalid;
+  e.saturated = out_.step.saturated;
+  e.alarm = out_.alarm;
+  return e;
 }
 
 }  // namespace rockwatch::firmware

@@ -23,6 +23,8 @@
 #include "monitor_config.hpp"
 #include "monitor_output.hpp"
 #include "option_values.hpp"
+#include "rockwatch/firmware/wall_engine.hpp"
+#include "rockwatch/sim/double_wall_engine.hpp"
 #include "service_notify.hpp"
 #include "traffic_log.hpp"
 #include "udp_receiver.hpp"
@@ -174,10 +176,22 @@ class LogFlusher {
   bool failing_ = false;
 };
 
-// Starts the loop; on refusal prints a message naming the settings at fault and returns false.
-bool init_loop(firmware::MonitorLoop& loop, const MonitorConfig& config, firmware::Transport& transport,
-               firmware::MonitorListener& listener, std::ostream& err) {
-  const firmware::MonitorError e = loop.init(config.settings, transport, &listener);
+// The engines the monitor can run: the loop is handed the one --arith selects.
+struct MonitorEngines {
+  firmware::WallEngine fixed;
+  sim::DoubleWallEngine dbl;
+  firmware::SampleEngine& selected(firmware::MonitorArithmetic a) {
+    if (a == firmware::MonitorArithmetic::double_precision) return dbl;
+    return fixed;
+  }
+};
+
+// Starts the loop on the selected engine (`engines` must outlive the loop's use); on refusal prints a message naming
+// the settings at fault and returns false.
+bool init_loop(firmware::MonitorLoop& loop, MonitorEngines& engines, const MonitorConfig& config,
+               firmware::Transport& transport, firmware::MonitorListener& listener, std::ostream& err) {
+  const firmware::MonitorError e =
+      loop.init(config.settings, engines.selected(config.settings.arithmetic), transport, &listener);
   if (e == firmware::MonitorError::ok) return true;
   err << kPrefix << "error: ";
   if (e == firmware::MonitorError::engine) {
@@ -270,8 +284,9 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
                                                    : static_cast<firmware::Transport&>(lcm_transport);
   LogFlusher flusher(log, config.log_path ? *config.log_path : std::string(), err);
   AlarmPrinter printer(out);
+  const auto engines = std::make_unique<MonitorEngines>();
   const auto loop = std::make_unique<firmware::MonitorLoop>();
-  if (!init_loop(*loop, config, transport, printer, err)) return kExitUsage;
+  if (!init_loop(*loop, *engines, config, transport, printer, err)) return kExitUsage;
   loop->set_step_clock(&monotonic_ns);
   LoopInputSink sink(*loop, config.log_path ? &log : nullptr);
   DatagramInput input(config.settings.channels, config.accept_from, sink);
@@ -405,8 +420,9 @@ int run_offline(const MonitorConfig& config, std::ostream& out, std::ostream& er
   }
   LogTransport transport(log_out);
   AlarmPrinter printer(out);
+  const auto engines = std::make_unique<MonitorEngines>();
   const auto loop = std::make_unique<firmware::MonitorLoop>();
-  if (!init_loop(*loop, config, transport, printer, err)) return kExitUsage;
+  if (!init_loop(*loop, *engines, config, transport, printer, err)) return kExitUsage;
   // No step clock: worst_step_ns would make the output depend on the machine.
 
   const firmware::MonitorChannels& ch = config.settings.channels;
@@ -502,8 +518,9 @@ int run_monitor(int argc, const char* const* argv, std::ostream& out, std::ostre
     // Every setting is checked before anything is opened: the engine's formats refuse some walls and rates.
     NullTransport null_transport;
     AlarmPrinter no_output(err);
+    MonitorEngines engines;
     const auto probe = std::make_unique<firmware::MonitorLoop>();
-    if (!init_loop(*probe, *config, null_transport, no_output, err)) return kExitUsage;
+    if (!init_loop(*probe, engines, *config, null_transport, no_output, err)) return kExitUsage;
   }
   if (config->print_config) {
     json j{{"settings", config->normalised},

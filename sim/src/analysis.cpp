@@ -4,8 +4,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "analysis_fixed.hpp"
-#include "rockwatch/core/instability_indicators.hpp"
+#include "analysis_engines.hpp"
 #include "rockwatch/core/rocking_stepper.hpp"
 
 namespace rockwatch::sim {
@@ -26,15 +25,15 @@ std::string number_text(double v) {
   return s.str();
 }
 
-// Each setting on its own, so the message names the one at fault (core::alarm_settings_valid is their conjunction).
+// Each setting on its own (core's validators), so the message names the one at fault.
 void check_alarm_settings(const core::AlarmSettings& a) {
-  if (!(a.lambda_warning > 0.0 && a.lambda_warning <= 1.0)) {
+  if (!core::lambda_warning_valid(a.lambda_warning)) {
     throw AnalysisError("alarm lambda_warning must be in (0, 1] (got " + number_text(a.lambda_warning) + ")");
   }
-  if (!(a.hold_s >= 0.0 && a.hold_s <= 3600.0)) {
+  if (!core::hold_valid(a.hold_s)) {
     throw AnalysisError("alarm hold_s must be in [0, 3600] s (got " + number_text(a.hold_s) + ")");
   }
-  if (!(a.energy_margin >= 1.0 && a.energy_margin <= 100.0)) {
+  if (!core::energy_margin_valid(a.energy_margin)) {
     throw AnalysisError("alarm energy_margin must be in [1, 100] (got " + number_text(a.energy_margin) + ")");
   }
   if (!core::alarm_settings_valid(a)) throw AnalysisError("alarm settings are invalid");  // a bound added in core
@@ -74,37 +73,41 @@ void check_options(const core::WallParameters& wall, const GroundMotion& motion,
   }
 }
 
-// Collects the summary from the stepper's per-step reports.
+// Collects the summary from the engine's per-step reports (either arithmetic: values in double).
 class ResponseRecorder {
  public:
   ResponseRecorder(const core::WallParameters& wall, const AnalysisOptions& o, AnalysisResult& r)
       : wall_(wall), options_(o), result_(r) {}
 
-  void row(double t_s, double ug, double vg, const core::RockingStepper<double>& s) {
-    const auto& st = s.state();
-    const double ax = std::fabs(st.x_m);
+  template <typename Engine>
+  void row(double t_s, double ug, double vg, const Engine& e) {
+    const double x = e.x_m();
+    const double ax = std::fabs(x);
     if (ax > result_.max_abs_x_m) {
       result_.max_abs_x_m = ax;
       result_.t_max_abs_x_s = t_s;
     }
     if (options_.keep_history) {
-      result_.history.push_back(HistoryRow{t_s, ug, vg, st.x_m, st.xd_mps, st.xdd_mps2, -st.x_m / wall_.h1_m,
-                                           st.x_m / wall_.h2_m, s.side() == Side::positive ? 1 : -1});
+      result_.history.push_back(HistoryRow{t_s, ug, vg, x, e.xd_mps(), e.xdd_mps2(), -x / wall_.h1_m, x / wall_.h2_m,
+                                           e.stepper().side() == Side::positive ? 1 : -1});
     }
   }
 
   // Returns the time the state now stands at: the step end, or the collapse point.
-  double events(double t0_s, double h_s, const core::StepReport<double>& rep) {
-    if (rep.started && !result_.t_first_motion_s) result_.t_first_motion_s = t0_s + rep.start_fraction * h_s;
+  template <typename Report>
+  double events(double t0_s, double h_s, const Report& rep) {
+    using detail::to_double;
+    if (rep.started && !result_.t_first_motion_s) result_.t_first_motion_s = t0_s + to_double(rep.start_fraction) * h_s;
     if (rep.impacts_total > 0 && result_.impacts.size() < options_.max_impacts_kept) {
-      result_.impacts.push_back(ImpactEvent{t0_s + rep.first_impact_fraction * h_s, rep.first_impact_v_before_mps,
-                                            rep.first_impact_v_after_mps});
+      result_.impacts.push_back(ImpactEvent{t0_s + to_double(rep.first_impact_fraction) * h_s,
+                                            to_double(rep.first_impact_v_before_mps),
+                                            to_double(rep.first_impact_v_after_mps)});
     }
     result_.n_impacts += rep.impacts_counted;
     result_.n_impacts_total += rep.impacts_total;
-    if (rep.exceeded && !result_.t_exceed_s) result_.t_exceed_s = t0_s + rep.exceed_fraction * h_s;
+    if (rep.exceeded && !result_.t_exceed_s) result_.t_exceed_s = t0_s + to_double(rep.exceed_fraction) * h_s;
     if (rep.collapsed) {
-      result_.t_collapse_s = t0_s + rep.collapse_fraction * h_s;
+      result_.t_collapse_s = t0_s + to_double(rep.collapse_fraction) * h_s;
       return *result_.t_collapse_s;
     }
     return t0_s + h_s;
@@ -116,38 +119,70 @@ class ResponseRecorder {
   AnalysisResult& result_;
 };
 
-// Runs the instability alarm on the stepper's state after each integration step and keeps its summary
-// (AnalysisResult::alarm). Allocates only when a transition is kept (max_alarm_transitions_kept > 0).
-class AlarmRecorder {
- public:
-  AlarmRecorder(const core::StepperSetup<double>& setup, double h_s, const AnalysisOptions& o, AlarmSummary& summary)
-      : enabled_(o.evaluate_alarm), keep_(o.max_alarm_transitions_kept), summary_(summary) {
-    if (!enabled_) return;
-    constants_ = core::make_instability_constants(setup, o.alarm);
-    alarm_.init(core::hold_samples(o.alarm, h_s));
-    summary_.evaluated = true;
+// One step of the engine at the input (ug, vg); then the events, the row and (when evaluated) the alarm update at
+// the time the state stands at. The indicators run when the alarm is evaluated or the engine's verdict needs them.
+template <typename Engine>
+void analysis_step(Engine& engine, typename Engine::Input ug, typename Engine::Input vg, double t0_s, double h_s,
+                   const AnalysisOptions& o, ResponseRecorder& recorder, AnalysisResult& result) {
+  using detail::to_double;
+  auto& out = engine.out();
+  if (o.evaluate_alarm || Engine::kVerdictNeedsIndicators) {
+    engine.chain().step(ug, vg, out);
+  } else {
+    engine.chain().step_motion(ug, vg, out);
   }
+  if (Engine::saturated(out.step)) result.saturated = true;
+  const double t_s = recorder.events(t0_s, h_s, out.step);
+  recorder.row(t_s, to_double(ug), to_double(vg), engine);
+  if (!o.evaluate_alarm) return;
+  detail::AlarmSample sample;
+  sample.x_m = engine.x_m();
+  sample.xd_mps = engine.xd_mps();
+  if (out.indicators.t_valid) sample.t_to_instability_s = to_double(out.indicators.t_to_instability_s);
+  sample.energy_ratio = to_double(out.indicators.energy_ratio);
+  detail::record_alarm_update(result.alarm, o.max_alarm_transitions_kept, t_s, out.alarm, sample);
+}
 
-  // After a step: `t_s` is where the state stands (the step end, or the collapse point).
-  void step(double t_s, const core::RockingStepper<double>& stepper, const core::StepReport<double>& rep) {
-    if (!enabled_) return;
-    const core::InstabilityIndicators<double> ind = core::evaluate_instability(constants_, stepper, rep);
-    const core::AlarmUpdate u = alarm_.update(ind.conditions);
-    detail::AlarmSample sample;
-    sample.x_m = stepper.state().x_m;
-    sample.xd_mps = stepper.state().xd_mps;
-    if (ind.t_valid) sample.t_to_instability_s = ind.t_to_instability_s;
-    sample.energy_ratio = ind.energy_ratio;
-    detail::record_alarm_update(summary_, keep_, t_s, u, sample);
+// The one analysis loop, for either engine: forced motion over the record (to t_end), then free motion until the
+// engine's verdict says safe, or collapse, or the free-motion limit (SPEC §4.3).
+template <typename Engine>
+AnalysisResult run_analysis(const core::WallParameters& wall, const GroundMotion& motion, const AnalysisOptions& o) {
+  using detail::to_double;
+  Engine::check_motion(motion);
+  AnalysisResult result;
+  result.arithmetic = Engine::kArithmetic;
+  const detail::AnalysisStart start = detail::start_analysis(wall, motion, o, result);
+  const double h = start.h_s;
+  Engine engine(wall, start.setup, o, h);
+  if (o.evaluate_alarm) result.alarm.evaluated = true;
+
+  const detail::GridInput input{motion, start.n_sub};
+  const typename Engine::Input ug0 = Engine::input(input.ug(0)), vg0 = Engine::input(input.vg(0));
+  engine.chain().reset(ug0, vg0);
+  ResponseRecorder recorder(wall, o, result);
+  recorder.row(0.0, to_double(ug0), to_double(vg0), engine);
+
+  const auto forced_steps = static_cast<std::size_t>(std::llround(result.t_end_s / h));
+  std::size_t k = 0;
+  for (; k < forced_steps && !engine.stepper().collapsed(); ++k) {
+    analysis_step(engine, Engine::input(input.ug(k + 1)), Engine::input(input.vg(k + 1)), double(k) * h, h, o,
+                  recorder, result);
   }
+  result.collapsed = engine.stepper().collapsed();
 
- private:
-  bool enabled_;
-  std::size_t keep_;
-  AlarmSummary& summary_;
-  core::InstabilityConstants<double> constants_{};
-  core::InstabilityAlarm alarm_;
-};
+  // After the record: free motion until the verdict says safe, or collapse.
+  const auto free_steps = static_cast<std::size_t>(std::llround(o.free_motion_limit_s / h));
+  const typename Engine::Input zero = Engine::input(0.0);
+  std::size_t free = 0;
+  for (; !engine.stepper().collapsed() && !engine.safe() && free < free_steps; ++free, ++k) {
+    analysis_step(engine, zero, zero, double(k) * h, h, o, recorder, result);
+  }
+  result.t_final_s = double(k) * h;
+  if (!result.collapsed && engine.stepper().collapsed()) result.collapse_after_end = true;
+  result.free_motion_undecided = !engine.stepper().collapsed() && free == free_steps && free_steps > 0 && !engine.safe();
+  if (result.t_collapse_s) result.t_max_abs_x_s = *result.t_collapse_s;  // the maximum is the collapse point
+  return result;
+}
 
 }  // namespace
 
@@ -173,62 +208,24 @@ AnalysisStart start_analysis(const core::WallParameters& wall, const GroundMotio
   return start;
 }
 
+DoubleAnalysisEngine::DoubleAnalysisEngine(const core::WallParameters& wall, const core::StepperSetup<double>& setup,
+                                           const AnalysisOptions& o, double h_s) {
+  chain_.init(setup, chain_alarm_settings(o), h_s);
+  for (int i = 0; i < 2; ++i) {
+    const Side side = i == 0 ? Side::negative : Side::positive;
+    free_k_[i] = core::evaluate(setup.model, side, 0.0, wall.g_mps2);
+    x_inst_m_[i] = setup.x_inst_m[i];
+  }
+  barrier_jpm_ = std::min(core::energy_barrier_jpm(setup.model, Side::negative, wall.g_mps2),
+                          core::energy_barrier_jpm(setup.model, Side::positive, wall.g_mps2));
+}
+
 }  // namespace detail
 
 AnalysisResult analyse(const core::WallParameters& wall, const GroundMotion& motion, const AnalysisOptions& o) {
   check_options(wall, motion, o);
-  if (o.arithmetic == Arithmetic::fixed_point) return detail::analyse_fixed(wall, motion, o);
-
-  AnalysisResult result;
-  result.arithmetic = Arithmetic::double_precision;
-  const detail::AnalysisStart start = detail::start_analysis(wall, motion, o, result);
-  const double h = start.h_s;
-  const core::StepperSetup<double>& setup = start.setup;
-
-  const detail::GridInput input{motion, start.n_sub};
-  core::RockingStepper<double> stepper;
-  stepper.init(setup);
-  stepper.reset(input.ug(0), input.vg(0));
-  ResponseRecorder recorder(wall, o, result);
-  recorder.row(0.0, input.ug(0), input.vg(0), stepper);
-  AlarmRecorder alarm(setup, h, o, result.alarm);
-
-  const auto forced_steps = static_cast<std::size_t>(std::llround(result.t_end_s / h));
-  std::size_t k = 0;
-  for (; k < forced_steps && !stepper.collapsed(); ++k) {
-    const double ug = input.ug(k + 1), vg = input.vg(k + 1);
-    const core::StepReport<double> rep = stepper.step(ug, vg);
-    const double t_s = recorder.events(double(k) * h, h, rep);
-    recorder.row(t_s, ug, vg, stepper);
-    alarm.step(t_s, stepper, rep);
-  }
-  result.collapsed = stepper.collapsed();
-
-  // After the record: free motion until the energy says safe, or collapse (SPEC §4.3).
-  const core::Coefficients<double> free_k[2] = {core::evaluate(setup.model, Side::negative, 0.0, wall.g_mps2),
-                                                core::evaluate(setup.model, Side::positive, 0.0, wall.g_mps2)};
-  const double barrier = std::min(core::energy_barrier_jpm(setup.model, Side::negative, wall.g_mps2),
-                                  core::energy_barrier_jpm(setup.model, Side::positive, wall.g_mps2));
-  auto safe = [&]() {
-    if (!stepper.moving()) return true;
-    const auto& st = stepper.state();
-    const int i = core::side_index(stepper.side());
-    const double energy = core::mechanical_energy(free_k[i], st.x_m, st.xd_mps);
-    return std::fabs(st.x_m) < setup.x_inst_m[i] && energy < barrier;
-  };
-  const auto free_steps = static_cast<std::size_t>(std::llround(o.free_motion_limit_s / h));
-  std::size_t free = 0;
-  for (; !stepper.collapsed() && !safe() && free < free_steps; ++free, ++k) {
-    const core::StepReport<double> rep = stepper.step(0.0, 0.0);
-    const double t_s = recorder.events(double(k) * h, h, rep);
-    recorder.row(t_s, 0.0, 0.0, stepper);
-    alarm.step(t_s, stepper, rep);
-  }
-  result.t_final_s = double(k) * h;
-  if (!result.collapsed && stepper.collapsed()) result.collapse_after_end = true;
-  result.free_motion_undecided = !stepper.collapsed() && free == free_steps && free_steps > 0 && !safe();
-  if (result.t_collapse_s) result.t_max_abs_x_s = *result.t_collapse_s;  // the maximum is the collapse point
-  return result;
+  if (o.arithmetic == Arithmetic::fixed_point) return run_analysis<detail::FixedAnalysisEngine>(wall, motion, o);
+  return run_analysis<detail::DoubleAnalysisEngine>(wall, motion, o);
 }
 
 }  // namespace rockwatch::sim

@@ -1,4 +1,4 @@
-// firmware::MonitorLoop (issue 7): an in-memory transport decodes what the loop publishes. A clean stream gives one
+// firmware::MonitorLoop: an in-memory transport decodes what the loop publishes. A clean stream gives one
 // wall_state_t per sample, bit-identical to a WallEngine fed the same samples, and the alarm timeline of
 // sim::analyse(..., fixed_point, evaluate_alarm) on a collapsing suite record; each input fault is injected on its
 // own with the flags and counters it must produce; the status message carries them; bad settings are refused.
@@ -14,8 +14,10 @@
 #include "rockwatch/core/restitution.hpp"
 #include "rockwatch/core/wall.hpp"
 #include "rockwatch/firmware/monitor_loop.hpp"
+#include "rockwatch/firmware/wall_engine.hpp"
 #include "rockwatch/records/suite_format.hpp"
 #include "rockwatch/sim/analysis.hpp"
+#include "rockwatch/sim/double_wall_engine.hpp"
 
 #include <CppUTest/TestHarness.h>
 
@@ -106,15 +108,26 @@ fw::MonitorSettings paper_settings() {
 
 core::AccelQ7_56 q(double v) { return core::AccelQ7_56(v); }
 
+// The engines a host can hand the loop; the one the settings ask for, as rockwatch-monitor picks it.
+struct Engines {
+  fw::WallEngine fixed;
+  sim::DoubleWallEngine dbl;
+  fw::SampleEngine& operator()(const fw::MonitorSettings& s) {
+    if (s.arithmetic == fw::MonitorArithmetic::double_precision) return dbl;
+    return fixed;
+  }
+};
+
 // The loop, its transport, and a reference WallEngine fed by hand.
 struct Rig {
   MemoryTransport transport;
   RecordingListener listener;
+  Engines engines;
   fw::MonitorLoop loop;
   fw::WallEngine ref;
 
   explicit Rig(const fw::MonitorSettings& s = paper_settings()) {
-    CHECK_TRUE(loop.init(s, transport, &listener) == fw::MonitorError::ok);
+    CHECK_TRUE(loop.init(s, engines(s), transport, &listener) == fw::MonitorError::ok);
     // The fixed-point reference (the double timeline tests compare with sim::analyse instead).
     if (s.arithmetic == fw::MonitorArithmetic::fixed_point) {
       CHECK_TRUE(ref.init(loop.settings().engine) == fw::WallEngineError::ok);
@@ -367,15 +380,18 @@ TEST(MonitorLoop, TheFixedPointEngineRefusesTheFullModel) {
   fw::MonitorSettings s = paper_settings();
   s.engine.model = core::ModelKind::full;
   MemoryTransport t;
+  Engines engines;
   fw::MonitorLoop loop;
-  CHECK_TRUE(loop.init(s, t) == fw::MonitorError::engine);
+  CHECK_TRUE(loop.init(s, engines(s), t) == fw::MonitorError::engine);
   CHECK_TRUE(loop.engine_error() == fw::WallEngineError::model_not_supported);
   STRCMP_EQUAL("the fixed-point engine runs the linear model only",
                fw::wall_engine_error_message(fw::WallEngineError::model_not_supported));
   s.arithmetic = fw::MonitorArithmetic::double_precision;
-  CHECK_TRUE(loop.init(s, t) == fw::MonitorError::ok);
+  CHECK_TRUE(loop.init(s, engines(s), t) == fw::MonitorError::ok);
+  // The engine given must run the arithmetic the settings ask for.
+  CHECK_TRUE(loop.init(s, engines.fixed, t) == fw::MonitorError::arithmetic_invalid);
   s.arithmetic = static_cast<fw::MonitorArithmetic>(7);
-  CHECK_TRUE(loop.init(s, t) == fw::MonitorError::arithmetic_invalid);
+  CHECK_TRUE(loop.init(s, engines(s), t) == fw::MonitorError::arithmetic_invalid);
 }
 
 TEST(MonitorLoop, ShortGapBridgedByHoldingTheLastInput) {
@@ -966,8 +982,9 @@ TEST(MonitorLoop, NothingHappensBeforeInit) {
 namespace {
 void check_refused(const fw::MonitorSettings& s, fw::MonitorError expected, const char* mention) {
   MemoryTransport t;
+  Engines engines;
   fw::MonitorLoop loop;
-  const fw::MonitorError e = loop.init(s, t);
+  const fw::MonitorError e = loop.init(s, engines(s), t);
   LONGS_EQUAL(static_cast<long>(expected), static_cast<long>(e));
   STRCMP_CONTAINS(mention, fw::monitor_error_message(e));
   // A refused loop stays inert.
@@ -1027,8 +1044,9 @@ TEST(MonitorLoop, InitRefusesBadSettingsNamingThem) {
   s.engine.wall.b_m = -0.1;
   {
     MemoryTransport t;
+    Engines engines;
     fw::MonitorLoop loop;
-    LONGS_EQUAL(static_cast<long>(E::engine), static_cast<long>(loop.init(s, t)));
+    LONGS_EQUAL(static_cast<long>(E::engine), static_cast<long>(loop.init(s, engines(s), t)));
     CHECK_TRUE(loop.engine_error() == fw::WallEngineError::wall_invalid);
     STRCMP_CONTAINS("engine", fw::monitor_error_message(E::engine));
   }
@@ -1039,8 +1057,9 @@ TEST(MonitorLoop, InitRefusesBadSettingsNamingThem) {
   s = paper_settings();
   {
     MemoryTransport t;
+    Engines engines;
     fw::MonitorLoop loop;
-    CHECK_TRUE(loop.init(s, t) == E::ok);
+    CHECK_TRUE(loop.init(s, engines(s), t) == E::ok);
     STRCMP_EQUAL("ok", fw::monitor_error_message(E::ok));
   }
 }

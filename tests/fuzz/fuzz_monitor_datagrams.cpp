@@ -20,6 +20,7 @@
 #include "rockwatch/core/restitution.hpp"
 #include "rockwatch/core/wall.hpp"
 #include "rockwatch/firmware/monitor_loop.hpp"
+#include "rockwatch/firmware/wall_engine.hpp"
 
 using namespace rockwatch;
 namespace fw = rockwatch::firmware;
@@ -62,7 +63,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   NullTransport transport;
   const auto loop = std::make_unique<fw::MonitorLoop>();
-  ROCKWATCH_FUZZ_CHECK(loop->init(settings, transport) == fw::MonitorError::ok);
+  const auto engine = std::make_unique<fw::WallEngine>();
+  ROCKWATCH_FUZZ_CHECK(loop->init(settings, *engine, transport) == fw::MonitorError::ok);
   CountingSink sink(*loop);
   std::vector<monitor::SourceNetwork> accept;
   if ((settings_byte & 1) != 0) accept.push_back(monitor::SourceNetwork{0x7f000001u, 32});

@@ -15,6 +15,8 @@
 #include "rockwatch/core/restitution.hpp"
 #include "rockwatch/core/wall.hpp"
 #include "rockwatch/firmware/monitor_loop.hpp"
+#include "rockwatch/firmware/wall_engine.hpp"
+#include "rockwatch/sim/double_wall_engine.hpp"
 
 using namespace rockwatch;
 namespace fw = rockwatch::firmware;
@@ -140,7 +142,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   CheckingTransport transport;
   ChainListener listener;
   const auto loop = std::make_unique<fw::MonitorLoop>();
-  ROCKWATCH_FUZZ_CHECK(loop->init(settings_from(data[0]), transport, &listener) == fw::MonitorError::ok);
+  const fw::MonitorSettings settings = settings_from(data[0]);
+  fw::WallEngine fixed_engine;
+  rockwatch::sim::DoubleWallEngine double_engine;
+  fw::SampleEngine& engine = settings.arithmetic == fw::MonitorArithmetic::double_precision
+                                 ? static_cast<fw::SampleEngine&>(double_engine)
+                                 : static_cast<fw::SampleEngine&>(fixed_engine);
+  ROCKWATCH_FUZZ_CHECK(loop->init(settings, engine, transport, &listener) == fw::MonitorError::ok);
 
   std::int64_t receive_utime = in::kReceiveClockStartUs;
   std::int64_t ignored_sent = 0;

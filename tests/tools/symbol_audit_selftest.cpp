@@ -1,4 +1,4 @@
-// The symbol audit's negative control (tests/tools/firmware_symbol_audit.sh): an object that references malloc,
+// The symbol audit's negative control (tests/firmware/proofs/firmware_symbol_audit.sh): an object that references malloc,
 // free and operator new/delete. The audit must reject it; if it does not, a clean audit proves nothing.
 #include <cstddef>
 #include <cstdlib>

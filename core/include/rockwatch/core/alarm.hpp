@@ -11,7 +11,7 @@
 
 namespace rockwatch::core {
 
-// Values are part of the message format (issue 7): append, never renumber.
+// Values are part of the message format (firmware/lcmtypes): append, never renumber.
 enum class AlarmLevel : std::uint8_t { quiet = 0, rocking = 1, warning = 2, imminent = 3, collapsed = 4 };
 
 constexpr const char* alarm_level_name(AlarmLevel l) {
@@ -60,9 +60,13 @@ struct AlarmSettings {
   double energy_margin = 1.5;   // IMMINENT by energy when E ≥ margin·E_barrier moving outward [-], ≥ 1 (see above)
 };
 
+// The ranges of the settings, one check each (callers name the field at fault); alarm_settings_valid: all of them.
+inline bool lambda_warning_valid(double v) { return v > 0.0 && v <= 1.0; }     // (0, 1]
+inline bool hold_valid(double s) { return s >= 0.0 && s <= 3600.0; }           // [0, 3600] s
+inline bool energy_margin_valid(double m) { return m >= 1.0 && m <= 100.0; }   // [1, 100]
+
 inline bool alarm_settings_valid(const AlarmSettings& s) {
-  return s.lambda_warning > 0.0 && s.lambda_warning <= 1.0 && s.hold_s >= 0.0 && s.hold_s <= 3600.0 &&
-         s.energy_margin >= 1.0 && s.energy_margin <= 100.0;
+  return lambda_warning_valid(s.lambda_warning) && hold_valid(s.hold_s) && energy_margin_valid(s.energy_margin);
 }
 
 // Samples of the hold time at a sample interval dt_s (rounded to nearest). Initialisation-time code.

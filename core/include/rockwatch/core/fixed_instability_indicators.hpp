@@ -1,8 +1,24 @@
-// The alarm's physical conditions evaluated on the fixed-point engine's state: the same definitions as
-// instability_indicators.hpp (double), in fixed point and with constant work.
+// The alarm's physical conditions evaluated on the fixed-point engine's state: the definitions of
+// instability_indicators.hpp (their one home, with the prediction cap), in fixed point and with constant work.
 //   y = s·x − x_inst,s,  ẏ = s·ẋ,  ρ = E/E_barrier = 1 + (ẏ/(ω x_i))² − (y/x_i)²  (linear model, SPEC §2),
 //   IMMINENT by energy when moving, ẏ > 0 and ρ ≥ margin; predicted time to x_inst under zero input
-//   t = atanh(ω|y|/ẏ)/ω (0 once |x| ≥ x_inst; none below the barrier or moving inward), capped at kMaxPredictionS.
+//   t = atanh(ω|y|/ẏ)/ω (0 once |x| ≥ x_inst; none below the barrier or moving inward), capped at
+//   kInstabilityPredictionCap_s (instability_indicators.hpp).
+//
+// Why not that template instantiated on a fixed type: bit-identity of both engines with their references
+// (`rockwatch simulate --arith double|fixed`, the golden files) forbids moving either one to the other's
+// arithmetic, and the two are arranged differently on purpose:
+//   - formats: the engine's 64-bit state is narrowed to Q1.30/Q3.28 first; ρ is formed from the scaled quantities
+//     w = y/x_i and u = ẏ/(ω x_i) as 1 + u² − w² (Q7.24, bounded factors: see the scaling note below) where the
+//     double form is 1 + (ẏ² − ω²y²)/(ω²x_i²), with other constants (1/x_i, 1/(ω x_i), 1/ω against x_i, ω, ω²,
+//     1/(ω² x_i²)); the two round differently, so neither can take the other's form without changing its bits;
+//   - constant work: z = −w/u and fixed_atanh are computed every sample and the result selected afterwards; the
+//     double template computes atanh only when a prediction exists (instantiated on a fixed type it would give
+//     data-dependent work);
+//   - saturation: arithmetic_saturated is the stepper's report flag here, always false in floating point; the
+//     prediction is also 0 once the stepper collapsed (in double, collapse implies |x| ≥ x_i anyway).
+// What is shared: the definitions, AlarmConditions and the alarm behind them, kInstabilityPredictionCap_s, and the
+// composition stepper → indicators → alarm (stepper_alarm_chain.hpp).
 #pragma once
 
 #include <cmath>
@@ -11,6 +27,7 @@
 #include "rockwatch/core/alarm.hpp"
 #include "rockwatch/core/fixed_math.hpp"
 #include "rockwatch/core/fixed_rocking_stepper.hpp"
+#include "rockwatch/core/instability_indicators.hpp"
 
 namespace rockwatch::core {
 
@@ -27,8 +44,6 @@ struct FixedInstabilityConstants {
   RatioQ7_24 energy_margin;      // IMMINENT when ρ ≥ margin [-]
   TimeQ7_24 t_max_s;             // prediction cap [s]
 };
-
-inline constexpr double kMaxPredictionS = 60.0;
 
 // Initialisation time. ω_s² = −p4(s)/p1 of the linear model with ü = v̈ = 0 (the rate the wall leaves x_inst).
 // Returns false when a constant does not fit its format (x_inst below 8 mm or above 1.9 m).
@@ -48,7 +63,7 @@ inline bool make_fixed_instability_constants(const StepperSetup<double>& s, cons
     ok = ok && 1.0 / (omega * xi) < 100.0 && 1.0 / omega < 100.0;
   }
   out.energy_margin = RatioQ7_24(a.energy_margin);
-  out.t_max_s = TimeQ7_24(kMaxPredictionS);
+  out.t_max_s = TimeQ7_24(kInstabilityPredictionCap_s);
   return ok;
 }
 

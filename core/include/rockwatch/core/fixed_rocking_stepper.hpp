@@ -3,18 +3,28 @@
 // impacts and collapse located inside the step, rest after an impact — arranged so that every sample does the
 // same work: at most one event is located per sample, with a fixed number of Newton iterations that always run.
 //
-// Formats (docs/FIXED_POINT.md gives the ranges measured over the shipped suite and the real records, and what
-// saturates first):
-//   accelerations ü, v̈, G, ẍ, f     AccelQ7_24    ±128 m/s²,  6.0e-8 m/s²
-//   displacement x, levels           LengthQ1_30   ±2 m,       9.3e-10 m
-//   velocity ẋ                       SpeedQ3_28    ±8 m/s,     3.7e-9 m/s
-//   step length h, H                 DurationQ0_31 ±1 s,       4.7e-10 s
-//   H²/4                             Duration2Qm12_43 ±2.4e-4 s², 1.1e-13 s² (steps up to 31 ms)
-//   stiffness k = p4/p1              StiffQ8_23    ±256 1/s²,  1.2e-7 1/s²
-//   gains F_g, F_u [-], K_g, K_u [1/m] GainQ4_27   ±16,        7.5e-9
-//   fractions of a step, √r, D       FractionQ1_30 ±2,         9.3e-10
+// Formats: 64-bit state and coefficients (Fixed64, exact 128-bit intermediates); docs/FIXED_POINT.md gives the
+// ranges measured over the shipped suite and the real records, and what saturates first:
+//   accelerations ü, v̈, G, ẍ, f     AccelQ7_56        ±128 m/s²,    1.4e-17 m/s²
+//   displacement x, levels           LengthQ1_62       ±2 m,         2.2e-19 m
+//   velocity ẋ                       SpeedQ3_60        ±8 m/s,       8.7e-19 m/s
+//   step length h, H                 DurationQ0_63     ±1 s,         1.1e-19 s
+//   H²/4                             Duration2Qm12_75  ±2.4e-4 s²,   2.6e-23 s² (steps up to 31 ms)
+//   stiffness k = p4/p1              StiffQ8_55        ±256 1/s²,    2.8e-17 1/s²
+//   gains F_g, F_u [-], K_g, K_u [1/m] GainQ4_59       ±16,          1.7e-18
+//   fractions of a step, √r, D       FractionQ1_62     ±2,           2.2e-19
+// The 32-bit formats below (Q7.24, Q1.30, Q3.28) are for sensors, messages and the alarm's indicators.
 // The equation is divided through by p1 at initialisation (p1 is constant in the linear model):
 //   ẍ = f − k x,  f = p6/p1 = −s(F_fp,s + F_g G) − F_u ü,  k = p4/p1 = K_fp,s + K_g G + s K_u ü.
+//
+// Why a second stepper and not RockingStepper<Scalar> on a fixed type: RockingStepper's step is a loop of
+// advance_segment calls (up to kMaxSegmentsPerStep segments per step, each impact located by regula falsi to
+// convergence, up to kRootIterations): data-dependent work, which the firmware cannot have, and iteration counts
+// that would differ in fixed point anyway. Changing either stepper to the other's arrangement changes its results,
+// and both are pinned bit for bit (golden files, `rockwatch simulate --arith double|fixed`, the monitor). What is
+// shared: the model and its set-up (make_stepper_setup in double, StepperSetup, SPEC §1–4), the report's meaning
+// (StepReport/FixedStepReport: same fields and fractions of the step), the indicators' definitions and the
+// stepper → indicators → alarm composition (stepper_alarm_chain.hpp).
 //
 // Differences from the double engine, all at the scale of a step and measured in docs/FIXED_POINT.md:
 // - one event per sample: an impact, else a collapse, else the first passage of x_inst; a second event in the

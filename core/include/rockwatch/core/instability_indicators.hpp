@@ -1,6 +1,7 @@
 // The physical conditions the instability alarm (alarm.hpp) acts on, evaluated from the rocking stepper's state at
-// the end of a step, in the stepper's own arithmetic (double or float here; the fixed-point engine implements the
-// same definitions in its formats, so keep the two in step).
+// the end of a step, in the stepper's own arithmetic (double or float here). This header is the one home of the
+// definitions below and of the prediction cap; fixed_instability_indicators.hpp evaluates the same definitions in
+// fixed point (it says why it is a second implementation and not this template instantiated on a fixed type).
 //
 // Definitions. On the current side s (index i = side_index(s)), with x_i = x_inst,s the static instability
 // displacement of that side (StepperSetup::x_inst_m):

@@ -1,7 +1,7 @@
 // The two-block rocking integrator (SPEC §2–4): constant step, Newmark with impacts located inside the step,
 // start of motion at the threshold, rest logic and collapse located inside the step.
 //
-// Written for any arithmetic Scalar (double now, a fixed-point type later): no heap, no exceptions, no I/O,
+// Written for any floating-point Scalar (double; float compiles): no heap, no exceptions, no I/O,
 // bounded loops. Inputs are ground accelerations at the step ends; between them the input is linear (SPEC §4).
 // Event times are reported as fractions of the current step, so the caller keeps absolute time in whatever
 // representation it likes (seconds in double, a sample counter in firmware).

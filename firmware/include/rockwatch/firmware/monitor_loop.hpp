@@ -41,8 +41,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "rockwatch/firmware/double_wall_engine.hpp"
-#include "rockwatch/firmware/wall_engine.hpp"
+#include "rockwatch/firmware/sample_engine.hpp"
 #include "rockwatch/alarm_event_t.hpp"
 #include "rockwatch/ground_accel_batch_t.hpp"
 #include "rockwatch/ground_accel_t.hpp"
@@ -64,15 +63,9 @@ struct MonitorChannels {
   char status[kChannelNameMax] = "ROCKWATCH_STATUS";
 };
 
-// Which engine the loop runs. Values are stable: append, never renumber.
-enum class MonitorArithmetic : std::uint8_t {
-  fixed_point = 0,       // WallEngine: bit-identical to `rockwatch simulate --arith fixed`; the firmware's engine
-  double_precision = 1,  // DoubleWallEngine: bit-identical to `rockwatch simulate --arith double`; hosts with an FPU
-};
-
 struct MonitorSettings {
   WallEngineConfig engine{};           // wall, r, κ, model, alarm; engine.dt_s is set from sample_rate_hz by init()
-  MonitorArithmetic arithmetic = MonitorArithmetic::fixed_point;
+  MonitorArithmetic arithmetic = MonitorArithmetic::fixed_point;  // the engine handed to init() must run this
   double sample_rate_hz = 200.0;       // expected input rate [Hz]; the engine steps once per sample
   std::int32_t max_bridge_samples = 10;  // longest gap bridged by holding the input [samples]
   double sensor_range_mps2 = 80.0;     // |ü|, |v̈| above this are out of range [m/s²] (≤ 80: the engine's input limit)
@@ -92,7 +85,7 @@ enum class MonitorError : std::uint8_t {
   late_limit_out_of_range = 5,    // (0, 60] s
   channel_name_invalid = 6,  // empty, not NUL-terminated, or an input channel equal to another channel
   restart_window_out_of_range = 7,  // restart_window in [1, 10⁹] samples
-  arithmetic_invalid = 8,    // not a MonitorArithmetic value
+  arithmetic_invalid = 8,    // not a MonitorArithmetic value, or not the arithmetic of the engine given
 };
 
 const char* monitor_error_message(MonitorError e);
@@ -127,9 +120,12 @@ struct MonitorCounters {
 
 class MonitorLoop {
  public:
-  // Validates and prepares everything (all floating point of the engine's init happens here). `listener` may be
-  // null. The wall starts at rest; the first status says QUALITY_MONITOR_RESTARTED.
-  MonitorError init(const MonitorSettings& settings, Transport& transport, MonitorListener* listener = nullptr);
+  // Validates and prepares everything (all floating point of the engine's init happens here): the loop runs
+  // `engine` (the caller owns it; it must outlive the loop's use and run settings.arithmetic), initialised here with
+  // settings.engine. `listener` may be null. The wall starts at rest; the first status says
+  // QUALITY_MONITOR_RESTARTED.
+  MonitorError init(const MonitorSettings& settings, SampleEngine& engine, Transport& transport,
+                    MonitorListener* listener = nullptr);
   WallEngineError engine_error() const { return engine_error_; }
 
   // One received message. receive_utime: the monitor's clock at reception [µs since 1970-01-01 UTC].
@@ -147,12 +143,10 @@ class MonitorLoop {
   void publish_status(std::int64_t now_utime);
 
   const MonitorCounters& counters() const { return counters_; }
-  const WallEngine& engine() const { return engine_; }                      // the fixed-point engine
-  const DoubleWallEngine& double_engine() const { return double_engine_; }  // the double engine
   const MonitorSettings& settings() const { return settings_; }
   core::AlarmLevel alarm_level() const;
 
-  // Monotonic clock used for worst_step_ns (the time of one engine step, WallEngine::process_wall or reset_wall,
+  // Monotonic clock used for worst_step_ns (the time of one engine call, SampleEngine::step, start or restart,
   // without encoding and publishing); the Linux adapter installs clock_gettime, tests a fake or nothing (null = not
   // measured, worst_step_ns stays 0).
   using ClockNs = std::int64_t (*)();
@@ -165,15 +159,8 @@ class MonitorLoop {
   // delay_us: receive time − sample time (for a batch: − the time of its newest sample).
   void process_sample(std::int64_t utime, std::int64_t seq, double ug, double vg, std::int32_t sensor_status,
                       std::int64_t delay_us);
-  // What either engine gives after a sample, in the published units.
-  struct EngineSample {
-    double x_m = 0.0, xd_mps = 0.0, energy_ratio = 0.0;
-    double t_to_instability_s = -1.0;  // −1: no prediction
-    bool side_positive = true, moving = false, input_invalid = false, saturated = false;
-    core::AlarmUpdate alarm{};
-  };
-  // Engine step or reset of the selected engine (reset: first = the monitor's first sample, else a restart of the
-  // motion); ug, vg in the wall frame [m/s²].
+  // Engine step or reset (reset: first = the monitor's first sample, else a restart of the motion); ug, vg in the
+  // wall frame [m/s²].
   EngineSample run_engine(double ug, double vg, bool reset);
   // Engine step or reset with timing; then publishes the state (and the alarm event on a level change).
   // bridged: a held input for a missing sample (not counted again as an input fault).
@@ -185,9 +172,8 @@ class MonitorLoop {
   MonitorSettings settings_{};
   Transport* transport_ = nullptr;
   MonitorListener* listener_ = nullptr;
-  WallEngine engine_{};
-  DoubleWallEngine double_engine_{};
-  core::AlarmLevel level_ = core::AlarmLevel::quiet;  // the selected engine's alarm level after the last sample
+  SampleEngine* engine_ = nullptr;
+  core::AlarmLevel level_ = core::AlarmLevel::quiet;  // the engine's alarm level after the last sample
   WallEngineError engine_error_ = WallEngineError::ok;
   MonitorCounters counters_{};
   ClockNs step_clock_ = nullptr;

@@ -1,9 +1,9 @@
 // The monitor's per-sample processing unit: a 3-axis accelerometer sample in, the wall's state and alarm out.
-// Sensor axes (Eigen fixed size) → fixed-point rocking engine → instability indicators → alarm state machine.
-// init() does all floating-point work and validation; process() then runs integer arithmetic only, allocates
-// nothing and takes the same work every sample (bounded loops with fixed iteration counts). The monitor loop
-// (issue 7) wraps it behind its transport; the embedded build (scripts/embedded-build.sh) compiles it for a
-// Cortex-M4.
+// Sensor axes (Eigen fixed size) → core::StepperAlarmChain over the fixed-point rocking stepper (stepper →
+// instability indicators → alarm state machine). init() does all floating-point work and validation; process() then
+// runs integer arithmetic only, allocates nothing and takes the same work every sample (bounded loops with fixed
+// iteration counts). It is the firmware's SampleEngine: the monitor loop runs it behind that seam; the embedded
+// build (scripts/embedded-build.sh) compiles it for a Cortex-M4.
 #pragma once
 
 #include <cstdint>
@@ -17,51 +17,24 @@
 #include "rockwatch/core/model.hpp"
 #include "rockwatch/core/restitution.hpp"
 #include "rockwatch/core/sensor_axes.hpp"
+#include "rockwatch/core/stepper_alarm_chain.hpp"
 #include "rockwatch/core/wall.hpp"
+#include "rockwatch/firmware/sample_engine.hpp"
 
 namespace rockwatch::firmware {
 
 using SensorSampleQ = Eigen::Matrix<core::AccelQ7_24, 3, 1>;  // sensor-frame acceleration [m/s²]
 
-struct WallEngineConfig {
-  core::WallParameters wall{};
-  double r_energy = 0.0;           // restitution energy ratio r in [0, 1] [-]
-  double kappa = 2.0;              // collapse at κ·x_inst [-]
-  core::ModelKind model = core::ModelKind::linear;  // the fixed-point engine: linear only; DoubleWallEngine: either
-  double dt_s = 0.005;             // sample interval = integration step [s]
-  core::AlarmSettings alarm{};
-  core::SensorAxes<double> axes = core::default_sensor_axes();
-};
-
-// Why init() refused a configuration. Values are stable: append, never renumber.
-enum class WallEngineError : std::uint8_t {
-  ok = 0,
-  wall_invalid = 1,
-  restitution_out_of_range = 2,
-  kappa_out_of_range = 3,
-  alarm_settings_invalid = 4,
-  sensor_axes_invalid = 5,
-  fixed_point_setup = 6,         // see fixed_setup_error()
-  indicator_constants = 7,       // x_inst or ω outside the indicator formats
-  model_not_supported = 8,       // the fixed-point engine runs the linear model only
-};
-
-const char* wall_engine_error_message(WallEngineError e);
-
-// The checks both engines make (wall, r, κ, alarm settings, sensor axes): ok or the first failure.
-WallEngineError validate_wall_engine_config(const WallEngineConfig& config);
-
-struct WallEngineOutput {
-  core::FixedStepReport step;                    // what the engine did inside the sample
-  core::FixedInstabilityIndicators indicators;   // conditions, predicted time, energy ratio
-  core::AlarmUpdate alarm;                       // level after the sample, reasons, transition flag
+// step, indicators, alarm (core::AlarmChainOutput) and the wall-frame inputs used.
+struct WallEngineOutput : core::AlarmChainOutput<core::FixedRockingStepper> {
   core::AccelQ7_24 ug_mps2{};                    // the wall-frame inputs used [m/s²]
   core::AccelQ7_24 vg_mps2{};
 };
 
-class WallEngine {
+class WallEngine final : public SampleEngine {
  public:
-  WallEngineError init(const WallEngineConfig& config);
+  MonitorArithmetic arithmetic() const override { return MonitorArithmetic::fixed_point; }
+  WallEngineError init(const WallEngineConfig& config) override;
   // Wall at rest, alarm QUIET, with the given sample as the current input.
   void reset(const SensorSampleQ& sensor_mps2);
   // One sample. Bounded work; no allocation.
@@ -74,17 +47,22 @@ class WallEngine {
   // its level: a latched COLLAPSED stays latched, any other level falls only through the hold time.
   void restart_motion(core::AccelQ7_56 ug_mps2, core::AccelQ7_56 vg_mps2);
 
-  const core::FixedRockingStepper& stepper() const { return stepper_; }
+  // The seam (SampleEngine): wall-frame doubles converted straight to Q7.56, then as reset_wall, restart_motion and
+  // process_wall; the published quantities converted back to double.
+  EngineSample start(double ug_mps2, double vg_mps2) override;
+  EngineSample restart(double ug_mps2, double vg_mps2) override;
+  EngineSample step(double ug_mps2, double vg_mps2) override;
+
+  const core::FixedRockingStepper& stepper() const { return chain_.stepper(); }
   const WallEngineOutput& last() const { return out_; }
-  core::FixedSetupError fixed_setup_error() const { return fixed_error_; }
+  core::FixedSetupError fixed_setup_error() const { return chain_.setup_error(); }
 
  private:
+  EngineSample sample() const;
+
   core::SensorAxes<core::AccelQ7_24> axes_{};
-  core::FixedRockingStepper stepper_{};
-  core::FixedInstabilityConstants constants_{};
-  core::InstabilityAlarm alarm_{};
+  core::StepperAlarmChain<core::FixedRockingStepper> chain_{};
   WallEngineOutput out_{};
-  core::FixedSetupError fixed_error_ = core::FixedSetupError::ok;
 };
 
 }  // namespace rockwatch::firmware

@@ -1,5 +1,5 @@
 // Eigen's own run-time allocation check around the firmware engine: this program is compiled WITHOUT NDEBUG and
-// with EIGEN_RUNTIME_NO_MALLOC, and compiles firmware/src/wall_engine.cpp into itself (tests/engine/
+// with EIGEN_RUNTIME_NO_MALLOC, and compiles firmware/src/wall_engine.cpp into itself (tests/firmware/proofs/
 // CMakeLists.txt), so every Eigen expression evaluated by WallEngine::process asserts when it would allocate.
 // Allocation is disallowed (Eigen::internal::set_is_malloc_allowed(false)) around 100 000 process() calls with
 // impacts and collapses.

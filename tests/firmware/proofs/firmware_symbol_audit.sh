@@ -3,16 +3,17 @@
 #   1. the self-test object (calls malloc and operator new): the audit MUST fail on it, else it proves nothing;
 #      the same for an ARM build of that source when arm-none-eabi-g++ is installed;
 #   2. the host librockwatch_firmware.a;
-#   3. the ARM objects of scripts/embedded-build.sh (compiled here into WORK_DIR with --objects-only), when
-#      arm-none-eabi-g++ is installed (else reported as skipped: the embedded_build test skips as well).
+#   3. the ARM objects of scripts/embedded-build.sh (core check, every firmware/src/*.cpp, embedded_main; compiled
+#      here into WORK_DIR with --objects-only), when arm-none-eabi-g++ is installed (else reported as skipped: the
+#      embedded_build test skips as well).
 #
-#   tests/tools/firmware_symbol_audit.sh HOST_FIRMWARE_LIB SELFTEST_OBJECT SELFTEST_SOURCE WORK_DIR
+#   tests/firmware/proofs/firmware_symbol_audit.sh HOST_FIRMWARE_LIB SELFTEST_OBJECT SELFTEST_SOURCE WORK_DIR
 set -euo pipefail
-root=$(cd "$(dirname "$0")/../.." && pwd)
+root=$(cd "$(dirname "$0")/../../.." && pwd)
 audit=$root/tests/tools/symbol_audit.sh
 
 if [[ $# -ne 4 ]]; then
-  sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//' >&2
+  sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//' >&2
   exit 2
 fi
 host_lib=$1 selftest_obj=$2 selftest_src=$3 work_dir=$4
@@ -54,8 +55,7 @@ echo
 if [[ $have_arm -eq 1 ]]; then
   echo "== ARM (arm-none-eabi): objects of scripts/embedded-build.sh"
   "$root/scripts/embedded-build.sh" --objects-only "$work_dir/arm" >/dev/null
-  "$audit" --nm arm-none-eabi-nm "$work_dir/arm/core_compile_check.o" "$work_dir/arm/wall_engine.o" \
-    "$work_dir/arm/embedded_main.o" || status=1
+  "$audit" --nm arm-none-eabi-nm "$work_dir"/arm/*.o || status=1
 else
   echo "== ARM: SKIPPED (arm-none-eabi-g++ not installed; host audit only)"
 fi

@@ -7,7 +7,7 @@
 // stream really exercised all of that. A self-check first makes sure deliberate allocations are counted.
 //
 // A plain program, not a CppUTest suite (CppUTest replaces operator new), and not built with sanitizers
-// (tests/engine/CMakeLists.txt registers it as `monitor_allocations` only in builds without -fsanitize).
+// (tests/firmware/proofs/CMakeLists.txt registers it as `monitor_allocations` only in builds without -fsanitize).
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -20,6 +20,7 @@
 #include "rockwatch/core/restitution.hpp"
 #include "rockwatch/core/wall.hpp"
 #include "rockwatch/firmware/monitor_loop.hpp"
+#include "rockwatch/firmware/wall_engine.hpp"
 
 #include "counting_allocator.hpp"
 
@@ -157,9 +158,10 @@ int main() {
   s.sample_rate_hz = 1.0 / kDt;
   CountingTransport transport;
   CountingListener listener;
+  fw::WallEngine engine;
   fw::MonitorLoop loop;
   const std::uint64_t before_init = g_calls;
-  const fw::MonitorError e = loop.init(s, transport, &listener);
+  const fw::MonitorError e = loop.init(s, engine, transport, &listener);
   const std::uint64_t init_calls = g_calls - before_init;
   if (e != fw::MonitorError::ok) {
     std::fprintf(stderr, "FAIL: MonitorLoop::init: %s\n", fw::monitor_error_message(e));

@@ -5,7 +5,7 @@
 // malloc and operator new in a window are counted.
 //
 // A plain program, not a CppUTest suite (CppUTest replaces operator new for its leak bookkeeping), and not built
-// with sanitizers (ASan replaces malloc itself): tests/engine/CMakeLists.txt registers it as `engine_allocations`
+// with sanitizers (ASan replaces malloc itself): tests/firmware/proofs/CMakeLists.txt registers it as `engine_allocations`
 // only in builds without -fsanitize.
 #include <cstddef>
 #include <cstdint>

@@ -1,0 +1,43 @@
+// The monitor's engine in double precision (`rockwatch-monitor --arith double`): the chain of `rockwatch simulate
+// --arith double` (core::StepperAlarmChain over core::RockingStepper<double>: stepper, double indicators, the same
+// alarm) behind the firmware's engine seam (firmware::SampleEngine), so the monitor loop can run it. It supports the
+// full model as well as the linear one. Host code: firmware never includes this header.
+//
+// Why it exists: a lab that wants the monitor to agree with the double analysis to the last bit (or runs the full
+// model) and has a host with an FPU. Its price: its work per sample is bounded (at most kMaxSegmentsPerStep
+// segments) but not as even as the fixed-point engine's — the slowest sample measured is ~400 × the median
+// (docs/BENCHMARKS.md) — and on a Cortex-M4F double is software-emulated. The fixed-point engine stays the default.
+#pragma once
+
+#include "rockwatch/core/rocking_stepper.hpp"
+#include "rockwatch/core/stepper_alarm_chain.hpp"
+#include "rockwatch/firmware/sample_engine.hpp"
+
+namespace rockwatch::sim {
+
+using DoubleWallEngineOutput = core::AlarmChainOutput<core::RockingStepper<double>>;
+
+class DoubleWallEngine final : public firmware::SampleEngine {
+ public:
+  firmware::MonitorArithmetic arithmetic() const override { return firmware::MonitorArithmetic::double_precision; }
+  // The same validation and error codes as firmware::WallEngine::init (fixed-point format limits excepted);
+  // config.model may be full. The sensor axes are validated but not used (the input is in the wall's frame).
+  firmware::WallEngineError init(const firmware::WallEngineConfig& config) override;
+  // Wall at rest, alarm QUIET, with this sample as the current input (no step).
+  firmware::EngineSample start(double ug_mps2, double vg_mps2) override;
+  // The state restarts from rest, the alarm keeps its level.
+  firmware::EngineSample restart(double ug_mps2, double vg_mps2) override;
+  // One sample in the wall's frame [m/s²]: one engine step, the indicators, the alarm. Bounded work; no allocation.
+  firmware::EngineSample step(double ug_mps2, double vg_mps2) override;
+
+  const core::RockingStepper<double>& stepper() const { return chain_.stepper(); }
+  const DoubleWallEngineOutput& last() const { return out_; }
+
+ private:
+  firmware::EngineSample sample() const;
+
+  core::StepperAlarmChain<core::RockingStepper<double>> chain_{};
+  DoubleWallEngineOutput out_{};
+};
+
+}  // namespace rockwatch::sim

@@ -1,0 +1,51 @@
+#include "rockwatch/sim/double_wall_engine.hpp"
+
+namespace rockwatch::sim {
+
+using firmware::EngineSample;
+using firmware::WallEngineError;
+
+WallEngineError DoubleWallEngine::init(const firmware::WallEngineConfig& c) {
+  const WallEngineError common = firmware::validate_wall_engine_config(c);
+  if (common != WallEngineError::ok) return common;
+  core::StepperOptions so;
+  so.dt_s = c.dt_s;
+  so.kappa = c.kappa;
+  const core::StepperSetup<double> setup = core::make_stepper_setup(c.wall, c.model, c.r_energy, so);
+  // The same hold in steps as sim::analyse for this step. The double chain cannot refuse a valid configuration.
+  chain_.init(setup, c.alarm, c.dt_s);
+  out_ = DoubleWallEngineOutput{};
+  return WallEngineError::ok;
+}
+
+EngineSample DoubleWallEngine::start(double ug_mps2, double vg_mps2) {
+  chain_.reset(ug_mps2, vg_mps2);
+  out_ = DoubleWallEngineOutput{};
+  return sample();
+}
+
+EngineSample DoubleWallEngine::restart(double ug_mps2, double vg_mps2) {
+  chain_.restart_motion(ug_mps2, vg_mps2, out_);
+  return sample();
+}
+
+EngineSample DoubleWallEngine::step(double ug_mps2, double vg_mps2) {
+  chain_.step(ug_mps2, vg_mps2, out_);
+  return sample();
+}
+
+EngineSample DoubleWallEngine::sample() const {
+  const core::RockingStepper<double>& stepper = chain_.stepper();
+  EngineSample e;
+  e.x_m = stepper.state().x_m;
+  e.xd_mps = stepper.state().xd_mps;
+  e.energy_ratio = out_.indicators.energy_ratio;
+  if (out_.indicators.t_valid) e.t_to_instability_s = out_.indicators.t_to_instability_s;
+  e.side_positive = stepper.side() == core::Side::positive;
+  e.moving = stepper.moving();
+  e.input_invalid = out_.step.input_invalid;
+  e.alarm = out_.alarm;
+  return e;
+}
+
+}  // namespace rockwatch::sim
