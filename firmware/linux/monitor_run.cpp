@@ -21,9 +21,9 @@
 #include "lcm_transport.hpp"
 #include "monitor_config.hpp"
 #include "monitor_output.hpp"
-#include "option_values.hpp"
+#include "rockwatch/options/option_values.hpp"
+#include "rockwatch/options/usage_error.hpp"
 #include "traffic_log.hpp"
-#include "usage_error.hpp"
 
 namespace rockwatch::monitor {
 
