@@ -411,6 +411,18 @@ void check_every_sample_arrives(int batch) {
   }
 }
 
+// Whether process `pid` has a handler for SIGINT (bit SIGINT - 1 of SigCgt in /proc/PID/status).
+bool catches_sigint(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("SigCgt:", 0) != 0) continue;
+    const unsigned long long mask = std::stoull(line.substr(7), nullptr, 16);
+    return ((mask >> (SIGINT - 1)) & 1ULL) != 0;
+  }
+  return false;
+}
+
 }  // namespace
 
 TEST(ReplayMulticast, EverySampleArrivesAtOneKilohertz) { check_every_sample_arrives(0); }
@@ -427,7 +439,10 @@ TEST(ReplayInterrupt, SigintStopsAndReports) {
   const pid_t pid = rockwatch::test::spawn_rockwatch(
       concat({"replay"}, concat(suite_record("1", "X"), {"--lcm-url", "memq://", "--samples-out", csv_path, "--json"})),
       dir.file("out"), dir.file("err"));
-  usleep(500000);  // the record lasts 20 s in real time
+  // The record lasts 20 s in real time. Signal once the replay catches SIGINT (its handler is installed when the
+  // paced loop starts; a sanitized build can take longer than a fixed sleep to get there), then a little later.
+  for (int k = 0; k < 2000 && !catches_sigint(pid); ++k) usleep(10000);
+  usleep(300000);
   kill(pid, SIGINT);
   const int status = rockwatch::test::wait_status(pid);
   const std::string out = slurp(dir.file("out")), err = slurp(dir.file("err"));
