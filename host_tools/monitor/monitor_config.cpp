@@ -16,13 +16,15 @@
 
 #include <CLI/CLI.hpp>
 
-#include "command_line.hpp"
-#include "option_values.hpp"
 #include "rockwatch/core/model.hpp"
 #include "rockwatch/core/wall.hpp"
+#include "rockwatch/options/alarm_options.hpp"
+#include "rockwatch/options/command_line.hpp"
+#include "rockwatch/options/engine_options.hpp"
+#include "rockwatch/options/option_values.hpp"
+#include "rockwatch/options/usage_error.hpp"
+#include "rockwatch/options/wall_options.hpp"
 #include "rockwatch/sim/analysis.hpp"
-#include "usage_error.hpp"
-#include "wall_options.hpp"
 
 #ifndef ROCKWATCH_VERSION
 #define ROCKWATCH_VERSION "unknown"
@@ -43,7 +45,7 @@ struct RawOptions {
   std::string config, lcm_url, arith = "fixed", rate, offline_in, offline_out, log;
   cli::WallOptionTexts wall;
   std::string r = "exp", model = "linear", kappa;
-  std::string lambda_w, hold, margin;
+  cli::AlarmOptionTexts alarm;  // --lambda-w, --alarm-hold, --energy-margin (its arith and alarms are unused)
   bool print_config = false, version = false;
 };
 
@@ -88,20 +90,12 @@ void add_options(CLI::App& app, RawOptions& raw) {
                  "double (= `rockwatch simulate --arith double`; linear or full model)")
       ->type_name("fixed|double");
   cli::add_wall_options(app, raw.wall);
-  app.add_option("--r", raw.r, "Energy ratio at impact: ana | exp (default, 0.9 ana) | impulse | a value in [0, 1]")
-      ->type_name("R");
+  cli::add_restitution_option(app, raw.r);
   app.add_option("--model", raw.model, "Equation of motion: linear (default, the paper's; the fixed-point engine's "
                                        "only model) | full (with --arith double)")
       ->type_name("linear|full");
-  app.add_option("--kappa", raw.kappa, "Collapse at |x| >= kappa * x_inst (default 2, >= 1)")->type_name("K");
-  app.add_option("--lambda-w", raw.lambda_w, "WARNING when |x| >= lambda_w * x_inst, 0 < lambda_w <= 1 (default 0.4)")
-      ->type_name("X");
-  app.add_option("--alarm-hold", raw.hold,
-                 "Time the conditions must stay below a level before it falls [s], 0 to 3600 (default 1)")
-      ->type_name("S");
-  app.add_option("--energy-margin", raw.margin,
-                 "IMMINENT when E >= M * E_barrier moving outward, 1 <= M <= 100 (default 1.5)")
-      ->type_name("M");
+  cli::add_kappa_option(app, raw.kappa);
+  cli::add_alarm_setting_options(app, raw.alarm, "");
   app.add_option("--rate", raw.rate, "Expected input sample rate [Hz] (default 200); the engine steps once per sample")
       ->type_name("HZ");
   app.add_option("--offline-in", raw.offline_in, "Offline mode: read this LCM log instead of listening")
@@ -570,7 +564,7 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
   engine.r_energy = core::restitution_energy_ratio(engine.wall, r.value);
 
   // Kappa (the engine takes [1, 100)).
-  Sourced<double> kappa = pick(2.0, file.kappa, file_label("kappa"));
+  Sourced<double> kappa = pick(cli::default_kappa(), file.kappa, file_label("kappa"));
   if (cli::given(app, "--kappa")) kappa = {cli::parse_kappa("--kappa", raw.kappa), "--kappa"};
   check_range(kappa.value >= 1.0, name_of(kappa.origin, "kappa"), ">= 1: collapse cannot come before x_inst",
               kappa.value);
@@ -583,17 +577,18 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
   Sourced<double> lambda_w = pick(alarm_defaults.lambda_warning, file.lambda_w, file_label("alarm.lambda_w"));
   Sourced<double> hold = pick(alarm_defaults.hold_s, file.hold_s, file_label("alarm.hold_s"));
   Sourced<double> margin = pick(alarm_defaults.energy_margin, file.energy_margin, file_label("alarm.energy_margin"));
-  if (cli::given(app, "--lambda-w")) lambda_w = {cli::parse_finite_number("--lambda-w", raw.lambda_w), "--lambda-w"};
-  if (cli::given(app, "--alarm-hold")) hold = {cli::parse_finite_number("--alarm-hold", raw.hold), "--alarm-hold"};
-  if (cli::given(app, "--energy-margin")) {
-    margin = {cli::parse_finite_number("--energy-margin", raw.margin), "--energy-margin"};
+  if (cli::given(app, "--lambda-w")) {
+    lambda_w = {cli::parse_finite_number("--lambda-w", raw.alarm.lambda_w), "--lambda-w"};
   }
-  check_range(lambda_w.value > 0.0 && lambda_w.value <= 1.0, name_of(lambda_w.origin, "lambda_w"),
-              "in (0, 1], a fraction of x_inst", lambda_w.value);
-  check_range(hold.value >= 0.0 && hold.value <= 3600.0, name_of(hold.origin, "hold_s"), "in [0, 3600] s",
-              hold.value);
-  check_range(margin.value >= 1.0 && margin.value <= 100.0, name_of(margin.origin, "energy_margin"),
-              "in [1, 100], a multiple of the energy barrier", margin.value);
+  if (cli::given(app, "--alarm-hold")) {
+    hold = {cli::parse_finite_number("--alarm-hold", raw.alarm.hold), "--alarm-hold"};
+  }
+  if (cli::given(app, "--energy-margin")) {
+    margin = {cli::parse_finite_number("--energy-margin", raw.alarm.margin), "--energy-margin"};
+  }
+  cli::check_lambda_w(name_of(lambda_w.origin, "lambda_w"), lambda_w.value);
+  cli::check_alarm_hold(name_of(hold.origin, "hold_s"), hold.value);
+  cli::check_energy_margin(name_of(margin.origin, "energy_margin"), margin.value);
   engine.alarm.lambda_warning = lambda_w.value;
   engine.alarm.hold_s = hold.value;
   engine.alarm.energy_margin = margin.value;

@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "alarm_options.hpp"
+#include "rockwatch/options/alarm_options.hpp"
 
 namespace rockwatch::monitor {
 

@@ -22,13 +22,13 @@
 #include "lcm_transport.hpp"
 #include "monitor_config.hpp"
 #include "monitor_output.hpp"
-#include "option_values.hpp"
 #include "rockwatch/firmware/wall_engine.hpp"
+#include "rockwatch/options/option_values.hpp"
+#include "rockwatch/options/usage_error.hpp"
 #include "rockwatch/sim/double_wall_engine.hpp"
 #include "service_notify.hpp"
 #include "traffic_log.hpp"
 #include "udp_receiver.hpp"
-#include "usage_error.hpp"
 
 namespace rockwatch::monitor {
 

@@ -11,7 +11,7 @@
 
 #include "fuzz_support.hpp"
 #include "monitor_config.hpp"
-#include "usage_error.hpp"
+#include "rockwatch/options/usage_error.hpp"
 
 using namespace rockwatch;
 

@@ -17,9 +17,9 @@
 
 #include <lcm/lcm-cpp.hpp>
 
-#include "input_motion.hpp"
+#include "common/input_motion.hpp"
 #include "rockwatch/ground_accel_t.hpp"
-#include "simulate_request.hpp"
+#include "simulate/simulate_request.hpp"
 
 namespace {
 
@@ -47,7 +47,8 @@ int make_log(int argc, char** argv) {
     std::cerr << parse.help_text;
     return 2;
   }
-  const rockwatch::cli::InputMotion input = rockwatch::cli::prepare_input(*parse.request);
+  const rockwatch::cli::InputMotion input = rockwatch::cli::prepare_input(
+      rockwatch::cli::InputRequest{parse.request->record, parse.request->scale_pga_g, parse.request->wall.g_mps2});
   const rockwatch::sim::GroundMotion& motion = input.motion;
   const auto period_us = static_cast<std::int64_t>(std::llround(motion.dt_s * 1e6));
   if (std::fabs(static_cast<double>(period_us) - motion.dt_s * 1e6) > 1e-6) {

@@ -73,12 +73,11 @@ pid_t start_monitor_listening(const std::vector<std::string>& arguments, const s
   const pid_t pid = spawn_monitor(arguments, out_path, err_path);
   const double deadline = now_s() + 20.0;
   while (read_file(err_path).find("listening on") == std::string::npos) {
-    int status = 0;
-    if (waitpid(pid, &status, WNOHANG) == pid) {
+    if (process::poll_status(pid)) {
       FAIL(("the monitor exited before listening:\n" + read_file(err_path)).c_str());
     }
     if (now_s() > deadline) {
-      kill(pid, SIGKILL);
+      process::send_signal(pid, SIGKILL);
       wait_status(pid);
       FAIL("the monitor did not say it listens within 20 s");
     }

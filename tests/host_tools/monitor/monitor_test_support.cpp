@@ -1,8 +1,5 @@
 #include "monitor_test_support.hpp"
 
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cstring>
@@ -17,41 +14,7 @@
 
 #include "monitor_config.hpp"  // fnv1a64
 
-extern char** environ;
-
 namespace rockwatch::test {
-
-pid_t spawn_program(const std::string& path, const std::vector<std::string>& arguments, const std::string& out_path,
-                    const std::string& err_path) {
-  std::vector<std::string> args{path};
-  args.insert(args.end(), arguments.begin(), arguments.end());
-  std::vector<char*> argv;
-  for (std::string& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, 1, out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_addopen(&actions, 2, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  pid_t pid = 0;
-  const int spawn_error = posix_spawn(&pid, path.c_str(), &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (spawn_error != 0) throw std::runtime_error("cannot start " + path + ": " + std::strerror(spawn_error));
-  return pid;
-}
-
-ProcessResult run_program(const std::string& path, const std::vector<std::string>& arguments) {
-  const TempDir capture;
-  const std::string out_path = capture.file("stdout"), err_path = capture.file("stderr");
-  const int status = wait_status(spawn_program(path, arguments, out_path, err_path));
-  ProcessResult result;
-  if (WIFEXITED(status)) result.exit_status = WEXITSTATUS(status);
-  if (WIFSIGNALED(status)) result.signal = WTERMSIG(status);
-  result.out = read_file(out_path);
-  result.err = read_file(err_path);
-  return result;
-}
 
 ProcessResult run_monitor(const std::vector<std::string>& arguments) {
   return run_program(ROCKWATCH_MONITOR_PATH, arguments);

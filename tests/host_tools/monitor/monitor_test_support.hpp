@@ -10,18 +10,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cli_process.hpp"  // ProcessResult, TempDir, EnvOverride, wait_status
+#include "cli_process.hpp"  // ProcessResult, run_program, spawn_program, TempDir, EnvOverride, wait_status
 #include "rockwatch/alarm_event_t.hpp"
 #include "rockwatch/monitor_status_t.hpp"
 #include "rockwatch/wall_state_t.hpp"
 
 namespace rockwatch::test {
-
-// Runs `path` with `arguments` (argv[1] onwards), stdin from /dev/null, and captures stdout and stderr.
-ProcessResult run_program(const std::string& path, const std::vector<std::string>& arguments);
-// Starts `path` without waiting, stdout and stderr to the files named.
-pid_t spawn_program(const std::string& path, const std::vector<std::string>& arguments, const std::string& out_path,
-                    const std::string& err_path);
 
 ProcessResult run_monitor(const std::vector<std::string>& arguments);
 pid_t spawn_monitor(const std::vector<std::string>& arguments, const std::string& out_path,

@@ -1,0 +1,59 @@
+// The engine options shared by simulate and study: --arith fixed|double (the engine's arithmetic) and the instability
+// alarm, --alarms with --lambda-w, --alarm-hold and --energy-margin (core::AlarmSettings), validated with messages that
+// name the option at fault. rockwatch-monitor registers and checks the alarm settings with the same functions.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "rockwatch/core/alarm.hpp"
+#include "rockwatch/sim/analysis.hpp"
+
+namespace rockwatch::cli {
+
+struct AlarmOptionTexts {
+  std::string arith = "double";
+  bool alarms = false;
+  std::string lambda_w, hold, margin;
+};
+
+// The alarm settings' ranges (core::AlarmSettings): lambda_w in (0, 1], the hold in [0, kMaxAlarmHold_s] s, the
+// energy margin in [kMinEnergyMargin, kMaxEnergyMargin].
+inline constexpr double kMaxAlarmHold_s = 3600.0;
+inline constexpr double kMinEnergyMargin = 1.0;
+inline constexpr double kMaxEnergyMargin = 100.0;
+
+// The one check of each setting, for the command lines of `rockwatch simulate`, `rockwatch study` and
+// rockwatch-monitor and the monitor's configuration file: throws UsageError "<name> must be <range> (got <value>)".
+void check_lambda_w(const std::string& name, double value);
+void check_alarm_hold(const std::string& name, double value);
+void check_energy_margin(const std::string& name, double value);
+// The ranges as the messages say them: "in (0, 1], a fraction of x_inst", "in [0, 3600] s", ...
+std::string lambda_w_range_text();
+std::string alarm_hold_range_text();
+std::string energy_margin_range_text();
+
+// Registers --lambda-w, --alarm-hold and --energy-margin, in that order, their help starting with `help_prefix`
+// ("With --alarms: " in the tool; "" in the monitor, whose alarm always runs) and stating core::AlarmSettings's
+// defaults.
+void add_alarm_setting_options(CLI::App& app, AlarmOptionTexts& texts, const std::string& help_prefix);
+
+// Registers --arith, --alarms, --lambda-w, --alarm-hold and --energy-margin, in that order.
+void add_alarm_options(CLI::App& app, AlarmOptionTexts& texts);
+
+// Sets options.arithmetic, evaluate_alarm and alarm. The alarm settings without --alarms, --arith fixed with a model
+// other than linear (set options.model first) and values out of range throw UsageError naming the option.
+void parse_alarm_options(const CLI::App& app, const AlarmOptionTexts& texts, sim::AnalysisOptions& options);
+
+// "double" | "fixed".
+const char* arithmetic_name(sim::Arithmetic arithmetic);
+
+// The alarm_reason bits by name, in bit order ("moving", "energy_over_barrier_outward", ...; "bitN" for a bit this
+// tool does not know), and the same joined with ", " ("none" for 0).
+std::vector<std::string> alarm_reason_list(std::uint32_t reasons);
+std::string alarm_reason_names(std::uint32_t reasons);
+
+}  // namespace rockwatch::cli

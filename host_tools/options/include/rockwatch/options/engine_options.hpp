@@ -1,0 +1,20 @@
+// The engine options that `rockwatch simulate`, `rockwatch study` and rockwatch-monitor share: --r (one restitution)
+// and --kappa, declared once so their names, help and defaults cannot drift apart.
+#pragma once
+
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+namespace rockwatch::cli {
+
+// The collapse factor when --kappa is not given (sim::AnalysisOptions's).
+double default_kappa();
+
+// Registers --r: one restitution, ana | exp | impulse | a value in [0, 1] (parse_restitution reads it).
+void add_restitution_option(CLI::App& app, std::string& text);
+
+// Registers --kappa (parse_kappa reads it); the help states default_kappa().
+void add_kappa_option(CLI::App& app, std::string& text);
+
+}  // namespace rockwatch::cli

@@ -1,0 +1,142 @@
+#include "rockwatch/options/alarm_options.hpp"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "rockwatch/options/command_line.hpp"
+#include "rockwatch/options/option_values.hpp"
+#include "rockwatch/options/usage_error.hpp"
+
+namespace rockwatch::cli {
+
+namespace {
+
+std::string range_closed(double low, double high) { return "[" + number_text(low) + ", " + number_text(high) + "]"; }
+
+}  // namespace
+
+std::string lambda_w_range_text() { return "in (0, 1], a fraction of x_inst"; }
+std::string alarm_hold_range_text() { return "in " + range_closed(0.0, kMaxAlarmHold_s) + " s"; }
+std::string energy_margin_range_text() {
+  return "in " + range_closed(kMinEnergyMargin, kMaxEnergyMargin) + ", a multiple of the energy barrier";
+}
+
+void check_lambda_w(const std::string& name, double value) {
+  if (!(value > 0.0 && value <= 1.0)) {
+    throw UsageError(name + " must be " + lambda_w_range_text() + " (got " + number_text(value) + ")");
+  }
+}
+
+void check_alarm_hold(const std::string& name, double value) {
+  if (!(value >= 0.0 && value <= kMaxAlarmHold_s)) {
+    throw UsageError(name + " must be " + alarm_hold_range_text() + " (got " + number_text(value) + ")");
+  }
+}
+
+void check_energy_margin(const std::string& name, double value) {
+  if (!(value >= kMinEnergyMargin && value <= kMaxEnergyMargin)) {
+    throw UsageError(name + " must be " + energy_margin_range_text() + " (got " + number_text(value) + ")");
+  }
+}
+
+void add_alarm_setting_options(CLI::App& app, AlarmOptionTexts& texts, const std::string& help_prefix) {
+  const core::AlarmSettings defaults{};
+  // After a prefix the sentence goes on in lower case; without one it starts with a capital.
+  const std::string time_the = help_prefix.empty() ? "Time the" : help_prefix + "time the";
+  app.add_option("--lambda-w", texts.lambda_w,
+                 help_prefix + "WARNING when |x| >= lambda_w * x_inst, 0 < lambda_w <= 1 (default " +
+                     number_text(defaults.lambda_warning) + ")")
+      ->type_name("X");
+  app.add_option("--alarm-hold", texts.hold,
+                 time_the + " conditions must stay below a level before it falls [s], 0 to " +
+                     number_text(kMaxAlarmHold_s) + " (default " + number_text(defaults.hold_s) + ")")
+      ->type_name("S");
+  app.add_option("--energy-margin", texts.margin,
+                 help_prefix + "IMMINENT when E >= M * E_barrier moving outward, " + number_text(kMinEnergyMargin) +
+                     " <= M <= " + number_text(kMaxEnergyMargin) + " (default " +
+                     number_text(defaults.energy_margin) + ")")
+      ->type_name("M");
+}
+
+void add_alarm_options(CLI::App& app, AlarmOptionTexts& texts) {
+  app.add_option("--arith", texts.arith,
+                 "Engine arithmetic: double (default, the verified engine) | fixed (the monitor's fixed-point engine; "
+                 "linear model only)")
+      ->type_name("fixed|double");
+  app.add_flag("--alarms", texts.alarms,
+               "Run the instability alarm (QUIET, ROCKING, WARNING, IMMINENT, COLLAPSED) after every integration step");
+  add_alarm_setting_options(app, texts, "With --alarms: ");
+}
+
+void parse_alarm_options(const CLI::App& app, const AlarmOptionTexts& texts, sim::AnalysisOptions& options) {
+  if (texts.arith == "double") {
+    options.arithmetic = sim::Arithmetic::double_precision;
+  } else if (texts.arith == "fixed") {
+    options.arithmetic = sim::Arithmetic::fixed_point;
+    if (options.model != core::ModelKind::linear) {
+      throw UsageError("--arith fixed supports the linear model only (got --model " +
+                       std::string(model_name(options.model)) + ")");
+    }
+  } else {
+    throw UsageError("--arith must be fixed or double (got " + quoted(texts.arith) + ")");
+  }
+
+  options.evaluate_alarm = texts.alarms;
+  for (const char* option : {"--lambda-w", "--alarm-hold", "--energy-margin"}) {
+    if (given(app, option) && !texts.alarms) {
+      throw UsageError(std::string(option) + " sets the instability alarm: give --alarms too");
+    }
+  }
+  core::AlarmSettings& a = options.alarm;
+  if (given(app, "--lambda-w")) {
+    a.lambda_warning = parse_finite_number("--lambda-w", texts.lambda_w);
+    check_lambda_w("--lambda-w", a.lambda_warning);
+  }
+  if (given(app, "--alarm-hold")) {
+    a.hold_s = parse_finite_number("--alarm-hold", texts.hold);
+    check_alarm_hold("--alarm-hold", a.hold_s);
+  }
+  if (given(app, "--energy-margin")) {
+    a.energy_margin = parse_finite_number("--energy-margin", texts.margin);
+    check_energy_margin("--energy-margin", a.energy_margin);
+  }
+}
+
+const char* arithmetic_name(sim::Arithmetic arithmetic) {
+  return arithmetic == sim::Arithmetic::fixed_point ? "fixed" : "double";
+}
+
+std::vector<std::string> alarm_reason_list(std::uint32_t reasons) {
+  namespace bit = core::alarm_reason;
+  const struct {
+    std::uint32_t bit;
+    const char* name;
+  } names[] = {{bit::moving, "moving"},
+               {bit::over_warning_displacement, "over_warning_displacement"},
+               {bit::energy_over_barrier_outward, "energy_over_barrier_outward"},
+               {bit::over_instability_displacement, "over_instability_displacement"},
+               {bit::over_collapse_displacement, "over_collapse_displacement"},
+               {bit::held, "held"},
+               {bit::input_invalid, "input_invalid"},
+               {bit::arithmetic_saturated, "arithmetic_saturated"}};
+  std::vector<std::string> list;
+  std::uint32_t known = 0;
+  for (const auto& n : names) {
+    known |= n.bit;
+    if ((reasons & n.bit) != 0) list.emplace_back(n.name);
+  }
+  for (int b = 0; b < 32; ++b) {
+    const std::uint32_t mask = std::uint32_t{1} << b;
+    if ((reasons & mask & ~known) != 0) list.push_back("bit" + std::to_string(b));  // a reason newer than this tool
+  }
+  return list;
+}
+
+std::string alarm_reason_names(std::uint32_t reasons) {
+  std::string text;
+  for (const std::string& name : alarm_reason_list(reasons)) text += (text.empty() ? "" : ", ") + name;
+  return text.empty() ? std::string("none") : text;
+}
+
+}  // namespace rockwatch::cli

@@ -1,0 +1,23 @@
+#include "rockwatch/options/engine_options.hpp"
+
+#include <string>
+
+#include "rockwatch/options/option_values.hpp"
+#include "rockwatch/sim/analysis.hpp"
+
+namespace rockwatch::cli {
+
+double default_kappa() { return sim::AnalysisOptions{}.kappa; }
+
+void add_restitution_option(CLI::App& app, std::string& text) {
+  app.add_option("--r", text, "Energy ratio at impact: ana | exp (default, 0.9 ana) | impulse | a value in [0, 1]")
+      ->type_name("R");
+}
+
+void add_kappa_option(CLI::App& app, std::string& text) {
+  app.add_option("--kappa", text,
+                 "Collapse at |x| >= kappa * x_inst (default " + number_text(default_kappa()) + ", >= 1)")
+      ->type_name("K");
+}
+
+}  // namespace rockwatch::cli

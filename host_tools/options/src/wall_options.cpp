@@ -1,0 +1,101 @@
+#include "rockwatch/options/wall_options.hpp"
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "rockwatch/core/model.hpp"
+#include "rockwatch/core/restitution.hpp"
+#include "rockwatch/options/command_line.hpp"
+#include "rockwatch/options/option_values.hpp"
+#include "rockwatch/options/usage_error.hpp"
+
+namespace rockwatch::cli {
+
+namespace {
+
+struct WallField {
+  const char* field;   // core::validate_wall's name
+  const char* option;  // the option that sets it
+  double core::WallParameters::*member;
+  std::string WallOptionTexts::*text;
+};
+
+constexpr WallField kWallFields[] = {
+    {"b", "--b", &core::WallParameters::b_m, &WallOptionTexts::b},
+    {"h1", "--h1", &core::WallParameters::h1_m, &WallOptionTexts::h1},
+    {"h2", "--h2", &core::WallParameters::h2_m, &WallOptionTexts::h2},
+    {"rho", "--rho", &core::WallParameters::rho_kgpm3, &WallOptionTexts::rho},
+    {"fp", "--fp", &core::WallParameters::fp_npm, &WallOptionTexts::fp},
+    {"a", "--a", &core::WallParameters::a, &WallOptionTexts::a},
+    {"a_prime", "--a-prime", &core::WallParameters::a_prime, &WallOptionTexts::a_prime},
+    {"g", "--g", &core::WallParameters::g_mps2, &WallOptionTexts::g},
+};
+
+// Names the option at fault, and says when its value was the base wall's rather than the user's.
+[[noreturn]] void report_invalid_wall(const CLI::App& app, const core::WallParameters& wall,
+                                      const core::WallCheck& check) {
+  for (const WallField& f : kWallFields) {
+    if (std::string(check.field) != f.field) continue;
+    std::string message = std::string(f.option) + " " + check.message + " (got " + number_text(wall.*f.member);
+    if (!given(app, f.option)) message += ", the paper wall's value";
+    const bool compares_with_b =
+        check.code == core::WallError::h1_not_above_b || check.code == core::WallError::h2_not_above_b;
+    if (compares_with_b && given(app, "--b")) message += "; --b " + number_text(wall.b_m);
+    throw UsageError(message + ")");
+  }
+  throw UsageError(std::string("wall parameter ") + check.field + " " + check.message);
+}
+
+}  // namespace
+
+void add_wall_options(CLI::App& app, WallOptionTexts& texts) {
+  app.add_option("--wall", texts.wall, "Base wall: paper (b 0.10, h1 = h2 = 1.75, rho 1800, Fp 0, a = a' = 0)")
+      ->type_name("paper");
+  app.add_option("--b", texts.b, "Wall thickness b [m]")->type_name("M");
+  app.add_option("--h1", texts.h1, "Bottom block height, ground to mid-height hinge [m]")->type_name("M");
+  app.add_option("--h2", texts.h2, "Top block height, mid-height hinge to top restraint [m]")->type_name("M");
+  app.add_option("--rho", texts.rho, "Masonry density [kg/m3]")->type_name("KG_M3");
+  app.add_option("--fp", texts.fp, "Overburden on the top of the wall [N per m of wall]")->type_name("N_PER_M");
+  app.add_option("--a", texts.a, "Overburden eccentricity while x < 0, fraction of b from the top hinge, in [0, 1]")
+      ->type_name("A");
+  app.add_option("--a-prime", texts.a_prime, "Overburden eccentricity while x > 0, fraction of b, in [0, 1]")
+      ->type_name("A");
+  app.add_option("--g", texts.g, "Gravity [m/s2] (default 9.81); also converts records in units of g")
+      ->type_name("MPS2");
+}
+
+WallChoice parse_wall_options(const CLI::App& app, const WallOptionTexts& texts) {
+  if (texts.wall != "paper") {
+    throw UsageError("--wall must be paper, the only built-in wall (got " + quoted(texts.wall) +
+                     "); set its dimensions with --b, --h1, --h2, --rho, --fp, --a, --a-prime");
+  }
+  WallChoice choice;
+  choice.name = texts.wall;
+  for (const WallField& f : kWallFields) {
+    if (!given(app, f.option)) continue;
+    choice.wall.*f.member = parse_finite_number(f.option, texts.*f.text);
+    choice.options_given.emplace_back(f.option);
+  }
+  const core::WallCheck check = core::validate_wall(choice.wall);
+  if (!check.ok()) report_invalid_wall(app, choice.wall, check);
+  return choice;
+}
+
+void check_computable(const core::WallParameters& wall, const sim::AnalysisOptions& options) {
+  const core::ModelConstants<double> c = core::model_constants(wall, options.model);
+  const double r = core::restitution_energy_ratio(wall, options.restitution);
+  for (const core::Side side : {core::Side::negative, core::Side::positive}) {
+    const double x_inst_m = core::x_inst_m(c, side, wall.g_mps2);
+    const double threshold_mps2 = core::threshold_mps2(c, side, wall.g_mps2);
+    const bool ok = std::isfinite(x_inst_m) && x_inst_m > 0.0 && std::isfinite(threshold_mps2) &&
+                    threshold_mps2 > 0.0 && std::isfinite(r) && r >= 0.0 && r <= 1.0;
+    if (!ok) {
+      throw UsageError("the wall options give values the model cannot compute (x_inst = " + number_text(x_inst_m) +
+                       " m, threshold = " + number_text(threshold_mps2) + " m/s2, r = " + number_text(r) +
+                       "): check --b, --h1, --h2, --rho, --fp and --g for extreme values");
+    }
+  }
+}
+
+}  // namespace rockwatch::cli

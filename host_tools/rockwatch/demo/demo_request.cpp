@@ -1,0 +1,151 @@
+#include "demo/demo_request.hpp"
+
+#include <cmath>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <utility>
+
+#include <CLI/CLI.hpp>
+
+#include "common/lcm_multicast.hpp"
+#include "common/replay_stream.hpp"
+#include "common/shipped_suite.hpp"
+#include "rockwatch/options/command_line.hpp"
+#include "rockwatch/options/option_values.hpp"
+#include "rockwatch/options/usage_error.hpp"
+
+namespace rockwatch::cli {
+
+namespace {
+
+constexpr double kMaxDemoSpeed = 20.0;
+constexpr double kMinDemoSpeed = 0.01;
+// rockwatch-monitor's range (host_tools/monitor/monitor_config.cpp: a sample period of at most 0.03 s, up to 10 kHz): a
+// rate outside it would only fail once the monitor starts.
+constexpr double kMinDemoRateHz = 1.0 / 0.03;
+// A PGA above this many g is no earthquake.
+constexpr double kMaxDemoPga_g = 10.0;
+
+struct RawOptions {
+  std::string suite, set, pga, rate, speed, lcm_url, monitor, out;
+};
+
+const char* const kFooter =
+    "What it does:\n"
+    "  1. checks that LCM multicast works on this machine (a probe message sent and received within 1 s); if not,\n"
+    "     it says what to do and exits with 2;\n"
+    "  2. for component Y, then X, of suite set --set scaled to --pga (the shipped suite: Y collapses the paper's\n"
+    "     wall at 0.25 g, X does not): starts rockwatch-monitor (a fresh one per record), replays the record to it\n"
+    "     over LCM as `rockwatch replay` does (ground_accel_t at --rate, absolute deadlines), stops it and collects\n"
+    "     the alarm transitions it printed;\n"
+    "  3. runs the same samples offline through the fixed-point engine (`rockwatch simulate --arith fixed\n"
+    "     --alarms`) and prints both timelines side by side: they match when they have the same transitions, each\n"
+    "     in the same sample or the next (the offline COLLAPSED time is located inside the sample interval).\n"
+    "\n"
+    "--speed above about 4 can lose datagrams on a busy machine (the socket buffers fill); the demo then reports\n"
+    "how many samples the monitor received, and the timelines may differ where the monitor bridged the gap.\n"
+    "\n"
+    "The monitor is $ROCKWATCH_MONITOR, else rockwatch-monitor next to this rockwatch executable (--monitor overrides\n"
+    "both). It runs with --lcm-url, --rate, the paper wall, --r exp, --kappa 2 and the default alarm settings.\n"
+    "\n"
+    "Exit status: 0 the monitor's timelines match the offline ones, 1 they do not (or the monitor failed),\n"
+    "2 invalid options, no multicast, or no monitor; 130 interrupted.\n"
+    "\n"
+    "Examples:\n"
+    "  rockwatch demo\n"
+    "  rockwatch demo --speed 4 --out demo-run\n";
+
+void add_options(CLI::App& app, RawOptions& raw) {
+  app.add_option("--suite", raw.suite, "Suite directory (default: the shipped npr9998-2015 suite)")->type_name("DIR");
+  app.add_option("--set", raw.set, "Record set of the suite (default 3)")->type_name("N");
+  app.add_option("--pga", raw.pga, "Scale each record to peak |u''| = G*g (default 0.25)")->type_name("G");
+  app.add_option("--rate", raw.rate, "Sample rate of the replay and the monitor (default 200)")->type_name("HZ");
+  app.add_option("--speed", raw.speed, "Replay speed: 1 real time (default), 4 four times as fast")->type_name("X");
+  app.add_option("--lcm-url", raw.lcm_url, std::string("LCM URL (default ") + kDefaultLcmUrl + ")")->type_name("URL");
+  app.add_option("--monitor", raw.monitor, "The rockwatch-monitor executable")->type_name("PATH");
+  app.add_option("--out", raw.out, "Keep each record's samples, monitor output and timelines in DIR")->type_name("DIR");
+  app.footer(kFooter);
+}
+
+}  // namespace
+
+DemoParse parse_demo_arguments(int argc, const char* const* argv) {
+  CLI::App app{
+      "The main job: rockwatch-monitor watching the paper's wall live over LCM while two suite records are "
+      "replayed to it, one that collapses the wall and one it survives; its alarm timeline beside the "
+      "offline simulation of the same samples.",
+      "rockwatch demo"};
+  RawOptions raw;
+  add_options(app, raw);
+  if (std::optional<std::string> help = parse_command_line(app, argc, argv, "demo")) {
+    return DemoParse{std::nullopt, std::move(*help)};
+  }
+  DemoRequest q;
+  if (given(app, "--suite")) {
+    if (raw.suite.empty()) throw UsageError("--suite needs a suite directory");
+    check_input_directory("--suite", raw.suite, "a suite directory written by rockwatch generate");
+    q.suite_dir = raw.suite;
+    q.suite_found_by = "--suite";
+  } else {
+    const SuiteLocation shipped = find_shipped_suite();
+    q.suite_dir = shipped.dir;
+    q.suite_found_by = shipped.found_by;
+  }
+  if (given(app, "--set")) {
+    const std::optional<std::uint64_t> set = whole_number(raw.set, 1, 100);
+    if (!set)
+      throw UsageError("--set must be a whole number from 1 to 100, a set of the suite (got " + cli::quoted(raw.set) +
+                       ")");
+    q.set = static_cast<int>(*set);
+  }
+  if (given(app, "--pga")) {
+    q.pga_g = parse_positive_number("--pga", raw.pga, " (a multiple of g)");
+    if (q.pga_g > kMaxDemoPga_g) {
+      throw UsageError("--pga must be at most " + number_text(kMaxDemoPga_g) + " g (got " + number_text(q.pga_g) + ")");
+    }
+  }
+  if (given(app, "--rate")) {
+    q.rate_hz = parse_positive_number("--rate", raw.rate, " Hz");
+    if (q.rate_hz > kMaxReplayRateHz || !(1.0 / q.rate_hz <= 0.03)) {
+      throw UsageError("--rate must be from " + number_text(std::ceil(kMinDemoRateHz * 100.0) / 100.0) + " to " +
+                       number_text(kMaxReplayRateHz) +
+                       " Hz, the monitor's range (a sample period of at most 0.03 s; got " + number_text(q.rate_hz) +
+                       ")");
+    }
+  }
+  if (given(app, "--speed")) {
+    q.speed = parse_positive_number("--speed", raw.speed, " (1 real time, 4 four times as fast)");
+    if (q.speed < kMinDemoSpeed) {
+      throw UsageError("--speed must be at least " + number_text(kMinDemoSpeed) +
+                       ": slower, the two records would take hours to replay (got " + number_text(q.speed) + ")");
+    }
+    if (q.speed > kMaxDemoSpeed) {
+      throw UsageError("--speed must be at most " + number_text(kMaxDemoSpeed) +
+                       ": faster, datagrams get lost on a busy machine and the comparison tests the network, not the "
+                       "monitor (got " +
+                       number_text(q.speed) + ")");
+    }
+  }
+  q.lcm_url = kDefaultLcmUrl;
+  if (given(app, "--lcm-url")) {
+    if (raw.lcm_url.rfind("udpm://", 0) != 0) {
+      throw UsageError(
+          "--lcm-url must be a UDP multicast URL udpm://GROUP:PORT?ttl=0, which the monitor, another "
+          "process, can receive (got " +
+          cli::quoted(raw.lcm_url) + "; default " + kDefaultLcmUrl + ")");
+    }
+    q.lcm_url = raw.lcm_url;
+  }
+  if (given(app, "--monitor")) {
+    if (raw.monitor.empty()) throw UsageError("--monitor needs the path of rockwatch-monitor");
+    q.monitor = raw.monitor;
+  }
+  if (given(app, "--out")) {
+    if (raw.out.empty()) throw UsageError("--out needs a directory");
+    q.out_dir = raw.out;
+  }
+  return DemoParse{q, {}};
+}
+
+}  // namespace rockwatch::cli

@@ -1,0 +1,39 @@
+// What `rockwatch replay` was asked to do, parsed and validated from its command line: the record (the record options
+// of `rockwatch simulate`), the rate it is resampled to, the sensor model, the pacing and where the samples go (LCM,
+// an LCM log, a CSV of the samples).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "common/record_selection.hpp"
+#include "common/replay_stream.hpp"
+
+namespace rockwatch::cli {
+
+struct ReplayRequest {
+  RecordSelection record;             // --record or --suite, --vertical, --units, --dt, ...
+  std::optional<double> scale_pga_g;  // peak |ü| = G·g (g = 9.81 m/s²)
+  double g_mps2 = 9.81;               // converts records in g and --scale-pga
+  double rate_hz = 200.0;             // --rate: the samples sent per second of record time
+  double speed = 1.0;                 // --speed: 1 real time, 2 twice as fast, 0 as fast as possible
+  bool publish = true;                // over LCM (false: --log without --lcm-url)
+  std::string lcm_url;
+  std::string channel;  // --lcm-channel, default by message type
+  int batch = 0;        // --batch N: ground_accel_batch_t of up to N samples; 0 = ground_accel_t
+  SensorModel sensor;
+  std::optional<std::string> log_path;          // --log FILE: a standard LCM log of the messages
+  std::optional<std::string> samples_out_path;  // --samples-out FILE: the samples as sent, CSV
+  bool json = false;
+};
+
+struct ReplayParse {
+  std::optional<ReplayRequest> request;  // empty for --help
+  std::string help_text;
+};
+
+// Parses `rockwatch replay` arguments (argv[0] is the command name). Throws UsageError naming the option at fault.
+ReplayParse parse_replay_arguments(int argc, const char* const* argv);
+
+}  // namespace rockwatch::cli

@@ -1,0 +1,90 @@
+// `rockwatch simulate`: one record (pair) through sim::analyse, the engine every tool shares. This file only wires
+// the parts together and maps every failure to a one-line message and exit status 2; the CLI adds no physics.
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+#include <string>
+#include <system_error>
+
+#include "common/command_runner.hpp"
+#include "common/commands.hpp"
+#include "common/history_csv.hpp"
+#include "common/input_motion.hpp"
+#include "common/output_file.hpp"
+#include "rockwatch/options/option_values.hpp"
+#include "rockwatch/options/usage_error.hpp"
+#include "rockwatch/sim/analysis.hpp"
+#include "simulate/simulate_report.hpp"
+#include "simulate/simulate_request.hpp"
+
+namespace rockwatch::cli {
+
+namespace {
+
+constexpr CommandErrors kErrors{"rockwatch simulate: error: ", "out of memory (a very long record or --out history?)"};
+
+// Bounds on the work one run may ask for: a typo such as --max-step 1e-9 or --t-end 1e9 should be an error message,
+// not hours of computing or an exhausted machine. A 10-minute record at 0.5 ms is 1.2e6 steps.
+constexpr double kMaxIntegrationSteps = 1e8;
+constexpr double kMaxHistoryRows = 2e7;  // --out keeps every step in memory before writing
+
+void check_work_size(const SimulateRequest& q, const InputMotion& in) {
+  const double dt_s = in.motion.dt_s;
+  const double n_sub = std::fmax(1.0, std::ceil(dt_s / q.analysis.max_step_s - 1e-9));  // as sim::analyse does
+  const double h_s = dt_s / n_sub;
+  const double t_end_s = q.analysis.t_end_s ? *q.analysis.t_end_s : in.motion.duration_s();
+  const double worst_steps = (t_end_s + q.analysis.free_motion_limit_s) / h_s;
+  const double limit = q.analysis.keep_history ? kMaxHistoryRows : kMaxIntegrationSteps;
+  if (worst_steps > limit) {
+    throw UsageError("integration step " + number_text(h_s) + " s over t_end = " + number_text(t_end_s) +
+                     " s (plus up to " + number_text(q.analysis.free_motion_limit_s) + " s of free rocking) means up to " +
+                     number_text(std::round(worst_steps)) + " steps, more than the " + number_text(limit) +
+                     (q.analysis.keep_history ? " a run with --out may take" : " a run may take") +
+                     ": raise --max-step or lower --t-end");
+  }
+}
+
+void check_out_path(const SimulateRequest& q) {
+  if (!q.out_csv_path) return;
+  const std::string& path = *q.out_csv_path;
+  std::error_code ec;
+  if (std::filesystem::equivalent(path, q.record.record_path, ec) ||
+      (q.record.vertical_path && std::filesystem::equivalent(path, *q.record.vertical_path, ec))) {
+    throw UsageError("--out " + path + " is an input record: choose another file name");
+  }
+}
+
+int run(const SimulateRequest& q) {
+  const InputMotion input = prepare_input(InputRequest{q.record, q.scale_pga_g, q.wall.g_mps2});
+  for (const std::string& note : input.notes) std::cerr << "note: " << note << '\n';
+  check_work_size(q, input);
+  check_out_path(q);
+  PendingOutputFile csv(q.out_csv_path);  // opened now, so a wrong directory is reported before a long run
+
+  const sim::AnalysisResult result = sim::analyse(q.wall, input.motion, q.analysis);
+  csv.write("the time history", [&result](std::ostream& out) { write_history_csv(out, result.history); });
+
+  if (q.json) {
+    if (result.free_motion_undecided) {
+      std::cerr << "note: free rocking after the record neither settled nor collapsed within "
+                << number_text(q.analysis.free_motion_limit_s) << " s; collapse_after_end is false but undecided\n";
+    }
+    std::cout << result_json(q, result).dump(2) << '\n';
+  } else {
+    std::cout << summary_text(q, input, result);
+  }
+  return finish_stdout(kErrors);
+}
+
+}  // namespace
+
+int simulate_main(int argc, const char* const* argv) {
+  return run_command(kErrors, [&] {
+    const SimulateParse parsed = parse_simulate_arguments(argc, argv);
+    if (!parsed.request) return print_help(parsed.help_text);
+    return run(*parsed.request);
+  });
+}
+
+}  // namespace rockwatch::cli

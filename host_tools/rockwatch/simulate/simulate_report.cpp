@@ -1,0 +1,268 @@
+#include "simulate/simulate_report.hpp"
+
+#include <cmath>
+#include <cstddef>
+#include <cstdio>
+#include <optional>
+#include <string>
+
+#include "common/record_selection.hpp"
+#include "common/text_report.hpp"
+#include "rockwatch/core/model.hpp"
+#include "rockwatch/core/restitution.hpp"
+#include "rockwatch/core/wall.hpp"
+#include "rockwatch/options/alarm_options.hpp"
+#include "rockwatch/options/option_values.hpp"
+
+namespace rockwatch::cli {
+
+namespace {
+
+std::string restitution_text(const SimulateRequest& q, const sim::AnalysisResult& r) {
+  const core::RestitutionKind kind = q.analysis.restitution.kind;
+  std::string origin;
+  switch (kind) {
+    case core::RestitutionKind::ana: origin = "ana, paper eq. 17"; break;
+    case core::RestitutionKind::exp: origin = "exp = 0.9 r_ana, paper eq. 18"; break;
+    case core::RestitutionKind::impulse: origin = "impulse analysis with top restraint"; break;
+    case core::RestitutionKind::value: origin = "given"; break;
+  }
+  return format("r = %.6f (%s); kinetic-energy ratio, velocity ratio sqrt(r) = %.6f", r.r, origin.c_str(),
+                std::sqrt(r.r));
+}
+
+void describe_record(std::string& out, const char* label, const RecordInfo& info) {
+  line(out, label, file_name(info.path) + " (" + format_name(info.format) + ", values in " + info.units + ")");
+  if (!info.source.empty()) line(out, "", printable(info.source) + ", " + printable(info.path));
+  // A suite record's header says what the source line says: once is enough.
+  if (!info.description.empty() && info.description != info.source) line(out, "", printable(info.description));
+  const double duration_s = info.dt_s * (static_cast<double>(info.samples) - 1.0);
+  std::string span = format("%zu samples at dt %s s, duration %s s", info.samples, number_text(info.dt_s).c_str(),
+                            number_text(duration_s).c_str());
+  if (info.t0_s != 0.0) span += ", first sample at t = " + number_text(info.t0_s) + " s in the file";
+  line(out, "", span);
+}
+
+// With an eccentric overburden (a != a') the two sides have their own threshold and x_inst; the engine's result
+// holds the smaller, which alone would misstate the other side's collapse limit.
+struct PerSide {
+  double x_inst_m[2];        // index core::side_index: 0 = towards x < 0, 1 = towards x > 0
+  double threshold_mps2[2];
+  bool differ;
+};
+
+PerSide per_side(const SimulateRequest& q) {
+  const core::ModelConstants<double> c = core::model_constants(q.wall, q.analysis.model);
+  PerSide p{};
+  for (const core::Side side : {core::Side::negative, core::Side::positive}) {
+    const int i = core::side_index(side);
+    p.x_inst_m[i] = core::x_inst_m(c, side, q.wall.g_mps2);
+    p.threshold_mps2[i] = core::threshold_mps2(c, side, q.wall.g_mps2);
+  }
+  const auto close = [](double a, double b) { return std::fabs(a - b) <= 1e-12 * std::fmax(std::fabs(a), std::fabs(b)); };
+  p.differ = !close(p.x_inst_m[0], p.x_inst_m[1]) || !close(p.threshold_mps2[0], p.threshold_mps2[1]);
+  return p;
+}
+
+std::string verdict_line(const sim::AnalysisResult& r) {
+  if (r.collapsed) return format("COLLAPSED at t = %.4f s", *r.t_collapse_s);
+  if (r.collapse_after_end) {
+    return format("COLLAPSED AFTER THE RECORD at t = %.4f s (free rocking after t_end = %.4f s)", *r.t_collapse_s,
+                  r.t_end_s);
+  }
+  if (r.free_motion_undecided) {
+    return format("UNDECIDED: still rocking %.0f s after the record without settling or collapsing",
+                  r.t_final_s - r.t_end_s);
+  }
+  return "SURVIVED";
+}
+
+nlohmann::ordered_json alarm_json(const SimulateRequest& q, const sim::AlarmSummary& a) {
+  nlohmann::ordered_json j;
+  const core::AlarmSettings& s = q.analysis.alarm;
+  j["settings"] = {{"lambda_warning", s.lambda_warning}, {"hold_s", s.hold_s}, {"energy_margin", s.energy_margin}};
+  j["max_level"] = core::alarm_level_name(a.max_level);
+  j["t_first_warning_s"] = number_or_null(a.t_first_warning_s);
+  j["t_first_imminent_s"] = number_or_null(a.t_first_imminent_s);
+  j["t_first_collapsed_s"] = number_or_null(a.t_first_collapsed_s);
+  j["n_transitions"] = a.n_transitions;
+  nlohmann::ordered_json transitions = nlohmann::ordered_json::array();
+  for (const sim::AlarmTransition& t : a.transitions) {
+    transitions.push_back({{"t_s", t.t_s},
+                           {"level", core::alarm_level_name(t.level)},
+                           {"previous", core::alarm_level_name(t.previous)},
+                           {"reasons", alarm_reason_list(t.reasons)},
+                           {"reason_bits", t.reasons},
+                           {"x_m", t.x_m},
+                           {"xd_mps", t.xd_mps},
+                           {"t_to_instability_s", number_or_null(t.t_to_instability_s)},
+                           {"energy_ratio", t.energy_ratio}});
+  }
+  j["transitions"] = transitions;
+  return j;
+}
+
+void alarm_text(std::string& out, const SimulateRequest& q, const sim::AlarmSummary& a) {
+  const core::AlarmSettings& s = q.analysis.alarm;
+  out += "\nInstability alarm\n";
+  line(out, "settings", format("WARNING at |x| >= %s x_inst; IMMINENT at |x| >= x_inst or E >= %s E_barrier moving "
+                               "outward; hold %s s",
+                               number_text(s.lambda_warning).c_str(), number_text(s.energy_margin).c_str(),
+                               number_text(s.hold_s).c_str()));
+  line(out, "highest level", core::alarm_level_name(a.max_level));
+  line(out, "first WARNING", time_text(a.t_first_warning_s, "never"));
+  line(out, "first IMMINENT", time_text(a.t_first_imminent_s, "never"));
+  line(out, "first COLLAPSED", time_text(a.t_first_collapsed_s, "never"));
+  std::string count = std::to_string(a.n_transitions);
+  if (a.transitions.size() < a.n_transitions) count += format(" (the first %zu listed)", a.transitions.size());
+  line(out, "transitions", count);
+  if (a.transitions.empty()) return;
+  out += format("  %10s  %-9s  %11s  %11s  %7s  %s\n", "t [s]", "level", "x [m]", "t_inst [s]", "E/E_b", "reasons");
+  for (const sim::AlarmTransition& t : a.transitions) {
+    const std::string predicted = t.t_to_instability_s ? format("%.4f", *t.t_to_instability_s) : std::string("-");
+    out += format("  %10.4f  %-9s  %11.7f  %11s  %7.3f  %s\n", t.t_s, core::alarm_level_name(t.level), t.x_m,
+                  predicted.c_str(), t.energy_ratio, alarm_reason_names(t.reasons).c_str());
+  }
+  out += "  (t_inst: predicted time to reach |x| = x_inst with no further input, linear model; - when the wall would "
+         "turn back)\n";
+}
+
+}  // namespace
+
+const char* verdict_word(const sim::AnalysisResult& r) {
+  if (r.collapsed) return "COLLAPSED";
+  if (r.collapse_after_end) return "COLLAPSED AFTER THE RECORD";
+  if (r.free_motion_undecided) return "UNDECIDED";
+  return "SURVIVED";
+}
+
+nlohmann::ordered_json result_json(const SimulateRequest& q, const sim::AnalysisResult& r) {
+  nlohmann::ordered_json j;
+  j["max_abs_x_m"] = r.max_abs_x_m;
+  // A wall that never moved has no time of maximum.
+  j["t_max_abs_x_s"] = r.max_abs_x_m > 0.0 ? nlohmann::ordered_json(r.t_max_abs_x_s) : nlohmann::ordered_json(nullptr);
+  j["collapsed"] = r.collapsed;
+  j["t_collapse_s"] = number_or_null(r.t_collapse_s);
+  j["t_exceed_s"] = number_or_null(r.t_exceed_s);
+  j["collapse_after_end"] = r.collapse_after_end;
+  j["n_impacts"] = r.n_impacts;
+  j["t_first_motion_s"] = number_or_null(r.t_first_motion_s);
+  j["x_inst_m"] = r.x_inst_m;
+  j["threshold_mps2"] = r.threshold_mps2;
+  j["r"] = r.r;
+  j["pga_mps2"] = r.pga_mps2;
+  j["dt_s"] = r.dt_s;
+  j["duration_s"] = r.duration_s;
+  j["model"] = model_name(q.analysis.model);
+  j["kappa"] = q.analysis.kappa;
+  if (q.arith_given) {
+    j["arithmetic"] = arithmetic_name(r.arithmetic);
+    if (r.arithmetic == sim::Arithmetic::fixed_point) j["saturated"] = r.saturated;
+  }
+  if (q.analysis.evaluate_alarm) j["alarm"] = alarm_json(q, r.alarm);
+  add_selection_json(j, q.record);
+  return j;
+}
+
+std::string summary_text(const SimulateRequest& q, const InputMotion& in, const sim::AnalysisResult& r) {
+  const core::WallParameters& w = q.wall;
+  const double g = w.g_mps2;
+  std::string out;
+  out += "rockwatch simulate: out-of-plane rocking of a two-block URM wall (SPEC 1-4), per metre of wall\n\n";
+
+  out += "Input\n";
+  describe_record(out, "horizontal record", in.horizontal);
+  if (in.vertical_from_third_column) {
+    line(out, "vertical record", "third column of " + file_name(in.horizontal.path));
+  } else if (in.vertical) {
+    describe_record(out, "vertical record", *in.vertical);
+  } else {
+    line(out, "vertical record", "none (v'' = 0)");
+  }
+  if (q.scale_pga_g) {
+    line(out, "scaling", format("factor %.6g: PGA %.4f g -> %.4f g%s", in.scale_factor, in.horizontal.peak_as_read_mps2 / g,
+                                *q.scale_pga_g, in.motion.vg_mps2.empty() ? "" : ", vertical by the same factor"));
+  }
+  line(out, "PGA as run", format("%.4f g = %.4f m/s2", r.pga_mps2 / g, r.pga_mps2));
+  if (!in.motion.vg_mps2.empty()) {
+    const double pv = sim::peak_abs(in.motion.vg_mps2);
+    line(out, "vertical peak as run", format("%.4f g = %.4f m/s2", pv / g, pv));
+  }
+
+  out += "\nWall (per metre of wall)\n";
+  std::string base = q.wall_name + " wall (design paper, Table 2)";
+  if (!q.wall_options_given.empty()) {
+    base += " with ";
+    for (std::size_t i = 0; i < q.wall_options_given.size(); ++i) base += (i == 0 ? "" : ", ") + q.wall_options_given[i];
+    base += " given";
+  }
+  line(out, "base wall", base);
+  line(out, "geometry", format("b %s m, h1 %s m, h2 %s m (h = %s m, h/b = %.4g)", number_text(w.b_m).c_str(),
+                               number_text(w.h1_m).c_str(), number_text(w.h2_m).c_str(),
+                               number_text(w.h1_m + w.h2_m).c_str(), (w.h1_m + w.h2_m) / w.b_m));
+  line(out, "masonry", format("rho %s kg/m3, weight %.6g N per m of wall", number_text(w.rho_kgpm3).c_str(),
+                              w.rho_kgpm3 * w.b_m * (w.h1_m + w.h2_m) * g));
+  line(out, "overburden", format("Fp %s N per m of wall at a = %s (x < 0), a' = %s (x > 0)", number_text(w.fp_npm).c_str(),
+                                 number_text(w.a).c_str(), number_text(w.a_prime).c_str()));
+  line(out, "gravity", number_text(g) + " m/s2");
+  const PerSide sides = per_side(q);
+  if (sides.differ) {
+    line(out, "rocking threshold", format("%.6f m/s2 = %.6f g towards x > 0 (u'' < -thr), %.6f m/s2 = %.6f g towards "
+                                          "x < 0 (u'' > thr); v'' = 0",
+                                          sides.threshold_mps2[1], sides.threshold_mps2[1] / g, sides.threshold_mps2[0],
+                                          sides.threshold_mps2[0] / g));
+    line(out, "", format("PGA / smaller threshold = %.3f", r.pga_mps2 / r.threshold_mps2));
+    line(out, "x_inst", format("%.7f m towards x > 0, %.7f m towards x < 0", sides.x_inst_m[1], sides.x_inst_m[0]));
+  } else {
+    line(out, "rocking threshold", format("%.6f m/s2 = %.6f g (v'' = 0); PGA / threshold = %.3f", r.threshold_mps2,
+                                          r.threshold_mps2 / g, r.pga_mps2 / r.threshold_mps2));
+    line(out, "x_inst", format("%.7f m (theta1 = x/h1 = %.5f rad)", r.x_inst_m, r.x_inst_m / w.h1_m));
+  }
+
+  out += "\nAnalysis\n";
+  line(out, "model", std::string(model_name(q.analysis.model)) +
+                         (q.analysis.model == core::ModelKind::linear ? " (the paper's)" : " (all terms of SPEC 1)"));
+  line(out, "arithmetic", r.arithmetic == sim::Arithmetic::fixed_point
+                              ? "fixed point (the monitor's engine)"
+                              : "double precision (the verified engine)");
+  line(out, "restitution", restitution_text(q, r));
+  const double kappa = q.analysis.kappa;
+  if (sides.differ) {
+    line(out, "collapse criterion", format("|x| >= kappa x_inst = %.7f m towards x > 0, %.7f m towards x < 0 (kappa %s)",
+                                           kappa * sides.x_inst_m[1], kappa * sides.x_inst_m[0],
+                                           number_text(kappa).c_str()));
+  } else {
+    line(out, "collapse criterion", format("|x| >= kappa x_inst = %s x %.7f = %.7f m", number_text(kappa).c_str(),
+                                           r.x_inst_m, kappa * r.x_inst_m));
+  }
+  const double sub_steps = std::round(in.motion.dt_s / r.dt_s);
+  line(out, "integration", format("Newmark beta 1/4, gamma 1/2, dt %s s (%.0f per record step), impacts located in the step",
+                                  number_text(r.dt_s).c_str(), sub_steps));
+  std::string span = format("record 0 to %.4f s; forced phase to t_end = %.4f s", r.duration_s, r.t_end_s);
+  if (r.collapsed) {
+    span += format("; stopped at the collapse, t = %.4f s", *r.t_collapse_s);
+  } else if (r.t_final_s > r.t_end_s) {
+    span += format("; then free rocking (no input) to %.4f s", r.t_final_s);
+  }
+  line(out, "time span", span);
+
+  out += "\nResult\n";
+  line(out, "VERDICT", verdict_line(r));
+  if (r.max_abs_x_m > 0.0) {
+    const std::string ratio = sides.differ ? std::string() : format("%.3f x_inst, ", r.max_abs_x_m / r.x_inst_m);
+    line(out, "max |x|", format("%.7f m at t = %.4f s (%stheta1 = %.5f rad)", r.max_abs_x_m, r.t_max_abs_x_s,
+                                ratio.c_str(), r.max_abs_x_m / w.h1_m));
+  } else {
+    line(out, "max |x|", "0 m: the wall did not rock");
+  }
+  line(out, "t_exceed (|x| >= x_inst)", time_text(r.t_exceed_s, "never"));
+  line(out, "first motion", time_text(r.t_first_motion_s, "never: the input stayed below the rocking threshold"));
+  line(out, "impacts", format("%d with |xd-| >= 1 mm/s (%d in all)", r.n_impacts, r.n_impacts_total));
+  if (r.saturated) {
+    line(out, "SATURATED", "a fixed-point quantity reached its range limit: the result is unreliable");
+  }
+  if (q.analysis.evaluate_alarm) alarm_text(out, q, r.alarm);
+  return out;
+}
+
+}  // namespace rockwatch::cli

@@ -1,0 +1,42 @@
+// What `rockwatch simulate` was asked to do, parsed and validated from its command line.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/record_selection.hpp"
+#include "rockwatch/core/wall.hpp"
+#include "rockwatch/sim/analysis.hpp"
+
+namespace rockwatch::cli {
+
+// Alarm transitions simulate lists (more are counted, not listed): a wall rocking for minutes can go between QUIET
+// and ROCKING thousands of times.
+inline constexpr std::size_t kMaxAlarmTransitionsListed = 1000;
+
+struct SimulateRequest {
+  RecordSelection record;              // --record or --suite, the vertical, --units, --dt, --gain (g: the wall's)
+  std::optional<double> scale_pga_g;   // target peak |ü| in units of g (the --g value)
+  std::string wall_name = "paper";     // the base wall the --b … --a-prime options modify
+  core::WallParameters wall = core::paper_wall();
+  std::vector<std::string> wall_options_given;  // e.g. {"--b", "--h1"}, for the report
+  sim::AnalysisOptions analysis;       // arithmetic, model, restitution, kappa, max step, t_end, alarm
+  bool arith_given = false;            // --arith was given: the JSON says which arithmetic ran
+  std::optional<std::string> out_csv_path;
+  bool json = false;
+};
+
+// Outcome of reading the command line: either a request to run, or text to print and an exit status
+// (--help: the help on stdout, status 0).
+struct SimulateParse {
+  std::optional<SimulateRequest> request;
+  std::string help_text;
+};
+
+// Parses `rockwatch simulate` arguments (argv[0] is the command name). Throws UsageError with a message that
+// names the option at fault, for CLI11 parse errors as well as for invalid values.
+SimulateParse parse_simulate_arguments(int argc, const char* const* argv);
+
+}  // namespace rockwatch::cli

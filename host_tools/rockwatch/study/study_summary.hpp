@@ -1,0 +1,99 @@
+// What a finished `rockwatch study` says: the statistics of each case (sim::study::case_statistics over its runs
+// with a verdict), the verdicts the --dt-check flipped, summary.json and the summary for engineers on stdout.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "rockwatch/sim/study/batch_study.hpp"
+#include "rockwatch/sim/study/collapse_statistics.hpp"
+#include "study/study_plan.hpp"
+#include "study/study_records.hpp"
+#include "study/study_request.hpp"
+
+namespace rockwatch::cli {
+
+struct CaseOutcome {
+  StudyCase study_case;
+  std::string title;                  // "r_exp H+V"
+  std::string tag;                    // "exp_HV"
+  double r_value = 0.0;               // the energy ratio of the case's restitution for the wall
+  std::size_t runs_with_error = 0;    // refused by the engine: no verdict, left out of the statistics
+  std::optional<sim::study::CaseStatistics> statistics;  // none when no run of the case has a verdict
+};
+
+// --alarms: how well IMMINENT (of the plan's engine) foretells the collapses of the verdict of record (the double
+// engine's), over the runs with a verdict.
+struct AlarmOutcome {
+  std::size_t runs = 0;                  // runs with a verdict
+  std::size_t collapsed = 0;             // of them collapsed (double verdict)
+  std::size_t collapsed_flagged = 0;     // of those, IMMINENT strictly before t_collapse
+  std::size_t survivors = 0;
+  std::size_t survivors_flagged = 0;     // survivors ever at IMMINENT
+  std::optional<double> recall;          // collapsed_flagged / collapsed
+  std::optional<double> false_alarm_rate;  // survivors_flagged / survivors
+  std::vector<double> lead_times_s;      // t_collapse − first IMMINENT of the flagged collapses, ascending [s]
+  std::optional<double> lead_time_s_median, lead_time_s_p05, lead_time_s_min;
+};
+
+// --arith fixed: the fixed engine against the double engine, run by run.
+struct FixedComparison {
+  std::size_t runs_compared = 0;         // runs with a verdict
+  std::size_t verdicts_same = 0;
+  std::vector<std::size_t> verdict_flips;            // run indices where the verdicts differ
+  std::vector<std::size_t> flips_also_at_half_step;  // --dt-check: flips whose double verdict changes at half the step
+  std::optional<double> max_abs_x_diff_m_max;        // over runs that survive in both engines [m]
+  std::size_t survivors_compared = 0;                // runs that survive in both engines
+  std::size_t survivors_within_half_mm = 0;          //   of which max|x| differs by at most 0.5 mm (the bound)
+  std::optional<std::size_t> first_imminent_diff_samples_max;  // --alarms: over runs where both reach IMMINENT
+                                                              // [integration steps]
+  std::size_t imminent_compared = 0;                 // --alarms: runs where both engines reach IMMINENT
+  std::size_t imminent_within_one_step = 0;          //   of which the first IMMINENT is at most one step apart
+  std::size_t runs_saturated = 0;
+};
+
+struct StudyOutcome {
+  StaticCapacities capacities;
+  std::vector<CaseOutcome> cases;     // in study_cases() order
+  std::vector<std::size_t> flipped_runs;  // --dt-check: runs whose (double) verdict differs at half the step
+  std::size_t runs_with_error = 0;
+  std::optional<AlarmOutcome> alarm;              // with --alarms
+  std::optional<FixedComparison> fixed_vs_double;  // with --arith fixed
+};
+
+// The p-quantile (p in [0, 1]) of ascending values by linear interpolation between order statistics (Hyndman and
+// Fan's type 7, NumPy's and R's default): h = (n − 1) p, x[⌊h⌋] + (h − ⌊h⌋)(x[⌊h⌋+1] − x[⌊h⌋]). None when empty.
+std::optional<double> quantile_type7(const std::vector<double>& ascending, double p);
+
+AlarmOutcome alarm_outcome(const std::vector<sim::study::RunResult>& results);
+FixedComparison fixed_comparison(const sim::study::StudyPlan& plan, const std::vector<sim::study::RunResult>& results);
+
+// `results` must be complete (every run done).
+StudyOutcome summarise_study(const sim::study::StudyPlan& plan, const std::vector<sim::study::RunResult>& results,
+                             const StaticCapacities& capacities);
+
+// summary.json: "format", "version", "records_source", "plan" (plan_json), "capacities", "runs", "dt_check",
+// "cases" (per case the keys the help lists; null where a value is undetermined), with --alarms "alarm" and with
+// --arith fixed "fixed_vs_double". Deterministic: the same plan and results give the same text.
+nlohmann::ordered_json summary_json(const sim::study::StudyPlan& plan, const StudyRecords& records,
+                                    const std::vector<sim::study::RunResult>& results, const StudyOutcome& outcome);
+
+// The human summary, ending with a newline; `files` lists what was written.
+std::string study_summary_text(const StudyRequest& request, const sim::study::StudyPlan& plan,
+                               const StudyRecords& records, const StudyOutcome& outcome,
+                               const std::vector<std::string>& files);
+
+// "0.221 g" style texts shared with table3.md: a probability with three decimals, or "-" when undetermined.
+std::string probability_text(const std::optional<double>& p);
+
+// The collapse probabilities of one case at a capacity, as the table and the summary show them.
+const sim::study::CollapseProbability& at_capacity(const sim::study::CaseStatistics& s, bool nzsee2016);
+
+// "set01 X, H+V, r_ana, 0.21 g (run 123)": one run as messages name it.
+std::string run_text(const sim::study::StudyPlan& plan, std::size_t index);
+
+}  // namespace rockwatch::cli

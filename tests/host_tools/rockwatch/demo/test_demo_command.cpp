@@ -1,0 +1,76 @@
+// `rockwatch demo`: its option rejections, the message when the monitor cannot be found, and the whole demo
+// (rockwatch-monitor started, two suite records replayed to it over UDP multicast on this machine, its alarm
+// timelines compared with the offline fixed-point runs) when the monitor is built and multicast works here.
+#include <unistd.h>
+
+#include <string>
+#include <vector>
+
+#include "cli_process.hpp"
+#include "cli_test_files.hpp"
+#include "common/lcm_multicast.hpp"
+
+#include "cli_expect.hpp"  // brings in CppUTest, after every standard header
+
+#include <CppUTest/TestHarness.h>
+
+using rockwatch::test::describe;
+using rockwatch::test::EnvOverride;
+using rockwatch::test::expect_command_rejected;
+using rockwatch::test::ProcessResult;
+using rockwatch::test::run_rockwatch;
+
+namespace {
+
+std::size_t count_of(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+// A port of this test run: other processes on this machine may run a monitor on the default URL at the same time.
+std::string private_url() { return "udpm://239.255.76.67:" + std::to_string(7800 + getpid() % 150) + "?ttl=0"; }
+
+}  // namespace
+
+TEST_GROUP(DemoCommand){};
+
+TEST(DemoCommand, BadOptionsAreRefused) {
+  expect_command_rejected("demo", {"--speed", "0"}, {"--speed", "> 0"});
+  expect_command_rejected("demo", {"--speed", "50"}, {"--speed", "20"});
+  expect_command_rejected("demo", {"--set", "0"}, {"--set"});
+  expect_command_rejected("demo", {"--pga", "-1"}, {"--pga"});
+  expect_command_rejected("demo", {"--lcm-url", "memq://"}, {"--lcm-url", "udpm://"});
+  expect_command_rejected("demo", {"--rate", "0"}, {"--rate"});
+  expect_command_rejected("demo", {"--monitor", "/nonexistent/rockwatch-monitor"}, {"--monitor", "not an executable"});
+}
+
+TEST(DemoCommand, MissingMonitorSaysWhereItLookedAndWhatToDo) {
+  const EnvOverride monitor("ROCKWATCH_MONITOR", "/nonexistent/rockwatch-monitor");
+  expect_command_rejected("demo", {}, {"$ROCKWATCH_MONITOR", "/nonexistent/rockwatch-monitor"});
+}
+
+TEST(DemoCommand, MonitorTimelinesMatchTheOfflineSimulation) {
+#ifndef ROCKWATCH_MONITOR_PATH
+  std::printf("\nnote: rockwatch-monitor is not part of this build: DemoCommand.MonitorTimelinesMatch skipped\n");
+#else
+  const std::string url = private_url();
+  const rockwatch::cli::MulticastProbe probe = rockwatch::cli::probe_multicast(url, 1000);
+  if (!probe.ok) {
+    std::printf(
+        "\nnote: LCM multicast does not work on this machine (%s): DemoCommand.MonitorTimelinesMatch "
+        "skipped\n",
+        probe.problem.c_str());
+    return;
+  }
+  const EnvOverride monitor("ROCKWATCH_MONITOR", ROCKWATCH_MONITOR_PATH);
+  const ProcessResult r = run_rockwatch({"demo", "--speed", "4", "--lcm-url", url});
+  const std::string what = describe(r);
+  CHECK_EQUAL_TEXT(0, r.exit_status, what.c_str());
+  CHECK_EQUAL_TEXT(2u, count_of(r.out, "match: yes"), what.c_str());
+  CHECK_TEXT(r.out.find("collapses at t = 3.06") != std::string::npos, what.c_str());  // set 3 Y at 0.25 g
+  CHECK_TEXT(r.out.find("survives") != std::string::npos, what.c_str());               // set 3 X
+  CHECK_TEXT(r.out.find("COLLAPSED") != std::string::npos, what.c_str());
+  CHECK_EQUAL_TEXT(2u, count_of(r.out, "4001 samples received"), what.c_str());
+#endif
+}
