@@ -2,11 +2,11 @@
 
 namespace rockwatch::sim {
 
-using firmware::EngineSample;
-using firmware::WallEngineError;
+using core::EngineSample;
+using core::WallEngineError;
 
-WallEngineError DoubleWallEngine::init(const firmware::WallEngineConfig& c) {
-  const WallEngineError common = firmware::validate_wall_engine_config(c);
+WallEngineError DoubleWallEngine::init(const core::WallEngineConfig& c) {
+  const WallEngineError common = core::validate_wall_engine_config(c);
   if (common != WallEngineError::ok) return common;
   core::StepperOptions so;
   so.dt_s = c.dt_s;

@@ -1,4 +1,4 @@
-// sim::DoubleWallEngine, the host's double engine behind the monitor loop's seam (firmware::SampleEngine): its
+// sim::DoubleWallEngine, the host's double engine behind the monitor loop's seam (core::SampleEngine): its
 // validation, and sample by sample the alarm timeline of sim::analyse(--arith double) on a suite record, bit for bit,
 // with the linear and the full model. (Behind the loop itself: tests/firmware/test_monitor_loop.cpp.)
 #include <cmath>

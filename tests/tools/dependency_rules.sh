@@ -29,10 +29,10 @@ check_tree() {
         inc=${BASH_REMATCH[1]}
         # A file's own folder (same directory, by bare name) is always allowed.
         if [[ $inc != */* ]] && [ -e "$(dirname "$file")/$inc" ]; then continue; fi
-        [[ $inc =~ $allowed ]] || breach "${file#"$root"/}" "$line" "$text" "$name"
+        if ! [[ $inc =~ $allowed ]]; then breach "${file#"$root"/}" "$line" "$text" "$name"; fi
       elif [[ -n $forbidden && $text =~ ^[[:space:]]*#[[:space:]]*include[[:space:]]*\<([^\>]+)\> ]]; then
         inc=${BASH_REMATCH[1]}
-        [[ $inc =~ $forbidden ]] && breach "${file#"$root"/}" "$line" "$text" "$name"
+        if [[ $inc =~ $forbidden ]]; then breach "${file#"$root"/}" "$line" "$text" "$name"; fi
       fi
     done < <(grep -rn --include='*.hpp' --include='*.cpp' --include='*.h' -E '^[[:space:]]*#[[:space:]]*include' "$root/$folder" || true)
   }
@@ -42,7 +42,7 @@ check_tree() {
   rule "firmware uses core and the LCM types only" firmware   "^rockwatch/(core|firmware)/|$lcm_types" '^(lcm/lcm|CLI/|nlohmann/)'
   rule "sim uses core only"                sim                  '^rockwatch/(core|sim)/' '^(lcm/|CLI/)'
   rule "the record readers use nothing of ours" host_tools/records '^rockwatch/records/' '^(lcm/|CLI/)'
-  rule "options use core and sim"          host_tools/options   '^rockwatch/(core|sim|options)/'
+  rule "options use core, sim and the records' text scanning" host_tools/options '^rockwatch/(core|sim|options|records)/'
   rule "process spawning uses nothing of ours" host_tools/process '^rockwatch/process/'
   rule "the monitor program never includes the rockwatch tool" host_tools/monitor \
        "^rockwatch/(core|firmware|sim|options|process)/|^monitor/|$lcm_types"

@@ -1,93 +1,19 @@
-// The engine seam of the monitor loop: what MonitorLoop needs from a per-sample engine (start, step, restart, the
-// published quantities), so that the loop runs whatever engine it is given. The firmware's engine is
-// firmware::WallEngine (fixed point, wall_engine.hpp); hosts with an FPU may hand the loop sim::DoubleWallEngine
-// (sim/include/rockwatch/sim/double_wall_engine.hpp), which firmware never sees.
-//
-// Why an abstract class and not a template parameter of MonitorLoop: the loop stays one translation unit compiled
-// once, in firmware, with firmware's flags (no exceptions, no RTTI) and audited as such; the host picks the engine at
-// run time (--arith) without two instantiations of the loop and its callers. The price is one indirect call per
-// sample (measured: tests/bench/callgrind_per_sample.sh). Virtual calls need no RTTI. The destructor is protected and
-// not virtual: engines are never deleted through this interface, and a virtual destructor would make every
-// implementation's vtable reference operator delete (the symbol audit forbids it).
+// The engine seam of the monitor loop lives in core (rockwatch/core/sample_engine.hpp), so that the firmware's
+// fixed-point engine and the host's double engine (sim::DoubleWallEngine) implement it without either depending on
+// the other's layer. The firmware uses the names in its own namespace.
 #pragma once
 
-#include <cstdint>
-
-#include "rockwatch/core/alarm.hpp"
-#include "rockwatch/core/model.hpp"
-#include "rockwatch/core/sensor_axes.hpp"
-#include "rockwatch/core/wall.hpp"
+#include "rockwatch/core/sample_engine.hpp"
 
 namespace rockwatch::firmware {
 
-// What a wall engine is configured with (both engines).
-struct WallEngineConfig {
-  core::WallParameters wall{};
-  double r_energy = 0.0;           // restitution energy ratio r in [0, 1] [-]
-  double kappa = 2.0;              // collapse at κ·x_inst [-]
-  core::ModelKind model = core::ModelKind::linear;  // the fixed-point engine: linear only; the double engine: either
-  double dt_s = 0.005;             // sample interval = integration step [s]
-  core::AlarmSettings alarm{};
-  core::SensorAxes<double> axes = core::default_sensor_axes();
-};
-
-// Why init() refused a configuration. Values are stable: append, never renumber.
-enum class WallEngineError : std::uint8_t {
-  ok = 0,
-  wall_invalid = 1,
-  restitution_out_of_range = 2,
-  kappa_out_of_range = 3,
-  alarm_settings_invalid = 4,
-  sensor_axes_invalid = 5,
-  fixed_point_setup = 6,         // see WallEngine::fixed_setup_error()
-  indicator_constants = 7,       // x_inst or ω outside the indicator formats
-  model_not_supported = 8,       // the fixed-point engine runs the linear model only
-};
+using core::EngineSample;
+using core::MonitorArithmetic;
+using core::SampleEngine;
+using core::validate_wall_engine_config;
+using core::WallEngineConfig;
+using core::WallEngineError;
 
 const char* wall_engine_error_message(WallEngineError e);  // defined in wall_engine.cpp
-
-// The checks every engine makes (wall, r, κ, alarm settings, sensor axes): ok or the first failure.
-inline WallEngineError validate_wall_engine_config(const WallEngineConfig& c) {
-  if (!core::validate_wall(c.wall).ok()) return WallEngineError::wall_invalid;
-  if (!(c.r_energy >= 0.0 && c.r_energy <= 1.0)) return WallEngineError::restitution_out_of_range;
-  if (!(c.kappa >= 1.0 && c.kappa < 100.0)) return WallEngineError::kappa_out_of_range;
-  if (!core::alarm_settings_valid(c.alarm)) return WallEngineError::alarm_settings_invalid;
-  if (!core::sensor_axes_valid(c.axes)) return WallEngineError::sensor_axes_invalid;
-  return WallEngineError::ok;
-}
-
-// The arithmetic an engine runs (published in monitor_status_t). Values are stable: append, never renumber.
-enum class MonitorArithmetic : std::uint8_t {
-  fixed_point = 0,       // WallEngine: bit-identical to `rockwatch simulate --arith fixed`; the firmware's engine
-  double_precision = 1,  // sim::DoubleWallEngine: bit-identical to `rockwatch simulate --arith double`; hosts only
-};
-
-// What an engine gives after a sample, in the published units (double: the LCM messages carry doubles).
-struct EngineSample {
-  double x_m = 0.0, xd_mps = 0.0, energy_ratio = 0.0;
-  double t_to_instability_s = -1.0;  // −1: no prediction
-  bool side_positive = true, moving = false, input_invalid = false, saturated = false;
-  core::AlarmUpdate alarm{};
-};
-
-class SampleEngine {
- public:
-  virtual MonitorArithmetic arithmetic() const = 0;
-  // Validates and prepares (all floating-point set-up happens here). The engine is at rest afterwards.
-  virtual WallEngineError init(const WallEngineConfig& config) = 0;
-  // Inputs are wall-frame accelerations ü, v̈ [m/s²] as received. Bounded work, no allocation:
-  // the wall at rest and the alarm QUIET, with this sample as the current input (no step);
-  virtual EngineSample start(double ug_mps2, double vg_mps2) = 0;
-  // the state restarts from rest (state unknown) with this sample as the current input, the alarm keeps its level;
-  virtual EngineSample restart(double ug_mps2, double vg_mps2) = 0;
-  // one step to this sample.
-  virtual EngineSample step(double ug_mps2, double vg_mps2) = 0;
-
- protected:
-  SampleEngine() = default;
-  SampleEngine(const SampleEngine&) = default;
-  SampleEngine& operator=(const SampleEngine&) = default;
-  ~SampleEngine() = default;
-};
 
 }  // namespace rockwatch::firmware

@@ -1,6 +1,6 @@
 // The monitor's engine in double precision (`rockwatch-monitor --arith double`): the chain of `rockwatch simulate
 // --arith double` (core::StepperAlarmChain over core::RockingStepper<double>: stepper, double indicators, the same
-// alarm) behind the firmware's engine seam (firmware::SampleEngine), so the monitor loop can run it. It supports the
+// alarm) behind the monitor loop's engine seam (core::SampleEngine), so the monitor loop can run it. It supports the
 // full model as well as the linear one. Host code: firmware never includes this header.
 //
 // Why it exists: a lab that wants the monitor to agree with the double analysis to the last bit (or runs the full
@@ -11,30 +11,30 @@
 
 #include "rockwatch/core/rocking_stepper.hpp"
 #include "rockwatch/core/stepper_alarm_chain.hpp"
-#include "rockwatch/firmware/sample_engine.hpp"
+#include "rockwatch/core/sample_engine.hpp"
 
 namespace rockwatch::sim {
 
 using DoubleWallEngineOutput = core::AlarmChainOutput<core::RockingStepper<double>>;
 
-class DoubleWallEngine final : public firmware::SampleEngine {
+class DoubleWallEngine final : public core::SampleEngine {
  public:
-  firmware::MonitorArithmetic arithmetic() const override { return firmware::MonitorArithmetic::double_precision; }
+  core::MonitorArithmetic arithmetic() const override { return core::MonitorArithmetic::double_precision; }
   // The same validation and error codes as firmware::WallEngine::init (fixed-point format limits excepted);
   // config.model may be full. The sensor axes are validated but not used (the input is in the wall's frame).
-  firmware::WallEngineError init(const firmware::WallEngineConfig& config) override;
+  core::WallEngineError init(const core::WallEngineConfig& config) override;
   // Wall at rest, alarm QUIET, with this sample as the current input (no step).
-  firmware::EngineSample start(double ug_mps2, double vg_mps2) override;
+  core::EngineSample start(double ug_mps2, double vg_mps2) override;
   // The state restarts from rest, the alarm keeps its level.
-  firmware::EngineSample restart(double ug_mps2, double vg_mps2) override;
+  core::EngineSample restart(double ug_mps2, double vg_mps2) override;
   // One sample in the wall's frame [m/s²]: one engine step, the indicators, the alarm. Bounded work; no allocation.
-  firmware::EngineSample step(double ug_mps2, double vg_mps2) override;
+  core::EngineSample step(double ug_mps2, double vg_mps2) override;
 
   const core::RockingStepper<double>& stepper() const { return chain_.stepper(); }
   const DoubleWallEngineOutput& last() const { return out_; }
 
  private:
-  firmware::EngineSample sample() const;
+  core::EngineSample sample() const;
 
   core::StepperAlarmChain<core::RockingStepper<double>> chain_{};
   DoubleWallEngineOutput out_{};
