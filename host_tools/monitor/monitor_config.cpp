@@ -42,7 +42,8 @@ namespace {
 // Command line
 
 struct RawOptions {
-  std::string config, lcm_url, arith = "fixed", rate, offline_in, offline_out, log;
+  std::string config, lcm_url, arith = "fixed", rate, offline_in, offline_out, log, receive_path = "own";
+  std::vector<std::string> accept_from;
   cli::WallOptionTexts wall;
   std::string r = "exp", model = "linear", kappa;
   cli::AlarmOptionTexts alarm;  // --lambda-w, --alarm-hold, --energy-margin (its arith and alarms are unused)
@@ -65,6 +66,7 @@ const char* const kFooter =
     "  sample_rate_hz (--rate, 200)   max_bridge_samples (10)   sensor_range_mps2 (80)   late_limit_s (0.05)\n"
     "  channels {accel, accel_batch, wall_state, alarm, status}   (ROCKWATCH_ACCEL, ...)\n"
     "  lcm_url (--lcm-url; default $LCM_DEFAULT_URL, else udpm://239.255.76.67:7667?ttl=0)\n"
+    "  accept_from [\"ADDR\" or \"ADDR/PREFIX\", ...]   (--accept-from; sources of input datagrams, default any)\n"
     "\n"
     "Offline mode (--offline-in LOG --offline-out LOG): every event of the input log on the two input channels is\n"
     "fed to the loop in order with its log timestamp as the receive time; the messages published go to the output\n"
@@ -106,6 +108,14 @@ void add_options(CLI::App& app, RawOptions& raw) {
                  "Live mode: record every input message received and every message published to this LCM log "
                  "(written once per second; a full disk is reported and counted, monitoring goes on)")
       ->type_name("FILE");
+  app.add_option("--accept-from", raw.accept_from,
+                 "Live mode: accept input datagrams only from this IPv4 address or network (ADDR or ADDR/PREFIX; "
+                 "repeatable; default: any source). Others are dropped and counted")
+      ->type_name("ADDR[/PREFIX]");
+  app.add_option("--receive-path", raw.receive_path,
+                 "Live mode: own (default: the monitor's checked datagram path) or liblcm (liblcm's receive thread, "
+                 "for measuring the two side by side only: it crashes on crafted datagrams)")
+      ->type_name("own|liblcm");
   app.add_flag("--print-config", raw.print_config,
                "Print the normalised settings and their digest as one JSON object and exit");
   app.add_flag("--version", raw.version, "Print the version and exit");
@@ -153,6 +163,7 @@ struct FileValues {
   std::optional<std::int32_t> max_bridge_samples;
   std::optional<std::string> channels[5];
   std::optional<std::string> lcm_url;
+  std::optional<std::vector<SourceNetwork>> accept_from;
 };
 
 struct WallField {
@@ -200,7 +211,7 @@ class ConfigReader {
     const json root = parse();
     if (!root.is_object()) fail("the top level", "expected a JSON object {...}, got " + json_type(root));
     check_keys(root, "", {"arith", "wall", "r", "model", "kappa", "alarm", "sample_rate_hz", "max_bridge_samples",
-                          "sensor_range_mps2", "late_limit_s", "channels", "lcm_url"});
+                          "sensor_range_mps2", "late_limit_s", "channels", "lcm_url", "accept_from"});
     FileValues v;
     if (root.contains("wall")) read_wall(root.at("wall"), v);
     if (root.contains("r")) v.r = read_restitution(root.at("r"));
@@ -228,6 +239,21 @@ class ConfigReader {
       for (int i = 0; i < 5; ++i) {
         if (c.contains(kChannelKeys[i])) v.channels[i] = string(c.at(kChannelKeys[i]), std::string("channels.") + kChannelKeys[i]);
       }
+    }
+    if (root.contains("accept_from")) {
+      const json& a = root.at("accept_from");
+      if (!a.is_array()) fail("accept_from", "expected an array of \"ADDR\" or \"ADDR/PREFIX\" strings, got " + json_type(a));
+      std::vector<SourceNetwork> networks;
+      for (std::size_t i = 0; i < a.size(); ++i) {
+        const std::string key = "accept_from[" + std::to_string(i) + "]";
+        const std::string text = string(a.at(i), key);
+        SourceNetwork n;
+        if (!parse_source_network(text, &n)) {
+          fail(key, "expected an IPv4 address or network such as \"192.168.1.20\" or \"10.0.0.0/24\", got \"" + text + "\"");
+        }
+        networks.push_back(n);
+      }
+      v.accept_from = networks;
     }
     if (root.contains("lcm_url")) {
       v.lcm_url = string(root.at("lcm_url"), "lcm_url");
@@ -493,7 +519,7 @@ json normalised_settings(const MonitorConfig& config) {
   } else {
     r = core::restitution_name(config.restitution.kind);
   }
-  return json{
+  json out{
       {"format", "rockwatch-monitor settings 1"},
       {"arith", arith_name(s.arithmetic)},
       {"wall", {{"b", w.b_m}, {"h1", w.h1_m}, {"h2", w.h2_m}, {"rho", w.rho_kgpm3}, {"fp", w.fp_npm}, {"a", w.a},
@@ -514,6 +540,13 @@ json normalised_settings(const MonitorConfig& config) {
        {{"accel", s.channels.accel}, {"accel_batch", s.channels.accel_batch}, {"wall_state", s.channels.wall_state},
         {"alarm", s.channels.alarm}, {"status", s.channels.status}}},
   };
+  // Which sources are accepted changes what the monitor processes; absent when any is (the default digest stays).
+  if (!config.accept_from.empty()) {
+    json a = json::array();
+    for (const SourceNetwork& n : config.accept_from) a.push_back(source_network_text(n));
+    out["accept_from"] = a;
+  }
+  return out;
 }
 
 MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
@@ -680,6 +713,28 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
                        ", not a file: give the name of a file to write");
     }
     config.log_path = raw.log;
+  }
+  if (file.accept_from) config.accept_from = *file.accept_from;
+  if (cli::given(app, "--accept-from")) {
+    config.accept_from.clear();
+    for (const std::string& text : raw.accept_from) {
+      SourceNetwork n;
+      if (!parse_source_network(text, &n)) {
+        throw UsageError("--accept-from: expected an IPv4 address or network such as 192.168.1.20 or 10.0.0.0/24, got " +
+                         cli::quoted(text));
+      }
+      config.accept_from.push_back(n);
+    }
+  }
+  if (!config.accept_from.empty() && in_given) {
+    throw UsageError("--accept-from (or accept_from) is for live mode: an offline log has no datagram sources");
+  }
+  if (raw.receive_path == "liblcm") {
+    config.receive_path = ReceivePath::liblcm;
+    if (!config.accept_from.empty()) throw UsageError("--accept-from needs --receive-path own (liblcm reads the datagrams)");
+    if (cli::given(app, "--log")) throw UsageError("--log needs --receive-path own");
+  } else if (raw.receive_path != "own") {
+    throw UsageError("--receive-path: expected own or liblcm, got " + cli::quoted(raw.receive_path));
   }
   config.print_config = raw.print_config;
 

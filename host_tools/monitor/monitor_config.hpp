@@ -12,6 +12,7 @@
 //   sample_rate_hz (--rate), max_bridge_samples, sensor_range_mps2, late_limit_s
 //   channels {accel, accel_batch, wall_state, alarm, status}
 //   lcm_url      (--lcm-url)
+//   accept_from  (--accept-from) ["ADDR" or "ADDR/PREFIX", ...]: the only sources of input datagrams (default: any)
 #pragma once
 
 #include <cstdint>

@@ -15,7 +15,7 @@
 #include <CppUTest/TestHarness.h>
 
 using namespace rockwatch;
-namespace fw = rockwatch::firmware;
+namespace fw = rockwatch::core;  // the engine seam
 
 namespace {
 
