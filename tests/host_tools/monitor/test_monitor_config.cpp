@@ -408,3 +408,31 @@ TEST(MonitorInvalidValues, AConfigLargerThanOneMebibyteIsRefused) {
   rockwatch::test::write_file(path, "{" + std::string(std::size_t{1} << 21, ' ') + "}");
   expect_rejected({"--config", path}, {"--config " + path, "larger than 1 MiB"});
 }
+
+// --accept-from / accept_from: the sources of input datagrams (the live test is MonitorDatagrams).
+TEST_GROUP(MonitorAcceptFrom){};
+
+TEST(MonitorAcceptFrom, BadValuesNameTheOptionOrKeyAndWhatIsExpected) {
+  expect_rejected({"--accept-from", "10.0.0.256"}, {"--accept-from", "IPv4 address or network", "10.0.0.256"});
+  expect_rejected({"--accept-from", "10.0.0.0/33"}, {"--accept-from", "10.0.0.0/33"});
+  expect_rejected({"--accept-from", "host.example"}, {"--accept-from"});
+  expect_config_rejected(R"({"accept_from": "10.0.0.1"})", {"accept_from", "expected an array"});
+  expect_config_rejected(R"({"accept_from": ["10.0.0.1", "10.0.0"]})", {"accept_from[1]", "\"10.0.0\""});
+  expect_config_rejected(R"({"accept_from": [7]})", {"accept_from[0]", "expected a string"});
+  expect_rejected({"--receive-path", "kernel"}, {"--receive-path", "own or liblcm"});
+  expect_rejected({"--receive-path", "liblcm", "--accept-from", "10.0.0.1"}, {"--accept-from", "--receive-path own"});
+  expect_rejected({"--offline-in", "a.lcmlog", "--offline-out", "b.lcmlog", "--accept-from", "10.0.0.1"},
+                  {"--accept-from", "live mode"});
+}
+
+TEST(MonitorAcceptFrom, InTheSettingsAndTheDigestOnlyWhenGiven) {
+  const json none = printed_config("", {});
+  CHECK_FALSE(none.at("settings").contains("accept_from"));
+  const json given = printed_config(R"({"accept_from": ["192.168.1.20"]})", {"--accept-from", "10.0.0.0/24"});
+  // The command line replaces the file's list; a bare address is a /32.
+  const json expected = json::array({"10.0.0.0/24"});
+  CHECK_TEXT(given.at("settings").at("accept_from") == expected, given.dump().c_str());
+  CHECK(given.at("config_digest") != none.at("config_digest"));
+  const json file_only = printed_config(R"({"accept_from": ["192.168.1.20"]})", {});
+  CHECK(file_only.at("settings").at("accept_from") == json::array({"192.168.1.20/32"}));
+}

@@ -215,3 +215,44 @@ TEST(MonitorDatagrams, CraftedDatagramsAreCountedAndTheMonitorGoesOn) {
   LONGS_EQUAL(0, counters.at("decode_errors").get<long>());
   LONGS_EQUAL(0, counters.at("duplicates").get<long>());
 }
+
+// --accept-from: datagrams from any other source are dropped before they are parsed, counted, and flagged.
+TEST(MonitorDatagrams, SourcesNotAcceptedAreDroppedAndCounted) {
+  const std::string url = test_url();
+  if (rockwatch::test::skip_without_multicast(url)) return;
+  const TempDir dir;
+  const Channels c;
+  lcm::LCM lcm(url);
+  CHECK(lcm.good());
+  std::vector<rockwatch::monitor_status_t> statuses;
+  lcm.subscribeFunction(c.status, &on_status, &statuses);
+  // No datagram comes from 0.0.0.1 (this machine's own come from one of its interface addresses, which on some
+  // machines are in the documentation networks: 192.0.2.2 here).
+  const pid_t pid = rockwatch::test::start_monitor_listening(
+      {"--config", rockwatch::test::write_channels_config(dir, c, "accept.json"), "--lcm-url", url, "--accept-from",
+       "0.0.0.1"},
+      dir.file("stdout"), dir.file("stderr"));
+  const std::int64_t t0 = rockwatch::monitor::realtime_utime();
+  for (int i = 0; i < 5; ++i) {
+    const Bytes b = sample_payload(t0 + i * 5000, i);
+    CHECK(lcm.publish(c.accel, b.data(), static_cast<unsigned int>(b.size())) == 0);
+  }
+  const double deadline = now_s() + 5.0;
+  bool flagged = false;
+  while (!flagged && now_s() < deadline) {
+    lcm.handleTimeout(50);
+    for (const auto& s : statuses) flagged = flagged || (s.data_quality & rockwatch::monitor_status_t::QUALITY_BAD_DATAGRAM) != 0;
+  }
+  std::string seen;
+  for (const auto& st : statuses) seen += std::to_string(st.seq) + ":" + std::to_string(st.data_quality) + " ";
+  CHECK_TEXT(flagged, ("no status with QUALITY_BAD_DATAGRAM within 5 s; statuses " + seen).c_str());
+  kill(pid, SIGTERM);
+  const int status = rockwatch::test::wait_status(pid);
+  const std::string err = rockwatch::test::read_file(dir.file("stderr"));
+  CHECK_TEXT(WIFEXITED(status) && WEXITSTATUS(status) == 0, err.c_str());
+  const std::vector<json> lines = rockwatch::test::json_lines(rockwatch::test::read_file(dir.file("stdout")));
+  const json& s = lines.back().at("summary");
+  CHECK_TEXT(s.at("datagrams").at("from_other_sources").get<long>() >= 5, s.dump().c_str());
+  LONGS_EQUAL(0, s.at("datagrams").at("short_messages").get<long>());
+  LONGS_EQUAL(0, s.at("counters").at("samples_received").get<long>());
+}
