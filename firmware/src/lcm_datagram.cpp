@@ -173,12 +173,16 @@ DatagramOutcome LcmDatagramReassembler::accept_fragment(const std::uint8_t* data
     s.have_channel = true;
   }
   if (data_length > 0) std::memcpy(s.payload + fragment_offset, data + data_offset, static_cast<std::size_t>(data_length));
-  ++counters_.fragments;
 
-  if (s.fragments_received < s.n_fragments) return DatagramOutcome::fragment_stored;
-  // All fragments arrived: their lengths must cover the payload exactly (overlaps or holes otherwise).
+  if (s.fragments_received < s.n_fragments) {
+    ++counters_.fragments;
+    return DatagramOutcome::fragment_stored;
+  }
+  // All fragments arrived: their lengths must cover the payload exactly (overlaps or holes otherwise). The last
+  // fragment counts as a fragment or as the rejected datagram, never both (found by fuzz_monitor_datagrams).
   s.used = false;
   if (s.bytes_received != s.payload_size || !s.have_channel) return reject(kRejectFragmentMismatch, reasons);
+  ++counters_.fragments;
   ++counters_.messages_reassembled;
   std::memcpy(completed_channel_, s.channel, sizeof(completed_channel_));
   if (out != nullptr) {

@@ -48,7 +48,7 @@ inline constexpr int kDatagramRejectReasons = 9;
 struct DatagramCounters {
   std::int64_t datagrams = 0;               // every datagram given to accept()
   std::int64_t short_messages = 0;          // LC02 accepted
-  std::int64_t fragments = 0;               // LC03 accepted (stored)
+  std::int64_t fragments = 0;               // LC03 accepted (stored, or completing a message)
   std::int64_t messages_reassembled = 0;    // LC03 messages completed
   std::int64_t skipped_too_large = 0;       // valid LC03 fragments of a message over kMaxMessageBytes (not stored)
   std::int64_t rejected = 0;                // datagrams rejected (any reason)
