@@ -3,7 +3,10 @@
 // A timing program, not a test: figures go to docs/BENCHMARKS.md.
 //
 //   bench_monitor_latency MONITOR_EXE [--rate HZ] [--seconds S] [--batch N] [--lcm-url URL] [--queue N]
-//                         [--rx-buffer BYTES]
+//                         [--rx-buffer BYTES] [--receive-path own|liblcm]
+//
+// --receive-path is handed to the monitor: its own checked datagram path (default) or liblcm's receive thread, so
+// the two can be measured side by side in one session (docs/BENCHMARKS.md).
 //
 // It starts the monitor itself (--lcm-url, --rate), waits for its first status message, publishes from a second
 // thread at absolute deadlines (CLOCK_MONOTONIC, TIMER_ABSTIME) — one ground_accel_t per sample, or one
@@ -158,7 +161,7 @@ int main(int argc, char** argv) {
   if (argc < 2) {
     std::fprintf(stderr,
                  "usage: %s MONITOR_EXE [--rate HZ] [--seconds S] [--batch N] [--lcm-url URL] [--queue N] "
-                 "[--rx-buffer BYTES]\n",
+                 "[--rx-buffer BYTES] [--receive-path own|liblcm]\n",
                  argv[0]);
     return 2;
   }
@@ -168,6 +171,7 @@ int main(int argc, char** argv) {
   int queue = 100000;
   long long rx_buffer = 2097152;
   std::string url = "udpm://239.255.76.67:7667?ttl=0";
+  std::string receive_path = "own";
   for (int i = 2; i + 1 < argc; i += 2) {
     const std::string key = argv[i], value = argv[i + 1];
     if (key == "--queue") queue = std::atoi(value.c_str());
@@ -176,6 +180,7 @@ int main(int argc, char** argv) {
     else if (key == "--seconds") seconds = std::atof(value.c_str());
     else if (key == "--batch") batch = std::atoi(value.c_str());
     else if (key == "--lcm-url") url = value;
+    else if (key == "--receive-path") receive_path = value;
     else {
       std::fprintf(stderr, "unknown option %s\n", key.c_str());
       return 2;
@@ -191,8 +196,8 @@ int main(int argc, char** argv) {
   const pid_t child = fork();
   if (child == 0) {
     if (std::freopen("/dev/null", "w", stdout) == nullptr) _exit(127);
-    execl(monitor.c_str(), monitor.c_str(), "--lcm-url", url.c_str(), "--rate", rate_text.c_str(),
-          static_cast<char*>(nullptr));
+    execl(monitor.c_str(), monitor.c_str(), "--lcm-url", url.c_str(), "--rate", rate_text.c_str(), "--receive-path",
+          receive_path.c_str(), static_cast<char*>(nullptr));
     _exit(127);
   }
 
