@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer targets (CMake preset "fuzz": clang, ASan + UBSan) and runs them (issue 8, docs/RELIABILITY.md).
+# Builds the libFuzzer targets (CMake preset "fuzz": clang, ASan + UBSan) and runs them (docs/RELIABILITY.md).
 #
 #   scripts/fuzz.sh smoke                          every kept regression input, then every fuzzer for its share of
 #                                                  about 60 s from the committed seeds (CI: scripts/test.sh)

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Opt-in long soak of rockwatch-monitor (issue 8, docs/RELIABILITY.md "Soak"): builds the release preset and feeds the
+# Opt-in long soak of rockwatch-monitor (docs/RELIABILITY.md "Soak"): builds the release preset and feeds the
 # monitor at 1 kHz over LCM on loopback for SECONDS (default 3600), with injected input faults, then checks that every
 # sample is accounted for, that the counters that must stay zero did, that VmRSS stayed flat after the warm-up and
 # that the monitor made no heap call per sample (LD_PRELOAD counting shim). CI runs the 30 s version

@@ -1,4 +1,4 @@
-// The Linux adapter of the monitor loop (issue 7): firmware::Transport over liblcm, the subscription that hands the
+// The Linux adapter of the monitor loop: firmware::Transport over liblcm, the subscription that hands the
 // raw bytes of the two input channels to MonitorLoop::on_message, the clocks, and the offline transport that writes
 // an LCM log instead of sending.
 #pragma once

@@ -1,4 +1,4 @@
-// rockwatch-monitor: the Linux LCM monitor (issue 7). Everything is in monitor_run.cpp so the tests link the same code.
+// rockwatch-monitor: the Linux LCM monitor. Everything is in monitor_run.cpp so the tests link the same code.
 #include <exception>
 #include <iostream>
 

@@ -3,7 +3,7 @@
 // alone, over set 1 X of the shipped suite scaled to PGA 0.2 g (sample_engines.hpp). One iteration = one sample.
 // The 20 s record is replayed in a loop; every lap starts from reset() with the record's first sample, so every lap
 // is the same; a collapse resets the engine (counted). Figures and commands: docs/BENCHMARKS.md, "Fixed-point
-// engine (issue 6)". Run a Release build; report the median of --benchmark_repetitions=5.
+// engine". Run a Release build; report the median of --benchmark_repetitions=5.
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>

@@ -1,4 +1,4 @@
-// The two per-sample engines the issue 6 benchmarks compare, set up identically (paper wall, linear model,
+// The two per-sample engines the fixed-point benchmarks compare, set up identically (paper wall, linear model,
 // r = r_exp, κ = 2, dt = 5 ms, default alarm settings), and the input record they run on: set 1, component X of the
 // shipped suite (sim/suites/npr9998-2015/set01.txt), scaled to PGA 0.2 g = 1.962 m/s², no vertical.
 //   fixed  firmware::WallEngine::process: sensor axes → FixedRockingStepper → fixed indicators → InstabilityAlarm

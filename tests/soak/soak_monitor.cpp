@@ -1,4 +1,4 @@
-// Soak of rockwatch-monitor (issue 8): the monitor, started as a process of its own (default channels, --rate 1000,
+// Soak of rockwatch-monitor: the monitor, started as a process of its own (default channels, --rate 1000,
 // an LCM URL with a port of this process), is fed ground_accel_t at 1 kHz on absolute deadlines for a long run: a
 // motion that makes the wall rock and settle every 10 s, with input faults injected at known counts (short gaps that
 // are bridged, out-of-order and duplicate samples, NaN, out-of-range values, lift-off, sensor flags). This process

@@ -1,4 +1,4 @@
-// Fault injection on a live rockwatch-monitor (issue 8), real processes over UDP multicast on loopback (ttl=0, a port
+// Fault injection on a live rockwatch-monitor, real processes over UDP multicast on loopback (ttl=0, a port
 // and channel names of this test process's own; skipped, saying why, when multicast does not work here):
 //   - SIGKILL mid-record: a monitor receiving a stream is killed, a new one started on the same channels while the
 //     stream goes on: the new one publishes wall states within a few samples of its start, its first status says
