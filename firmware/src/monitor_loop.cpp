@@ -360,9 +360,13 @@ void MonitorLoop::note_log_write_failure() {
   quality_since_status_ |= Status::QUALITY_LOG_WRITE_FAILED;
 }
 
-void MonitorLoop::note_bad_datagram() {
+void MonitorLoop::note_datagram_counts(std::int64_t rejected, std::int64_t from_other_sources) {
   if (!ready_) return;
-  quality_since_status_ |= Status::QUALITY_BAD_DATAGRAM;
+  if (rejected != counters_.datagrams_rejected || from_other_sources != counters_.datagrams_from_other_sources) {
+    quality_since_status_ |= Status::QUALITY_BAD_DATAGRAM;
+  }
+  counters_.datagrams_rejected = rejected;
+  counters_.datagrams_from_other_sources = from_other_sources;
 }
 
 void MonitorLoop::publish_status(std::int64_t now_utime) {
@@ -398,6 +402,9 @@ void MonitorLoop::publish_status(std::int64_t now_utime) {
   m.messages_ignored = c.messages_ignored;
   m.publish_failures = c.publish_failures;
   m.log_write_failures = c.log_write_failures;
+  m.time_untrusted = c.time_untrusted;
+  m.datagrams_rejected = c.datagrams_rejected;
+  m.datagrams_from_other_sources = c.datagrams_from_other_sources;
   const int size = m.getEncodedSize();
   bool sent = false;
   if (size <= static_cast<int>(sizeof out_buffer_) &&

@@ -334,7 +334,7 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
                               : receiver.receive(input, static_cast<int>(wait_ms), &realtime_utime);
     if (input.bad_datagrams() != bad_datagrams_noted) {
       bad_datagrams_noted = input.bad_datagrams();
-      loop->note_bad_datagram();
+      loop->note_datagram_counts(input.datagram_counters().rejected, input.counters().from_other_sources);
     }
     if (rc >= 0) {
       consecutive_errors = 0;

@@ -712,6 +712,25 @@ TEST(MonitorLoop, TimeToleranceBothWays) {
   LONGS_EQUAL(Status::QUALITY_TIME_UNTRUSTED, rig.last_state().data_quality);
 }
 
+// The host's receive path reports its totals; the status carries them and flags an increase once.
+TEST(MonitorLoop, DatagramCountsFromTheHostAreInTheStatus) {
+  Rig rig;
+  rig.stream(0, 3);
+  rig.loop.note_datagram_counts(2, 5);
+  rig.loop.publish_status(kT0 + 1000000);
+  rig.loop.note_datagram_counts(2, 5);  // no change: no flag
+  rig.loop.publish_status(kT0 + 2000000);
+  const std::vector<monitor_status_t> st = rig.transport.statuses();
+  CHECK_TRUE(st.size() >= 2);
+  const monitor_status_t& first = st[st.size() - 2];
+  const monitor_status_t& second = st.back();
+  LONGS_EQUAL(2, first.datagrams_rejected);
+  LONGS_EQUAL(5, first.datagrams_from_other_sources);
+  CHECK_TRUE((first.data_quality & Status::QUALITY_BAD_DATAGRAM) != 0);
+  LONGS_EQUAL(2, second.datagrams_rejected);
+  CHECK_TRUE((second.data_quality & Status::QUALITY_BAD_DATAGRAM) == 0);
+}
+
 TEST(MonitorLoop, WrongMessageTypesOnTheInputChannelsAreDecodeErrors) {
   Rig rig;
   rig.stream(0, 5);
@@ -881,7 +900,7 @@ TEST(MonitorLoop, StatusCarriesTheCountersAndTheQualitySinceTheLastStatus) {
   const fw::MonitorCounters& c = rig.loop.counters();
   LONGS_EQUAL(2, m.seq);  // seq 1 was the status the transport failed to send
   LONGS_EQUAL(kT0 + 2000000, m.utime);
-  LONGS_EQUAL(2, m.schema_version);
+  LONGS_EQUAL(3, m.schema_version);
   LONGS_EQUAL(Status::SCHEMA_VERSION, m.schema_version);
   LONGS_EQUAL(ROCKWATCH_EXPECTED_VERSION_MAJOR, m.version_major);
   LONGS_EQUAL(ROCKWATCH_EXPECTED_VERSION_MINOR, m.version_minor);
@@ -903,6 +922,9 @@ TEST(MonitorLoop, StatusCarriesTheCountersAndTheQualitySinceTheLastStatus) {
   LONGS_EQUAL(0, m.saturated);
   LONGS_EQUAL(0, m.worst_step_ns);  // no step clock installed
   LONGS_EQUAL(1, m.sensor_flags);
+  LONGS_EQUAL(0, m.time_untrusted);
+  LONGS_EQUAL(0, m.datagrams_rejected);
+  LONGS_EQUAL(0, m.datagrams_from_other_sources);
   LONGS_EQUAL(1, m.messages_ignored);
   LONGS_EQUAL(1, m.publish_failures);
   LONGS_EQUAL(2, m.log_write_failures);

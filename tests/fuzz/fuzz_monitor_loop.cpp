@@ -59,7 +59,8 @@ class CheckingTransport : public fw::Transport {
       for (const std::int64_t c : {m.samples_received, m.samples_processed, m.samples_bridged, m.gaps, m.state_resets,
                                    m.duplicates, m.out_of_order, m.late, m.rejected_not_finite,
                                    m.rejected_out_of_range, m.lift_off, m.publisher_restarts, m.decode_errors,
-                                   m.saturated, m.worst_step_ns}) {
+                                   m.saturated, m.worst_step_ns, m.time_untrusted, m.datagrams_rejected,
+                                   m.datagrams_from_other_sources}) {
         ROCKWATCH_FUZZ_CHECK(c >= 0);
       }
       ++statuses;

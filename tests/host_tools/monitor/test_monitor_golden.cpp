@@ -73,6 +73,9 @@ json status_json(const OutputLog::Status& s) {
               {"messages_ignored", m.messages_ignored},
               {"publish_failures", m.publish_failures},
               {"log_write_failures", m.log_write_failures},
+              {"time_untrusted", m.time_untrusted},
+              {"datagrams_rejected", m.datagrams_rejected},
+              {"datagrams_from_other_sources", m.datagrams_from_other_sources},
               {"arithmetic", m.arithmetic},
               {"data_quality", m.data_quality},
               {"alarm_level", rockwatch::monitor::level_name(m.alarm_level)}};

@@ -114,6 +114,9 @@ struct MonitorCounters {
   std::int64_t publish_failures = 0, messages_ignored = 0;  // ignored: on channels the monitor does not read
   std::int64_t log_write_failures = 0;  // reported by the host (note_log_write_failure)
   std::int64_t time_untrusted = 0;  // samples stamped more than kClockTolerance_us from the receive time
+  // Reported by the host's receive path (note_datagram_counts): malformed datagrams, and datagrams from sources not
+  // accepted.
+  std::int64_t datagrams_rejected = 0, datagrams_from_other_sources = 0;
   std::int64_t worst_step_ns = 0;
   std::int64_t alarm_events = 0, states_published = 0;
 };
@@ -135,9 +138,9 @@ class MonitorLoop {
   // The host's own log of the traffic could not be written: counted and flagged in the next status (monitoring goes
   // on; the firmware itself writes no files).
   void note_log_write_failure();
-  // The host's receive path rejected a datagram (malformed, or from a source not accepted; the host counts them by
-  // reason): flagged in the next status.
-  void note_bad_datagram();
+  // The host's receive path's totals so far (it counts them by reason): carried in the status; an increase is
+  // flagged (QUALITY_BAD_DATAGRAM) in the next one.
+  void note_datagram_counts(std::int64_t rejected, std::int64_t from_other_sources);
 
   // Encodes and publishes monitor_status_t (the adapter calls it once per second and on exit).
   void publish_status(std::int64_t now_utime);
