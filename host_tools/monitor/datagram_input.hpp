@@ -52,8 +52,6 @@ class DatagramInput {
 
   const firmware::DatagramCounters& datagram_counters() const { return reassembler_.counters(); }
   const DatagramInputCounters& counters() const { return counters_; }
-  // Datagrams that were not a message or a valid fragment from an accepted source (the status flag's count).
-  std::int64_t bad_datagrams() const { return reassembler_.counters().rejected + counters_.from_other_sources; }
 
  private:
   firmware::MonitorChannels channels_;

@@ -315,7 +315,6 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
   constexpr std::int64_t kSecondNs = 1000000000;
   const std::int64_t start_ns = monotonic_ns();
   std::int64_t next_status_ns = start_ns + kSecondNs;
-  std::int64_t bad_datagrams_noted = 0;
   int consecutive_errors = 0;
   bool failed = false;
   while (!StopSignals::stopped()) {
@@ -332,10 +331,7 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
     errno = 0;
     const int rc = via_liblcm ? lcm.handleTimeout(static_cast<int>(wait_ms))
                               : receiver.receive(input, static_cast<int>(wait_ms), &realtime_utime);
-    if (input.bad_datagrams() != bad_datagrams_noted) {
-      bad_datagrams_noted = input.bad_datagrams();
-      loop->note_datagram_counts(input.datagram_counters().rejected, input.counters().from_other_sources);
-    }
+    loop->note_datagram_counts(input.datagram_counters().rejected, input.counters().from_other_sources);
     if (rc >= 0) {
       consecutive_errors = 0;
       continue;

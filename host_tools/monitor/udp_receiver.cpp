@@ -1,5 +1,7 @@
 #include "udp_receiver.hpp"
 
+#include "lcm_transport.hpp"  // requested_receive_buffer
+
 #include <arpa/inet.h>
 #include <errno.h>
 #include <netinet/in.h>
@@ -41,18 +43,7 @@ bool parse_udpm_url(const std::string& url, UdpmEndpoint* out, std::string* erro
   }
   out->group = ntohl(group.s_addr);
   out->port = static_cast<std::uint16_t>(port);
-  out->receive_buffer_bytes = 0;
-  if (query != std::string::npos) {
-    std::size_t at = query + 1;
-    while (at <= url.size()) {
-      const std::size_t amp = std::min(url.find('&', at), url.size());
-      const std::string item = url.substr(at, amp - at);
-      if (item.rfind("recv_buf_size=", 0) == 0) {
-        out->receive_buffer_bytes = std::max(0LL, std::strtoll(item.c_str() + 14, nullptr, 0));
-      }
-      at = amp + 1;
-    }
-  }
+  out->receive_buffer_bytes = requested_receive_buffer(url);
   return true;
 }
 

@@ -3,6 +3,7 @@
 #include <signal.h>
 #include <sys/wait.h>
 #include <time.h>
+#include <unistd.h>
 
 #include <cstdint>
 
@@ -35,6 +36,12 @@ LiveChannels::LiveChannels(const std::string& prefix)
 namespace {
 void count_probe(const lcm::ReceiveBuffer*, const std::string&, int* received) { ++*received; }
 }  // namespace
+
+int live_test_port(int offset) { return 20000 + static_cast<int>(getpid() % 20000) * 2 + offset; }
+
+std::string live_test_url(int offset) {
+  return "udpm://239.255.76.67:" + std::to_string(live_test_port(offset)) + "?ttl=0";
+}
 
 bool skip_without_multicast(const std::string& url) {
   std::string why;

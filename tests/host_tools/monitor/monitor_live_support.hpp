@@ -20,6 +20,11 @@ struct LiveChannels {
   std::string accel, batch, state, alarm, status;
 };
 
+// udpm multicast on a port of this test process's own (other test runs on the machine use theirs), ttl=0. Offsets 0
+// and 1 are two ports (tests that run a monitor while another may still be winding down use the other one).
+int live_test_port(int offset);
+std::string live_test_url(int offset);
+
 // True (and a "SKIPPED" line printed) when multicast on `url` does not come back to this process: no route on
 // loopback, or LCM cannot start with it. The live tests return at once then.
 bool skip_without_multicast(const std::string& url);

@@ -37,8 +37,8 @@ struct Channels : rockwatch::test::LiveChannels {
 };
 
 constexpr const char* kGroup = "239.255.76.67";
-int test_port() { return 20000 + static_cast<int>(getpid() % 20000) * 2 + 1; }
-std::string test_url() { return std::string("udpm://") + kGroup + ":" + std::to_string(test_port()) + "?ttl=0"; }
+int test_port() { return rockwatch::test::live_test_port(1); }
+std::string test_url() { return rockwatch::test::live_test_url(1); }
 
 void put32(Bytes& b, std::uint32_t v) {
   for (int s = 24; s >= 0; s -= 8) b.push_back(static_cast<std::uint8_t>(v >> s));
@@ -105,6 +105,18 @@ Bytes sample_payload(std::int64_t utime, std::int64_t seq) {
 void on_status(const lcm::ReceiveBuffer* rbuf, const std::string&, std::vector<rockwatch::monitor_status_t>* out) {
   rockwatch::monitor_status_t m;
   if (m.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) > 0) out->push_back(m);
+}
+
+// Handles LCM until a received status carries QUALITY_BAD_DATAGRAM (true) or 5 s pass (false).
+bool wait_for_bad_datagram_flag(lcm::LCM& lcm, const std::vector<rockwatch::monitor_status_t>& statuses) {
+  const double deadline = now_s() + 5.0;
+  while (now_s() < deadline) {
+    lcm.handleTimeout(50);
+    for (const auto& s : statuses) {
+      if ((s.data_quality & rockwatch::monitor_status_t::QUALITY_BAD_DATAGRAM) != 0) return true;
+    }
+  }
+  return false;
 }
 
 }  // namespace
@@ -180,13 +192,7 @@ TEST(MonitorDatagrams, CraftedDatagramsAreCountedAndTheMonitorGoesOn) {
   CHECK(lcm.publish(c.accel + "_HUGE", huge.data(), static_cast<unsigned int>(huge.size())) == 0);
 
   // Still answering: a status after the attack carries the flag.
-  const double deadline = now_s() + 5.0;
-  bool flagged = false;
-  while (!flagged && now_s() < deadline) {
-    lcm.handleTimeout(50);
-    for (const auto& s : statuses) flagged = flagged || (s.data_quality & rockwatch::monitor_status_t::QUALITY_BAD_DATAGRAM) != 0;
-  }
-  CHECK_TEXT(flagged, "no status with QUALITY_BAD_DATAGRAM within 5 s");
+  CHECK_TEXT(wait_for_bad_datagram_flag(lcm, statuses), "no status with QUALITY_BAD_DATAGRAM within 5 s");
   // The status counts them too (it may trail the last datagrams by one status period).
   CHECK_TRUE(statuses.back().datagrams_rejected >= 1);
 
@@ -239,15 +245,7 @@ TEST(MonitorDatagrams, SourcesNotAcceptedAreDroppedAndCounted) {
     const Bytes b = sample_payload(t0 + i * 5000, i);
     CHECK(lcm.publish(c.accel, b.data(), static_cast<unsigned int>(b.size())) == 0);
   }
-  const double deadline = now_s() + 5.0;
-  bool flagged = false;
-  while (!flagged && now_s() < deadline) {
-    lcm.handleTimeout(50);
-    for (const auto& s : statuses) flagged = flagged || (s.data_quality & rockwatch::monitor_status_t::QUALITY_BAD_DATAGRAM) != 0;
-  }
-  std::string seen;
-  for (const auto& st : statuses) seen += std::to_string(st.seq) + ":" + std::to_string(st.data_quality) + " ";
-  CHECK_TEXT(flagged, ("no status with QUALITY_BAD_DATAGRAM within 5 s; statuses " + seen).c_str());
+  CHECK_TEXT(wait_for_bad_datagram_flag(lcm, statuses), "no status with QUALITY_BAD_DATAGRAM within 5 s");
   kill(pid, SIGTERM);
   const int status = rockwatch::test::wait_status(pid);
   const std::string err = rockwatch::test::read_file(dir.file("stderr"));

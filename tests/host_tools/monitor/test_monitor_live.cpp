@@ -40,11 +40,7 @@ struct Channels : rockwatch::test::LiveChannels {
 
 namespace {
 
-// A port of this process's own (other test runs on the machine use theirs), multicast that stays on the machine.
-std::string test_url(int offset) {
-  const int port = 20000 + static_cast<int>(getpid() % 20000) * 2 + offset;
-  return "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0";
-}
+std::string test_url(int offset) { return rockwatch::test::live_test_url(offset); }
 
 // Raw messages received by this process, by channel.
 struct Inbox {

@@ -34,10 +34,7 @@ struct Channels : rockwatch::test::LiveChannels {
   Channels() : LiveChannels("RWS") {}
 };
 
-std::string test_url() {
-  const int port = 20000 + static_cast<int>(getpid() % 20000) * 2 + 1;
-  return "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0";
-}
+std::string test_url() { return rockwatch::test::live_test_url(1); }
 
 struct Statuses {
   std::vector<rockwatch::monitor_status_t> all;
