@@ -207,6 +207,11 @@ class Fixed64 {
     static_assert(FracBits >= 0 && FracBits <= 63, "operator/ needs 0..63 fraction bits");
     return from_raw(fixed64_detail::div_round(a.raw_, b.raw_, FracBits));
   }
+  // Compound forms (Eigen's += / −= / scalar *= /=): the same roundings and saturation as above.
+  constexpr Fixed64& operator+=(Fixed64 b) { return *this = *this + b; }
+  constexpr Fixed64& operator-=(Fixed64 b) { return *this = *this - b; }
+  constexpr Fixed64& operator*=(Fixed64 b) { return *this = *this * b; }
+  constexpr Fixed64& operator/=(Fixed64 b) { return *this = *this / b; }
   friend constexpr bool operator==(Fixed64 a, Fixed64 b) { return a.raw_ == b.raw_; }
   friend constexpr bool operator!=(Fixed64 a, Fixed64 b) { return a.raw_ != b.raw_; }
   friend constexpr bool operator<(Fixed64 a, Fixed64 b) { return a.raw_ < b.raw_; }

@@ -17,6 +17,7 @@
 #include <Eigen/Core>
 
 #include "rockwatch/core/fixed_point.hpp"
+#include "rockwatch/core/fixed_point64.hpp"
 
 namespace rockwatch::core {
 
@@ -30,6 +31,17 @@ template <int I, int F>
 constexpr Fixed<I, F> conj(Fixed<I, F> a) { return a; }
 template <int I, int F>
 constexpr Fixed<I, F> abs2(Fixed<I, F> a) { return a * a; }
+
+// The same for the 64-bit Fixed64 (the observer's covariance, wall_observer.hpp). Scaling and overflow: as above;
+// abs2 is one rounding of the exact 128-bit product, saturating at highest().
+template <int I, int F>
+constexpr Fixed64<I, F> real(Fixed64<I, F> a) { return a; }
+template <int I, int F>
+constexpr Fixed64<I, F> imag(Fixed64<I, F>) { return Fixed64<I, F>(); }
+template <int I, int F>
+constexpr Fixed64<I, F> conj(Fixed64<I, F> a) { return a; }
+template <int I, int F>
+constexpr Fixed64<I, F> abs2(Fixed64<I, F> a) { return a * a; }
 
 }  // namespace rockwatch::core
 
@@ -68,6 +80,32 @@ struct NumTraits<rockwatch::core::Fixed<I, F>> {
   static constexpr int digits10() { return (F * 30103) / 100000; }
   // Binary digits of the value (std::numeric_limits<int32_t>::digits).
   static constexpr int digits() { return 31; }
+};
+
+template <int I, int F>
+struct NumTraits<rockwatch::core::Fixed64<I, F>> {
+  using Scalar = rockwatch::core::Fixed64<I, F>;
+  using Real = Scalar;
+  using NonInteger = Scalar;
+  using Literal = Scalar;
+  using Nested = Scalar;
+
+  enum {
+    IsComplex = 0,
+    IsInteger = 0,
+    IsSigned = 1,
+    RequireInitialization = 0,
+    ReadCost = 2,
+    AddCost = 4,   // 64-bit add with saturation checks (two words on a 32-bit target)
+    MulCost = 12   // 64×64→128 product (four UMULL on Cortex-M4) and a rounding shift
+  };
+
+  static constexpr Scalar epsilon() { return Scalar::from_raw(1); }
+  static constexpr Scalar dummy_precision() { return Scalar::from_raw(std::int64_t{1} << (F < 7 ? F : 7)); }
+  static constexpr Scalar highest() { return Scalar::highest(); }
+  static constexpr Scalar lowest() { return Scalar::lowest(); }
+  static constexpr int digits10() { return (F * 30103) / 100000; }
+  static constexpr int digits() { return 63; }
 };
 
 }  // namespace Eigen

@@ -229,6 +229,9 @@ class FixedRockingStepper {
     return report;
   }
 
+  // The velocity ratio at impact √r from now on (the observer's estimate of the real wall's restitution).
+  void set_sqrt_r(FractionQ1_62 sqrt_r) { setup_.sqrt_r = sqrt_r; }
+
   LengthQ1_62 x_m() const { return x_; }
   SpeedQ3_60 xd_mps() const { return xd_; }
   AccelQ7_56 xdd_mps2() const { return xdd_; }

@@ -157,6 +157,9 @@ class RockingStepper {
     return report;
   }
 
+  // The velocity ratio at impact √r from now on (the observer's estimate of the real wall's restitution).
+  void set_sqrt_r(Scalar sqrt_r) { setup_.sqrt_r = sqrt_r; }
+
   const MotionState<Scalar>& state() const { return state_; }
   Side side() const { return side_; }
   bool moving() const { return moving_; }

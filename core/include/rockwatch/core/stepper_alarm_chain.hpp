@@ -106,6 +106,18 @@ class StepperAlarmChain {
     evaluate(out);
   }
 
+  // One step with a state observer between the stepper and the indicators (core/wall_observer.hpp): the observer
+  // corrects the stepper's state with the sensor samples up to the step end, so the indicators and the alarm see the
+  // fused state. t_us: the step end on the sensor clock; step_us: the step length [µs].
+  template <typename Observer>
+  typename Observer::StepOutcome step_observed(Input ug_mps2, Input vg_mps2, Observer& observer, std::int64_t t_us,
+                                               std::int64_t step_us, Output& out) {
+    step_motion(ug_mps2, vg_mps2, out);
+    const auto outcome = observer.after_step(stepper_, out.step, ug_mps2, vg_mps2, t_us, step_us);
+    evaluate(out);
+    return outcome;
+  }
+
   // The state restarts from rest (state unknown after a long gap or a publisher restart) with this input as the
   // current one; the alarm keeps its level (a latched COLLAPSED stays, others fall only through the hold time).
   void restart_motion(Input ug_mps2, Input vg_mps2, Output& out) {

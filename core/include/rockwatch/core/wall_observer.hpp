@@ -1,0 +1,602 @@
+// The wall observer: fuses wall-mounted sensors (SPEC §8) with the rocking model so that the monitor follows the
+// real wall, not a nominal one running open loop on the ground motion.
+//
+// A hybrid extended Kalman filter on z = (x, ẋ, e, b):
+//   x, ẋ   the mid-height hinge displacement and velocity [m, m/s]; their mean IS the rocking stepper's state (the
+//          stepper propagates it with its impacts, start and rest logic; the observer corrects it after each step);
+//   e      √r, the velocity ratio at impact [-] (r̂ = ê², fed back into the stepper after every correction);
+//   b      the zero offset of the displacement transducer [m].
+// Between impacts the covariance follows the linearised model of the current side (the stepper's own Newmark step
+// with the nominal stiffness k_s = p4/p1 at ü = 0, G = g) with white model-acceleration noise. At an impact it
+// follows the impact map through its saltation matrix: the guard is x = 0 and the reset ẋ⁺ = e·ẋ⁻, so
+//   δx⁺ = e δx⁻,  δẋ⁺ = (a⁺ − e a⁻)/ẋ⁻ · δx⁻ + e δẋ⁻ + ẋ⁻ δe
+// (a∓ the accelerations on the two sides at the hinge). The ẋ⁻ δe term is what makes r identifiable: the motion
+// after an impact measures e. At rest the state is known (x = ẋ = 0), so a displacement reading there measures
+// only the bias: the zero-offset estimate comes from the rests.
+// Measurements (SPEC §8): the displacement transducer x_mid = x + b + noise (H = [1 0 0 1]); the accelerometer at
+// the hinge on block 1, a_mid = ü + ẍ − G·x/h1 with ẍ = f − k x on the current side (H = [−(k_s + g/h1) 0 0 0]),
+// used only while rocking and not in a step with an impact (the impact is a spike, SPEC §8). Every innovation is
+// gated by χ² (1 degree of freedom); consecutive rejections while the ground shakes re-initialise the motion from
+// the measurement (the real wall rocks where the model does not, or the sensor came back after a dropout).
+//
+// Time alignment: sensor samples are queued (fixed ring) with their utime and applied after the ground step whose
+// time reaches theirs — never before (a future sample is never used) — extrapolated to the step end by ẋ̂·age.
+// Samples older than max_age are dropped (stale); older than one step are applied but flagged (misaligned).
+//
+// Scalar: the stepper's (ObserverStepperTraits): double for core::RockingStepper<double>, ObserverQ10_53 for the
+// fixed-point stepper. Core rules: header-only, no heap, no exceptions, no I/O; init() is initialisation-time code
+// (double), the rest is bounded work (at most kQueueCapacity updates per step, each a few 4×4 products).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include <Eigen/Core>
+
+#include "rockwatch/core/fixed_point64.hpp"
+#include "rockwatch/core/fixed_point_eigen.hpp"
+#include "rockwatch/core/fixed_rocking_stepper.hpp"
+#include "rockwatch/core/model.hpp"
+#include "rockwatch/core/rocking_stepper.hpp"
+#include "rockwatch/core/wall.hpp"
+
+namespace rockwatch::core {
+
+// The observer's one fixed-point format (covariances, gains, corrections, e, b): ±1024, resolution 1.1e-16.
+// Scaling: variances of x down to (10 µm)² = 1e-10 m² keep 6 significant digits; gains ẋ/x up to 1024 1/s.
+using ObserverQ10_53 = Fixed64<10, 53>;
+
+// Settings, SI units. Defaults: a displacement transducer of 0.5 mm noise and an accelerometer of 0.05 m/s².
+struct ObserverOptions {
+  double x_noise_m = 0.5e-3;            // σ of the displacement transducer [m]
+  double a_noise_mps2 = 0.05;           // σ of the mid-height accelerometer [m/s²]
+  double process_accel_mps2 = 0.5;      // σ of the model's acceleration error per step [m/s²]
+  double r_sigma0 = 0.1;                // initial σ of √r [-]
+  double r_walk = 1e-5;                 // random walk of √r per step [-]
+  double bias_sigma0_m = 5e-3;          // initial σ of the transducer's zero offset [m]
+  double bias_walk_m = 1e-7;            // random walk of the zero offset per step [m]
+  double gate_chi2 = 16.0;              // innovation gate, χ² with one degree of freedom (16: 4σ) [-]
+  std::int32_t reinit_after = 8;        // consecutive rejections (ground shaking) that re-initialise the motion
+  double dropout_s = 0.25;              // no usable displacement sample for this long: sensor lost [s]
+  double max_age_s = 0.05;              // older samples (behind the ground stream) are dropped [s]
+  double x_range_m = 0.5;               // |x_mid| beyond this: out of range [m]
+  double a_range_mps2 = 80.0;           // |a_mid| beyond this: out of range [m/s²]
+  std::int32_t stuck_after = 40;        // identical consecutive displacement readings while rocking: stuck
+  double quiet_fraction = 0.5;          // the ground is quiet when |ü| < this × the smaller start threshold [-]
+  double v_min_mps = 0.01;              // |ẋ⁻| floor in the saltation matrix (bounds it at grazing impacts) [m/s]
+};
+
+// Why init() refused. Values are stable: append, never renumber.
+enum class ObserverError : std::uint8_t {
+  ok = 0,
+  noise_out_of_range = 1,     // x_noise in [1e-6, 0.1] m, a_noise in [1e-4, 10] m/s², process in [1e-4, 100] m/s²
+  prior_out_of_range = 2,     // r_sigma0 in (0, 1], bias_sigma0 in (0, 0.1] m, walks ≥ 0 and small
+  gate_out_of_range = 3,      // gate in [1, 1000], reinit_after in [1, 1000], stuck_after in [2, 100000]
+  timing_out_of_range = 4,    // dropout in (0, 60] s, max_age in [0, 10] s, step in (0, 0.1] s
+  range_out_of_range = 5,     // x_range in (0, 2] m, a_range in (0, 128] m/s², quiet fraction in [0, 1], v_min > 0
+};
+
+inline const char* observer_error_message(ObserverError e) {
+  switch (e) {
+    case ObserverError::ok: return "ok";
+    case ObserverError::noise_out_of_range:
+      return "observer noise out of range (x_noise in [1e-6, 0.1] m, a_noise in [1e-4, 10] m/s2, process in [1e-4, 100] m/s2)";
+    case ObserverError::prior_out_of_range:
+      return "observer prior out of range (r_sigma0 in (0, 1], bias_sigma0 in (0, 0.1] m, walks in [0, 0.01])";
+    case ObserverError::gate_out_of_range:
+      return "observer gate out of range (gate_chi2 in [1, 1000], reinit_after in [1, 1000], stuck_after in [2, 100000])";
+    case ObserverError::timing_out_of_range:
+      return "observer timing out of range (dropout in (0, 60] s, max_age in [0, 10] s)";
+    case ObserverError::range_out_of_range:
+      return "observer ranges invalid (x_range in (0, 2] m, a_range in (0, 128] m/s2, quiet_fraction in [0, 1])";
+  }
+  return "?";
+}
+
+inline ObserverError validate_observer_options(const ObserverOptions& o) {
+  auto in = [](double v, double lo, double hi) { return v >= lo && v <= hi; };
+  if (!(in(o.x_noise_m, 1e-6, 0.1) && in(o.a_noise_mps2, 1e-4, 10.0) && in(o.process_accel_mps2, 1e-4, 100.0)))
+    return ObserverError::noise_out_of_range;
+  if (!(o.r_sigma0 > 0.0 && o.r_sigma0 <= 1.0 && o.bias_sigma0_m > 0.0 && o.bias_sigma0_m <= 0.1 &&
+        in(o.r_walk, 0.0, 0.01) && in(o.bias_walk_m, 0.0, 0.01)))
+    return ObserverError::prior_out_of_range;
+  if (!(in(o.gate_chi2, 1.0, 1000.0) && o.reinit_after >= 1 && o.reinit_after <= 1000 && o.stuck_after >= 2 &&
+        o.stuck_after <= 100000))
+    return ObserverError::gate_out_of_range;
+  if (!(o.dropout_s > 0.0 && o.dropout_s <= 60.0 && in(o.max_age_s, 0.0, 10.0)))
+    return ObserverError::timing_out_of_range;
+  if (!(o.x_range_m > 0.0 && o.x_range_m <= 2.0 && o.a_range_mps2 > 0.0 && o.a_range_mps2 <= 128.0 &&
+        in(o.quiet_fraction, 0.0, 1.0) && o.v_min_mps > 0.0 && o.v_min_mps <= 1.0))
+    return ObserverError::range_out_of_range;
+  return ObserverError::ok;
+}
+
+// One sample of the wall-mounted sensors (wall_sensor_t, or a row of a --wall-sensors file).
+struct WallSensorSample {
+  std::int64_t utime_us = 0;    // sample time on the ground stream's clock [µs]
+  double x_mid_m = 0.0;         // displacement transducer at the mid-height hinge [m] (x_valid)
+  double a_mid_mps2 = 0.0;      // absolute horizontal acceleration at mid-height [m/s²] (a_valid)
+  bool x_valid = false, a_valid = false;
+  std::int32_t sensor_status = 0;  // the sensor's own status bits (not 0: counted, flagged)
+};
+
+// Health and event bits of the observer (wall_estimate_t SENSOR_*). A bit keeps its meaning forever.
+namespace observer_flag {
+inline constexpr std::uint32_t x_active = 1u << 0;          // a displacement sample was used within the dropout time
+inline constexpr std::uint32_t a_active = 1u << 1;          // an acceleration sample was used within the dropout time
+inline constexpr std::uint32_t sensor_lost = 1u << 2;       // no usable displacement sample for dropout_s: model alone
+inline constexpr std::uint32_t rejected = 1u << 3;          // an innovation failed the χ² gate
+inline constexpr std::uint32_t not_finite = 1u << 4;        // NaN/Inf reading (discarded)
+inline constexpr std::uint32_t out_of_range = 1u << 5;      // reading beyond the sensor range (discarded)
+inline constexpr std::uint32_t stuck = 1u << 6;             // displacement constant while the wall rocks (discarded)
+inline constexpr std::uint32_t motion_while_quiet = 1u << 7;  // sensor shows motion, model at rest, ground quiet
+inline constexpr std::uint32_t misaligned = 1u << 8;        // sample applied more than one step after its time
+inline constexpr std::uint32_t stale = 1u << 9;             // sample older than max_age (dropped)
+inline constexpr std::uint32_t queue_overflow = 1u << 10;   // sensor samples without ground samples (oldest dropped)
+inline constexpr std::uint32_t reinitialised = 1u << 11;    // the motion was re-initialised from the measurement
+inline constexpr std::uint32_t sensor_flag = 1u << 12;      // the sensor set a status bit
+inline constexpr std::uint32_t jump = 1u << 13;             // a displacement jump (rejected) while the ground is quiet
+// Any of these is a sensor fault (never silent: the monitor flags alarms that coincide with one).
+inline constexpr std::uint32_t faults = not_finite | out_of_range | stuck | motion_while_quiet | stale |
+                                        queue_overflow | sensor_flag | jump;
+}  // namespace observer_flag
+
+struct ObserverCounters {
+  std::int64_t samples = 0;          // sensor samples received
+  std::int64_t x_updates = 0, a_updates = 0;  // accepted measurement updates
+  std::int64_t rejected = 0;         // gated out
+  std::int64_t not_finite = 0, out_of_range = 0, stuck = 0, motion_while_quiet = 0, jumps = 0;
+  std::int64_t misaligned = 0, stale = 0, queue_overflow = 0, reinitialised = 0, sensor_flags = 0;
+  std::int64_t impacts = 0;          // impacts seen by the covariance (saltation applied)
+  std::int64_t dropouts = 0;         // transitions into sensor_lost
+};
+
+// How the observer reads and corrects a stepper. Specialised for the two steppers.
+template <typename Stepper>
+struct ObserverStepperTraits;
+
+template <>
+struct ObserverStepperTraits<RockingStepper<double>> {
+  using Scalar = double;
+  using Input = double;
+  using Report = StepReport<double>;
+  static double x(const RockingStepper<double>& s) { return s.state().x_m; }
+  static double xd(const RockingStepper<double>& s) { return s.state().xd_mps; }
+  static double xdd(const RockingStepper<double>& s) { return s.state().xdd_mps2; }
+  static double input(Input v) { return v; }
+  static double v_before(const Report& r) { return r.first_impact_v_before_mps; }
+  static void set_motion(RockingStepper<double>& s, double x, double xd, Input ug, Input vg) {
+    s.set_state(x, xd, ug, vg);
+  }
+  static void set_sqrt_r(RockingStepper<double>& s, double e) { s.set_sqrt_r(e); }
+};
+
+template <>
+struct ObserverStepperTraits<FixedRockingStepper> {
+  using Scalar = ObserverQ10_53;
+  using Input = AccelQ7_56;
+  using Report = FixedStepReport;
+  static Scalar x(const FixedRockingStepper& s) { return wide_convert<Scalar>(s.x_m()); }
+  static Scalar xd(const FixedRockingStepper& s) { return wide_convert<Scalar>(s.xd_mps()); }
+  static Scalar xdd(const FixedRockingStepper& s) { return wide_convert<Scalar>(s.xdd_mps2()); }
+  static Scalar input(Input v) { return wide_convert<Scalar>(v); }
+  static Scalar v_before(const Report& r) { return wide_convert<Scalar>(r.first_impact_v_before_mps); }
+  static void set_motion(FixedRockingStepper& s, Scalar x, Scalar xd, Input ug, Input vg) {
+    s.set_state(wide_convert<LengthQ1_62>(x), wide_convert<SpeedQ3_60>(xd), ug, vg);
+  }
+  static void set_sqrt_r(FixedRockingStepper& s, Scalar e) { s.set_sqrt_r(wide_convert<FractionQ1_62>(e)); }
+};
+
+// What the observer did in one step.
+struct ObserverStepReport {
+  std::uint32_t flags = 0;        // observer_flag bits of this step (health bits included)
+  std::int32_t x_updates = 0, a_updates = 0;
+  bool corrected = false;         // the stepper's state was corrected by a measurement this step
+};
+
+template <typename Stepper>
+class WallObserver {
+ public:
+  using Traits = ObserverStepperTraits<Stepper>;
+  using Scalar = typename Traits::Scalar;
+  using Input = typename Traits::Input;
+  using Report = typename Traits::Report;
+  using StepOutcome = ObserverStepReport;
+  using Mat = Eigen::Matrix<Scalar, 4, 4>;
+  using Vec = Eigen::Matrix<Scalar, 4, 1>;
+  static constexpr int kQueueCapacity = 16;  // sensor samples waiting for the ground stream
+  enum : int { X = 0, V = 1, E = 2, B = 3 };
+
+  // Initialisation time (double): the stepper's setup (its dt is the step) and the wall. Starts at rest with
+  // ê = √r of the setup and b̂ = 0.
+  ObserverError init(const ObserverOptions& o, const StepperSetup<double>& setup, const WallParameters& wall) {
+    const ObserverError err = validate_observer_options(o);
+    if (err != ObserverError::ok) return err;
+    if (!(setup.dt_s > 0.0 && setup.dt_s <= 0.1)) return ObserverError::timing_out_of_range;
+    const double h = setup.dt_s;
+    const ModelConstants<double>& c = setup.model;
+    for (int i = 0; i < 2; ++i) {
+      const double s = i == 1 ? 1.0 : -1.0;
+      const double k = (c.c4_fp[i] + c.c4_g * setup.g_mps2) / c.c1;  // p4/p1 at ü = 0, G = g [1/s²]
+      const double q = h * h * k / 4.0, d = 1.0 + q;
+      const double f11 = (1.0 - q) / d, f12 = h / d;
+      Mat f = Mat::Identity();
+      f(X, X) = Scalar(f11);
+      f(X, V) = Scalar(f12);
+      f(V, X) = Scalar(-h * k * (1.0 + f11) / 2.0);
+      f(V, V) = Scalar(1.0 - h * k * f12 / 2.0);
+      f_[i] = f;
+      f0_[i] = Scalar(-s * (c.c6_fp[i] + c.c6_g * setup.g_mps2) / c.c1);  // ẍ at the hinge, ü = 0 [m/s²]
+      ha_[i] = Scalar(-(k + setup.g_mps2 / wall.h1_m));
+    }
+    const double sa2 = o.process_accel_mps2 * o.process_accel_mps2;
+    q_ = Mat::Zero();
+    q_(X, X) = Scalar(sa2 * h * h * h * h / 4.0);
+    q_(X, V) = q_(V, X) = Scalar(sa2 * h * h * h / 2.0);
+    q_(V, V) = Scalar(sa2 * h * h);
+    q_(E, E) = Scalar(o.r_walk * o.r_walk);
+    q_(B, B) = Scalar(o.bias_walk_m * o.bias_walk_m);
+    r_x_ = Scalar(o.x_noise_m * o.x_noise_m);
+    r_a_ = Scalar(o.a_noise_mps2 * o.a_noise_mps2);
+    gate_ = Scalar(o.gate_chi2);
+    g_over_h1_ = Scalar(setup.g_mps2 / wall.h1_m);
+    inv_h1_ = Scalar(1.0 / wall.h1_m);
+    v_min_ = Scalar(o.v_min_mps);
+    x_range_ = o.x_range_m;
+    a_range_ = o.a_range_mps2;
+    us_to_s_ = Scalar(1e-6);
+    reinit_v_var_ = Scalar(0.05 * 0.05);
+    const double threshold = std::fmin(threshold_mps2(c, Side::negative, setup.g_mps2),
+                                       threshold_mps2(c, Side::positive, setup.g_mps2));
+    quiet_ug_ = Scalar(o.quiet_fraction * threshold);
+    dropout_us_ = std::int64_t(o.dropout_s * 1e6 + 0.5);
+    max_age_us_ = std::int64_t(o.max_age_s * 1e6 + 0.5);
+    reinit_after_ = o.reinit_after;
+    stuck_after_ = o.stuck_after;
+    e0_ = Scalar(setup.sqrt_r);
+    e_sigma0_ = Scalar(o.r_sigma0);
+    b_sigma0_ = Scalar(o.bias_sigma0_m);
+    start();
+    return ObserverError::ok;
+  }
+
+  // A new run: ê = √r of the setup, b̂ = 0, priors, queue empty, counters zero.
+  void start() {
+    e_ = e0_;
+    b_ = Scalar(0);
+    p_ = Mat::Zero();
+    p_(E, E) = e_sigma0_ * e_sigma0_;
+    p_(B, B) = b_sigma0_ * b_sigma0_;
+    head_ = count_ = 0;
+    counters_ = ObserverCounters{};
+    last_x_used_us_ = last_a_used_us_ = 0;
+    have_x_used_ = have_a_used_ = have_first_t_ = false;
+    first_t_us_ = 0;
+    pending_flags_ = 0;
+    lost_ = false;
+    consecutive_rejections_ = 0;
+    identical_run_ = 0;
+    have_last_raw_ = false;
+    last_raw_x_ = 0.0;
+    impact_last_step_ = false;
+    last_innovation_x_ = Scalar(0);
+    last_innovation_a_ = Scalar(0);
+    innovation_x_sq_sum_ = Scalar(0);
+  }
+
+  // The wall's motion restarted from rest (long gap, publisher restart): what was learned (ê, b̂) stays.
+  void restart_motion() {
+    zero_motion_covariance();
+    consecutive_rejections_ = 0;
+  }
+
+  // A sensor sample arrives. Checked, then queued until the ground stream reaches its time. Returns the flags it
+  // raised (not_finite, out_of_range, queue_overflow, sensor_flag).
+  std::uint32_t push(WallSensorSample s) {
+    ++counters_.samples;
+    std::uint32_t flags = 0;
+    if (s.sensor_status != 0) {
+      ++counters_.sensor_flags;
+      flags |= observer_flag::sensor_flag;
+    }
+    if (s.x_valid && !(s.x_mid_m == s.x_mid_m && s.x_mid_m - s.x_mid_m == 0.0)) {
+      s.x_valid = false;
+      ++counters_.not_finite;
+      flags |= observer_flag::not_finite;
+    } else if (s.x_valid && !(std::fabs(s.x_mid_m) <= x_range_)) {
+      s.x_valid = false;
+      ++counters_.out_of_range;
+      flags |= observer_flag::out_of_range;
+    }
+    if (s.a_valid && !(s.a_mid_mps2 == s.a_mid_mps2 && s.a_mid_mps2 - s.a_mid_mps2 == 0.0)) {
+      s.a_valid = false;
+      ++counters_.not_finite;
+      flags |= observer_flag::not_finite;
+    } else if (s.a_valid && !(std::fabs(s.a_mid_mps2) <= a_range_)) {
+      s.a_valid = false;
+      ++counters_.out_of_range;
+      flags |= observer_flag::out_of_range;
+    }
+    if (count_ == kQueueCapacity) {  // no ground samples to apply them to: the oldest goes
+      head_ = (head_ + 1) % kQueueCapacity;
+      --count_;
+      ++counters_.queue_overflow;
+      flags |= observer_flag::queue_overflow;
+    }
+    queue_[(head_ + count_) % kQueueCapacity] = s;
+    ++count_;
+    pending_flags_ |= flags;
+    return flags;
+  }
+
+  // After the stepper's step that ends at `t_us` with input (ug, vg) at its end (report: what the stepper did):
+  // covariance prediction through the step (and its impact), then every queued sample with utime ≤ t_us, in
+  // order. Corrects the stepper's state and √r. Bounded work: at most kQueueCapacity updates.
+  ObserverStepReport after_step(Stepper& stepper, const Report& report, Input ug, Input vg, std::int64_t t_us,
+                                std::int64_t step_us) {
+    ObserverStepReport out;
+    out.flags = pending_flags_;
+    pending_flags_ = 0;
+    const bool impact = report.impacts_total > 0;
+    predict(stepper, report);
+    const Scalar ug_s = Traits::input(ug);
+    const bool quiet = abs(ug_s) < quiet_ug_;
+    while (count_ > 0 && queue_[head_].utime_us <= t_us) {
+      const WallSensorSample s = queue_[head_];
+      head_ = (head_ + 1) % kQueueCapacity;
+      --count_;
+      const std::int64_t age_us = t_us - s.utime_us;
+      if (age_us > max_age_us_) {
+        ++counters_.stale;
+        out.flags |= observer_flag::stale;
+        continue;
+      }
+      if (age_us > step_us) {
+        ++counters_.misaligned;
+        out.flags |= observer_flag::misaligned;
+      }
+      if (stepper.collapsed()) continue;  // nothing left to estimate
+      if (s.x_valid) update_x(stepper, s, age_us, ug, vg, quiet, out);
+      if (s.a_valid && !impact && !impact_last_step_ && stepper.moving()) update_a(stepper, s, ug_s, vg, ug, out);
+    }
+    impact_last_step_ = impact;
+    if (!have_first_t_) {
+      have_first_t_ = true;
+      first_t_us_ = t_us;
+    }
+    // Sensor loss counts from the last usable displacement sample, or from the first step when there was none.
+    const std::int64_t since_us = t_us - (have_x_used_ ? last_x_used_us_ : first_t_us_);
+    if (since_us <= dropout_us_ && have_x_used_) {
+      out.flags |= observer_flag::x_active;
+    } else if (since_us > dropout_us_) {
+      if (!lost_) ++counters_.dropouts;
+      lost_ = true;
+    }
+    if (lost_) out.flags |= observer_flag::sensor_lost;
+    if (a_used_recent(t_us)) out.flags |= observer_flag::a_active;
+    return out;
+  }
+
+  // Estimates (double, for publishing; the filter itself runs in Scalar).
+  double r_estimate() const { return to_d(e_) * to_d(e_); }
+  double sqrt_r_estimate() const { return to_d(e_); }
+  double bias_m() const { return to_d(b_); }
+  double sigma_x_m() const { return std::sqrt(std::fmax(0.0, to_d(p_(X, X)))); }
+  double sigma_xd_mps() const { return std::sqrt(std::fmax(0.0, to_d(p_(V, V)))); }
+  double sigma_r() const { return 2.0 * to_d(e_) * std::sqrt(std::fmax(0.0, to_d(p_(E, E)))); }
+  double sigma_bias_m() const { return std::sqrt(std::fmax(0.0, to_d(p_(B, B)))); }
+  double last_innovation_x_m() const { return to_d(last_innovation_x_); }
+  double last_innovation_a_mps2() const { return to_d(last_innovation_a_); }
+  double rms_innovation_x_m() const {
+    return counters_.x_updates > 0 ? std::sqrt(to_d(innovation_x_sq_sum_) / double(counters_.x_updates)) : 0.0;
+  }
+  bool sensor_lost() const { return lost_; }
+  const ObserverCounters& counters() const { return counters_; }
+  const Mat& covariance() const { return p_; }
+  Scalar e() const { return e_; }
+  Scalar b() const { return b_; }
+
+ private:
+  static double to_d(double v) { return v; }
+  template <typename F>
+  static double to_d(const F& v) {
+    return v.to_double();
+  }
+  static Scalar abs(Scalar v) { return v < Scalar(0) ? -v : v; }
+
+  bool a_used_recent(std::int64_t t_us) const { return have_a_used_ && t_us - last_a_used_us_ <= dropout_us_; }
+
+  void zero_motion_covariance() {
+    for (int j = 0; j < 4; ++j) {
+      p_(X, j) = p_(j, X) = Scalar(0);
+      p_(V, j) = p_(j, V) = Scalar(0);
+    }
+  }
+
+  void predict(const Stepper& stepper, const Report& report) {
+    if (stepper.collapsed()) return;
+    if (!stepper.moving() || report.started) zero_motion_covariance();
+    if (stepper.moving()) {
+      const int i = side_index(stepper.side());
+      p_ = (f_[i] * p_ * f_[i].transpose()).eval();
+      if (report.impacts_total > 0) {
+        // Saltation through the first impact of the step (the side after it is the current one).
+        ++counters_.impacts;
+        Scalar v = Traits::v_before(report);
+        if (abs(v) < v_min_) v = v < Scalar(0) ? -v_min_ : v_min_;
+        const Scalar a_after = f0_[i], a_before = f0_[1 - i];
+        Mat j = Mat::Identity();
+        j(X, X) = e_;
+        j(V, X) = (a_after - e_ * a_before) / v;
+        j(V, V) = e_;
+        j(V, E) = v;
+        p_ = (j * p_ * j.transpose()).eval();
+      }
+      p_ += q_;
+    } else {
+      p_(E, E) += q_(E, E);
+      p_(B, B) += q_(B, B);
+    }
+    if (!stepper.moving()) zero_motion_covariance();
+  }
+
+  // One scalar measurement: innovation y with H = h (4-vector), variance r. Returns false when gated out.
+  bool scalar_update(const Vec& h, Scalar y, Scalar r, Vec& correction) {
+    const Vec ph = p_ * h;
+    const Scalar s = h.dot(ph) + r;
+    if (!(s > Scalar(0))) return false;
+    if (y * y > gate_ * s) return false;
+    const Vec k = ph / s;
+    correction = k * y;
+    p_ = (p_ - k * ph.transpose()).eval();
+    symmetrise();
+    return true;
+  }
+
+  void symmetrise() {
+    for (int a = 0; a < 4; ++a) {
+      for (int c = a + 1; c < 4; ++c) p_(c, a) = p_(a, c);
+    }
+    for (int a = 0; a < 4; ++a) {
+      if (p_(a, a) < Scalar(0)) p_(a, a) = Scalar(0);
+    }
+  }
+
+  void apply(Stepper& stepper, const Vec& dz, Input ug, Input vg) {
+    if (stepper.moving()) {
+      Traits::set_motion(stepper, Traits::x(stepper) + dz(X), Traits::xd(stepper) + dz(V), ug, vg);
+    }
+    e_ = e_ + dz(E);
+    if (e_ < Scalar(0)) e_ = Scalar(0);
+    if (e_ > Scalar(1)) e_ = Scalar(1);
+    b_ = b_ + dz(B);
+    Traits::set_sqrt_r(stepper, e_);
+  }
+
+  void update_x(Stepper& stepper, const WallSensorSample& s, std::int64_t age_us, Input ug, Input vg, bool quiet,
+                ObserverStepReport& out) {
+    // Stuck: the same reading again and again while the wall rocks.
+    if (have_last_raw_ && s.x_mid_m == last_raw_x_) {
+      ++identical_run_;
+    } else {
+      identical_run_ = 0;
+    }
+    have_last_raw_ = true;
+    last_raw_x_ = s.x_mid_m;
+    if (identical_run_ + 1 >= stuck_after_ && stepper.moving()) {
+      ++counters_.stuck;
+      out.flags |= observer_flag::stuck;
+      return;
+    }
+    const Scalar z = Scalar(s.x_mid_m);
+    const Scalar x = Traits::x(stepper), xd = Traits::xd(stepper);
+    const Scalar age_s = Scalar(age_us) * us_to_s_;
+    // The reading was taken age_s before the step end: carried forward along the estimated velocity.
+    const Scalar y = z + xd * age_s - (x + b_);
+    Vec h = Vec::Zero();
+    h(X) = Scalar(1);
+    h(B) = Scalar(1);
+    Vec dz = Vec::Zero();
+    last_innovation_x_ = y;
+    if (scalar_update(h, y, r_x_, dz)) {
+      apply(stepper, dz, ug, vg);
+      ++counters_.x_updates;
+      ++out.x_updates;
+      out.corrected = out.corrected || stepper.moving();
+      innovation_x_sq_sum_ = innovation_x_sq_sum_ + y * y;
+      consecutive_rejections_ = 0;
+      last_x_used_us_ = s.utime_us;
+      have_x_used_ = true;
+      lost_ = false;
+      return;
+    }
+    ++counters_.rejected;
+    out.flags |= observer_flag::rejected;
+    ++consecutive_rejections_;
+    // Keep the sensor "alive" for dropout purposes: it is sending, just disagreeing.
+    last_x_used_us_ = s.utime_us;
+    have_x_used_ = true;
+    if (quiet) {
+      // The ground is quiet: a wall does not start rocking by itself. A sensor fault, not a re-initialisation.
+      if (!stepper.moving()) {
+        ++counters_.motion_while_quiet;
+        out.flags |= observer_flag::motion_while_quiet;
+      } else {
+        ++counters_.jumps;
+        out.flags |= observer_flag::jump;
+      }
+      return;
+    }
+    if (consecutive_rejections_ >= reinit_after_) reinitialise(stepper, z, ug, vg, out);
+  }
+
+  // The measurement has disagreed with the model for reinit_after samples while the ground shakes: the real wall
+  // moves where the model does not (or the sensor is back after a dropout). Restart the motion at the reading with
+  // a wide velocity prior; what was learned (ê, b̂) stays.
+  void reinitialise(Stepper& stepper, Scalar z, Input ug, Input vg, ObserverStepReport& out) {
+    const Scalar x = z - b_;
+    Traits::set_motion(stepper, x, Scalar(0), ug, vg);
+    Traits::set_sqrt_r(stepper, e_);
+    zero_motion_covariance();
+    p_(X, X) = r_x_;
+    p_(V, V) = reinit_v_var_;
+    consecutive_rejections_ = 0;
+    ++counters_.reinitialised;
+    out.flags |= observer_flag::reinitialised;
+    out.corrected = true;
+  }
+
+  void update_a(Stepper& stepper, const WallSensorSample& s, Scalar ug_s, Input vg, Input ug,
+                ObserverStepReport& out) {
+    const int i = side_index(stepper.side());
+    const Scalar x = Traits::x(stepper);
+    const Scalar gravity_over_h1 = g_over_h1_ + Traits::input(vg) * inv_h1_;  // G/h1 = (g + v̈)/h1
+    const Scalar predicted = ug_s + Traits::xdd(stepper) - gravity_over_h1 * x;
+    const Scalar y = Scalar(s.a_mid_mps2) - predicted;
+    Vec h = Vec::Zero();
+    h(X) = ha_[i];
+    Vec dz = Vec::Zero();
+    last_innovation_a_ = y;
+    if (!scalar_update(h, y, r_a_, dz)) {
+      ++counters_.rejected;
+      out.flags |= observer_flag::rejected;
+      return;
+    }
+    apply(stepper, dz, ug, vg);
+    ++counters_.a_updates;
+    ++out.a_updates;
+    out.corrected = true;
+    last_a_used_us_ = s.utime_us;
+    have_a_used_ = true;
+  }
+
+  // Constants (init).
+  Mat f_[2]{};         // covariance transition over one step, per side
+  Mat q_{};            // process noise per step
+  Scalar f0_[2]{};     // ẍ at the hinge with ü = 0 per side [m/s²]
+  Scalar ha_[2]{};     // accelerometer sensitivity to x per side [1/s²]
+  Scalar r_x_{}, r_a_{}, gate_{}, g_over_h1_{}, v_min_{}, us_to_s_{}, reinit_v_var_{}, quiet_ug_{};
+  Scalar inv_h1_{};     // 1/h1 [1/m]
+  Scalar e0_{}, e_sigma0_{}, b_sigma0_{};
+  double x_range_ = 0.5, a_range_ = 80.0;
+  std::int64_t dropout_us_ = 250000, max_age_us_ = 50000;
+  std::int32_t reinit_after_ = 8, stuck_after_ = 40;
+  // State.
+  Scalar e_{}, b_{};
+  Mat p_{};
+  WallSensorSample queue_[kQueueCapacity]{};
+  int head_ = 0, count_ = 0;
+  std::uint32_t pending_flags_ = 0;
+  ObserverCounters counters_{};
+  bool have_first_t_ = false;
+  std::int64_t first_t_us_ = 0;
+  bool have_x_used_ = false, have_a_used_ = false, lost_ = false;
+  std::int64_t last_x_used_us_ = 0, last_a_used_us_ = 0;
+  std::int32_t consecutive_rejections_ = 0, identical_run_ = 0;
+  bool have_last_raw_ = false;
+  double last_raw_x_ = 0.0;
+  bool impact_last_step_ = false;
+  Scalar last_innovation_x_{}, last_innovation_a_{}, innovation_x_sq_sum_{};
+};
+
+}  // namespace rockwatch::core

@@ -1,0 +1,278 @@
+// The wall observer (core/wall_observer.hpp) against analytic and constructed cases: free rocking with a known r that
+// the nominal model gets wrong, a constant transducer offset at rest, dropout and recovery, outliers, stuck and
+// non-finite readings, the time alignment of the two streams, and the fixed-point observer against the double one.
+#include <cmath>
+#include <cstdint>
+
+#include "rockwatch/core/restitution.hpp"
+#include "rockwatch/core/rocking_stepper.hpp"
+#include "rockwatch/core/wall_observer.hpp"
+
+#include <CppUTest/TestHarness.h>  // last: its leak detector redefines new
+
+using namespace rockwatch::core;
+
+namespace {
+
+constexpr double kDt = 0.005;
+constexpr std::int64_t kDtUs = 5000;
+
+StepperSetup<double> setup_with_r(double r) {
+  StepperOptions o;
+  o.dt_s = kDt;
+  return make_stepper_setup(paper_wall(), ModelKind::linear, r, o);
+}
+
+// Deterministic N(0, 1) draws (xorshift + Box–Muller): the tests do not depend on a library's generator.
+class Noise {
+ public:
+  explicit Noise(std::uint64_t seed) : s_(seed) {}
+  double uniform() {
+    s_ ^= s_ << 13;
+    s_ ^= s_ >> 7;
+    s_ ^= s_ << 17;
+    return (double(s_ >> 11) + 0.5) / 9007199254740992.0;
+  }
+  double normal() {
+    const double u1 = uniform(), u2 = uniform();
+    return std::sqrt(-2.0 * std::log(u1)) * std::cos(6.283185307179586 * u2);
+  }
+
+ private:
+  std::uint64_t s_;
+};
+
+WallSensorSample displacement(std::int64_t t_us, double x) {
+  WallSensorSample s;
+  s.utime_us = t_us;
+  s.x_mid_m = x;
+  s.x_valid = true;
+  return s;
+}
+
+// A true wall and a nominal one (the observer's) in free rocking from the same known state.
+struct FreeRocking {
+  RockingStepper<double> truth, model;
+  WallObserver<RockingStepper<double>> observer;
+  Noise noise{12345};
+  double bias_m = 0.0, noise_m = 0.5e-3;
+  std::int64_t t_us = 0;
+  int true_impacts = 0;
+  double sq_error = 0.0;
+  int n = 0;
+
+  FreeRocking(double r_true, double r_model, double x0, const ObserverOptions& o = ObserverOptions{}) {
+    truth.init(setup_with_r(r_true));
+    const StepperSetup<double> nominal = setup_with_r(r_model);
+    model.init(nominal);
+    CHECK(observer.init(o, nominal, paper_wall()) == ObserverError::ok);
+    truth.set_state(x0, 0.0, 0.0, 0.0);
+    model.set_state(x0, 0.0, 0.0, 0.0);
+  }
+
+  // One step; the sensor reads the true wall at the step end unless `sensor` is false.
+  ObserverStepReport step(bool sensor = true) {
+    t_us += kDtUs;
+    const StepReport<double> tr = truth.step(0.0, 0.0);
+    true_impacts += tr.impacts_counted;
+    if (sensor) observer.push(displacement(t_us, truth.state().x_m + bias_m + noise_m * noise.normal()));
+    const StepReport<double> mr = model.step(0.0, 0.0);
+    const ObserverStepReport out = observer.after_step(model, mr, 0.0, 0.0, t_us, kDtUs);
+    const double e = model.state().x_m - truth.state().x_m;
+    sq_error += e * e;
+    ++n;
+    return out;
+  }
+  double rms_error() const { return std::sqrt(sq_error / n); }
+};
+
+}  // namespace
+
+TEST_GROUP(WallObserver){};
+
+TEST(WallObserver, LearnsTheRestitutionOfTheRealWallInFreeRocking) {
+  // The real wall dissipates like r_ana, the model assumes r_exp = 0.9 r_ana (the paper's two values).
+  const double r_ana = restitution_energy_ratio(paper_wall(), Restitution{});
+  const double r_true = r_ana / 0.9 > 1.0 ? 0.95 : r_ana / 0.9;
+  FreeRocking run(r_true, 0.9 * r_true, 0.03);
+  while (run.true_impacts < 5 && run.t_us < 20000000) run.step();
+  CHECK(run.true_impacts >= 5);
+  const double r_hat = run.observer.r_estimate();
+  DOUBLES_EQUAL(r_true, r_hat, 0.02);
+  CHECK(run.observer.counters().x_updates > 100);
+  // x error RMS well below the sensor noise and 2 % of x_inst (x_inst ≈ 0.05 m for the paper's wall).
+  CHECK(run.rms_error() < 0.02 * 0.05);
+}
+
+TEST(WallObserver, OpenLoopWouldDriftWhereTheFusedStateDoesNot) {
+  // The same run without sensor samples: the nominal model's amplitude decays faster than the real wall's.
+  FreeRocking fused(0.85, 0.7, 0.03), open(0.85, 0.7, 0.03);
+  for (int k = 0; k < 800; ++k) {
+    fused.step(true);
+    open.step(false);
+  }
+  CHECK(open.rms_error() > 3.0 * fused.rms_error());
+  CHECK(fused.observer.sensor_lost() == false);
+  CHECK(open.observer.sensor_lost());
+}
+
+TEST(WallObserver, EstimatesAConstantZeroOffsetAtRest) {
+  RockingStepper<double> model;
+  model.init(setup_with_r(0.8));
+  WallObserver<RockingStepper<double>> observer;
+  CHECK(observer.init(ObserverOptions{}, setup_with_r(0.8), paper_wall()) == ObserverError::ok);
+  Noise noise(7);
+  const double bias = 3.2e-3;
+  std::int64_t t = 0;
+  for (int k = 0; k < 400; ++k) {
+    t += kDtUs;
+    observer.push(displacement(t, bias + 0.5e-3 * noise.normal()));
+    const StepReport<double> r = model.step(0.0, 0.0);
+    observer.after_step(model, r, 0.0, 0.0, t, kDtUs);
+  }
+  // 400 readings of 0.5 mm noise: σ of the mean 25 µm; 4σ.
+  DOUBLES_EQUAL(bias, observer.bias_m(), 1e-4);
+  CHECK(!model.moving());
+  DOUBLES_EQUAL(0.0, model.state().x_m, 0.0);
+  LONGS_EQUAL(0, observer.counters().rejected);
+}
+
+TEST(WallObserver, DropoutFallsBackToTheModelAndRecovers) {
+  FreeRocking run(0.85, 0.8, 0.03);
+  for (int k = 0; k < 100; ++k) run.step(true);
+  std::uint32_t flags = 0;
+  for (int k = 0; k < 100; ++k) flags = run.step(false).flags;  // 0.5 s without the sensor
+  CHECK(flags & observer_flag::sensor_lost);
+  const double sigma_lost = run.observer.sigma_x_m();
+  LONGS_EQUAL(1, run.observer.counters().dropouts);
+  for (int k = 0; k < 200; ++k) flags = run.step(true).flags;
+  CHECK((flags & observer_flag::sensor_lost) == 0);
+  CHECK(flags & observer_flag::x_active);
+  CHECK(run.observer.sigma_x_m() < sigma_lost);
+  const double last_error = std::fabs(run.model.state().x_m - run.truth.state().x_m);
+  CHECK(last_error < 2e-3);
+}
+
+TEST(WallObserver, GatesOutliersAndCountsThem) {
+  FreeRocking run(0.85, 0.85, 0.03);
+  for (int k = 0; k < 50; ++k) run.step();
+  // One reading 5 cm off: rejected, the state is not moved by it.
+  run.t_us += kDtUs;
+  run.truth.step(0.0, 0.0);
+  run.observer.push(displacement(run.t_us, run.truth.state().x_m + 0.05));
+  const StepReport<double> mr = run.model.step(0.0, 0.0);
+  const ObserverStepReport out = run.observer.after_step(run.model, mr, 0.0, 0.0, run.t_us, kDtUs);
+  CHECK(out.flags & observer_flag::rejected);
+  CHECK(out.flags & observer_flag::jump);  // rejected while the ground is quiet: a sensor fault, said so
+  LONGS_EQUAL(1, run.observer.counters().rejected);
+  CHECK(std::fabs(run.model.state().x_m - run.truth.state().x_m) < 2e-3);
+}
+
+TEST(WallObserver, DiscardsNotFiniteOutOfRangeAndStuckReadings) {
+  FreeRocking run(0.85, 0.85, 0.03);
+  WallSensorSample s = displacement(run.t_us + kDtUs, std::nan(""));
+  CHECK(run.observer.push(s) & observer_flag::not_finite);
+  s.x_mid_m = 3.0;
+  CHECK(run.observer.push(s) & observer_flag::out_of_range);
+  s.x_mid_m = HUGE_VAL;
+  CHECK(run.observer.push(s) & observer_flag::not_finite);
+  run.step(false);
+  LONGS_EQUAL(0, run.observer.counters().x_updates);
+  LONGS_EQUAL(2, run.observer.counters().not_finite);
+  LONGS_EQUAL(1, run.observer.counters().out_of_range);
+  // Stuck: the same reading over and over while the wall rocks.
+  std::uint32_t flags = 0;
+  for (int k = 0; k < 60; ++k) {
+    run.t_us += kDtUs;
+    run.truth.step(0.0, 0.0);
+    run.observer.push(displacement(run.t_us, 0.0123));
+    const StepReport<double> mr = run.model.step(0.0, 0.0);
+    flags |= run.observer.after_step(run.model, mr, 0.0, 0.0, run.t_us, kDtUs).flags;
+  }
+  CHECK(flags & observer_flag::stuck);
+  CHECK(run.observer.counters().stuck > 0);
+}
+
+TEST(WallObserver, NeverUsesAFutureSampleAndFlagsLateOnes) {
+  RockingStepper<double> model;
+  model.init(setup_with_r(0.8));
+  WallObserver<RockingStepper<double>> observer;
+  CHECK(observer.init(ObserverOptions{}, setup_with_r(0.8), paper_wall()) == ObserverError::ok);
+  observer.push(displacement(10000, 1e-3));  // at 10 ms
+  StepReport<double> r = model.step(0.0, 0.0);
+  ObserverStepReport out = observer.after_step(model, r, 0.0, 0.0, 5000, kDtUs);  // ground at 5 ms: waits
+  LONGS_EQUAL(0, out.x_updates);
+  r = model.step(0.0, 0.0);
+  out = observer.after_step(model, r, 0.0, 0.0, 10000, kDtUs);
+  LONGS_EQUAL(1, out.x_updates);
+  // A sample two steps behind the ground stream: applied, flagged misaligned; one beyond max_age: dropped, stale.
+  observer.push(displacement(5000, 1e-3));
+  r = model.step(0.0, 0.0);
+  out = observer.after_step(model, r, 0.0, 0.0, 15000, kDtUs);
+  CHECK(out.flags & observer_flag::misaligned);
+  observer.push(displacement(15000 - 60000, 1e-3));
+  r = model.step(0.0, 0.0);
+  out = observer.after_step(model, r, 0.0, 0.0, 20000, kDtUs);
+  CHECK(out.flags & observer_flag::stale);
+  LONGS_EQUAL(1, observer.counters().stale);
+}
+
+TEST(WallObserver, SensorSamplesWithoutGroundSamplesOverflowTheQueueCounted) {
+  WallObserver<RockingStepper<double>> observer;
+  CHECK(observer.init(ObserverOptions{}, setup_with_r(0.8), paper_wall()) == ObserverError::ok);
+  std::uint32_t flags = 0;
+  for (int k = 0; k < 20; ++k) flags |= observer.push(displacement(k * kDtUs, 0.0));
+  CHECK(flags & observer_flag::queue_overflow);
+  LONGS_EQUAL(20 - WallObserver<RockingStepper<double>>::kQueueCapacity, observer.counters().queue_overflow);
+}
+
+TEST(WallObserver, RefusesSettingsOutOfRangeNamingWhich) {
+  WallObserver<RockingStepper<double>> observer;
+  ObserverOptions o;
+  o.x_noise_m = 0.0;
+  CHECK(observer.init(o, setup_with_r(0.8), paper_wall()) == ObserverError::noise_out_of_range);
+  o = ObserverOptions{};
+  o.gate_chi2 = 0.5;
+  CHECK(observer.init(o, setup_with_r(0.8), paper_wall()) == ObserverError::gate_out_of_range);
+  o = ObserverOptions{};
+  o.dropout_s = -1.0;
+  CHECK(observer.init(o, setup_with_r(0.8), paper_wall()) == ObserverError::timing_out_of_range);
+  STRCMP_CONTAINS("dropout", observer_error_message(ObserverError::timing_out_of_range));
+}
+
+TEST(WallObserver, FixedPointObserverFollowsTheDoubleOne) {
+  // The same free rocking and readings through the fixed-point stepper and observer (the firmware's path).
+  const double r_true = 0.85, r_model = 0.75;
+  RockingStepper<double> truth;
+  truth.init(setup_with_r(r_true));
+  truth.set_state(0.03, 0.0, 0.0, 0.0);
+  RockingStepper<double> dmodel;
+  dmodel.init(setup_with_r(r_model));
+  dmodel.set_state(0.03, 0.0, 0.0, 0.0);
+  FixedRockingStepper fmodel;
+  CHECK(fmodel.init(setup_with_r(r_model)) == FixedSetupError::ok);
+  fmodel.set_state(LengthQ1_62(0.03), SpeedQ3_60{}, AccelQ7_56{}, AccelQ7_56{});
+  WallObserver<RockingStepper<double>> dobs;
+  WallObserver<FixedRockingStepper> fobs;
+  CHECK(dobs.init(ObserverOptions{}, setup_with_r(r_model), paper_wall()) == ObserverError::ok);
+  CHECK(fobs.init(ObserverOptions{}, setup_with_r(r_model), paper_wall()) == ObserverError::ok);
+  Noise noise(99);
+  std::int64_t t = 0;
+  double max_dx = 0.0;
+  for (int k = 0; k < 1000; ++k) {
+    t += kDtUs;
+    truth.step(0.0, 0.0);
+    const WallSensorSample s = displacement(t, truth.state().x_m + 0.5e-3 * noise.normal());
+    dobs.push(s);
+    fobs.push(s);
+    const StepReport<double> dr = dmodel.step(0.0, 0.0);
+    dobs.after_step(dmodel, dr, 0.0, 0.0, t, kDtUs);
+    const FixedStepReport fr = fmodel.step(AccelQ7_56{}, AccelQ7_56{});
+    fobs.after_step(fmodel, fr, AccelQ7_56{}, AccelQ7_56{}, t, kDtUs);
+    max_dx = std::fmax(max_dx, std::fabs(dmodel.state().x_m - fmodel.x_m().to_double()));
+  }
+  CHECK(max_dx < 1e-4);
+  DOUBLES_EQUAL(dobs.r_estimate(), fobs.r_estimate(), 2e-3);
+  DOUBLES_EQUAL(dobs.bias_m(), fobs.bias_m(), 1e-5);
+  LONGS_EQUAL(dobs.counters().x_updates, fobs.counters().x_updates);
+}
