@@ -137,6 +137,7 @@ MonitorError MonitorLoop::init(const MonitorSettings& s, SampleEngine& engine, T
   status_seq_ = 0;
   estimate_seq_ = 0;
   quality_since_status_ = Status::QUALITY_MONITOR_RESTARTED;
+  last_observer_ = core::ObserverSample{};
   engine.start(0.0, 0.0);
   level_ = core::AlarmLevel::quiet;
   ready_ = true;
@@ -144,6 +145,10 @@ MonitorError MonitorLoop::init(const MonitorSettings& s, SampleEngine& engine, T
 }
 
 core::AlarmLevel MonitorLoop::alarm_level() const { return level_; }
+
+const core::ObserverCounters* MonitorLoop::observer_counters() const {
+  return ready_ && settings_.engine.observer_enabled ? &engine_->observer_counters() : nullptr;
+}
 
 void MonitorLoop::on_message(const char* channel, const std::uint8_t* data, std::size_t size,
                              std::int64_t receive_utime) {
@@ -362,6 +367,7 @@ void MonitorLoop::step_and_publish(std::int64_t utime, std::int64_t seq, double 
 
   std::uint32_t reasons = e.alarm.reasons;
   if ((quality & Status::QUALITY_LIFT_OFF) != 0) reasons |= core::alarm_reason::input_invalid;
+  last_observer_ = e.observer;
   if (e.observer.enabled) {
     // Which state the alarm saw, and whether a sensor fault coincides with it: never an alarm from a faulty sensor
     // without saying so.

@@ -166,6 +166,10 @@ class MonitorLoop {
   void publish_status(std::int64_t now_utime);
 
   const MonitorCounters& counters() const { return counters_; }
+  // With the observer (settings.engine.observer_enabled): its counters since init(), and its estimates after the last
+  // processed sample; null / zero without it.
+  const core::ObserverCounters* observer_counters() const;
+  const core::ObserverSample& last_observer() const { return last_observer_; }
   const MonitorSettings& settings() const { return settings_; }
   core::AlarmLevel alarm_level() const;
 
@@ -217,6 +221,7 @@ class MonitorLoop {
   std::int64_t step_end_us_ = 0;     // where the last engine step ended on the sensor clock [µs]
   std::int64_t state_seq_ = 0, alarm_seq_ = 0, status_seq_ = 0, estimate_seq_ = 0;
   std::int32_t quality_since_status_ = 0;
+  core::ObserverSample last_observer_{};
   // Encode buffers, sized for the largest message (ground_accel_batch_t is the largest type).
   std::uint8_t out_buffer_[1024]{};
 };
