@@ -87,8 +87,9 @@ TEST(MonitorLiveObserver, FusesTheWallSensorsAndPublishesTheEstimate) {
   Inbox inbox;
   inbox.estimate_channel = c.estimate;
   inbox.state_channel = c.state;
-  lcm.subscribeFunction(c.estimate, &Inbox::on_raw, &inbox);
-  lcm.subscribeFunction(c.state, &Inbox::on_raw, &inbox);
+  // One estimate and one state per sample: LCM's default queue of 30 unhandled messages per subscription is too short.
+  lcm.subscribeFunction(c.estimate, &Inbox::on_raw, &inbox)->setQueueCapacity(20000);
+  lcm.subscribeFunction(c.state, &Inbox::on_raw, &inbox)->setQueueCapacity(20000);
   const pid_t pid = rockwatch::test::start_monitor_listening(
       {"--config", dir.file("observer.json"), "--lcm-url", url, "--observer"}, dir.file("stdout"), dir.file("stderr"));
 
