@@ -151,6 +151,9 @@ int main() {
 
   // The loop with the observer: the transducer reads the fixed-point engine's own displacement (the model of the
   // first pass) with a 1 mm offset, the accelerometer the ground; both go through wall_sensor_t.
+  // Through int32 constants: arm-none-eabi-g++ 12 warns (-Wconversion) on `VALID_X | VALID_A` of lcm-gen's enums.
+  constexpr std::int32_t kValidX = rockwatch::wall_sensor_t::VALID_X, kValidA = rockwatch::wall_sensor_t::VALID_A;
+  constexpr std::int32_t kValidXA = kValidX | kValidA;
   firmware::MonitorSettings observed = settings;
   observed.engine.observer_enabled = true;
   if (g_observed_loop.init(observed, g_observed, transport) != firmware::MonitorError::ok) return 6;
@@ -162,7 +165,7 @@ int main() {
     s.schema_version = rockwatch::wall_sensor_t::SCHEMA_VERSION;
     s.x_mid_m = g_observed.stepper().x_m().to_double() + 1e-3;
     s.a_mid_mps2 = input_sample(n).to_double();
-    s.valid = rockwatch::wall_sensor_t::VALID_X | rockwatch::wall_sensor_t::VALID_A;
+    s.valid = kValidXA;
     s.sensor_status = 0;
     int size = s.encode(g_message, 0, static_cast<int>(sizeof g_message));
     if (size <= 0) return 7;
