@@ -55,9 +55,13 @@ void BM_Seam(benchmark::State& state, bool observer) {
 
 }  // namespace
 
-BENCHMARK_CAPTURE(BM_Seam<rockwatch::firmware::WallEngine>, fixed_observer_off, false);
-BENCHMARK_CAPTURE(BM_Seam<rockwatch::firmware::WallEngine>, fixed_observer_on, true);
-BENCHMARK_CAPTURE(BM_Seam<rockwatch::sim::DoubleWallEngine>, double_observer_off, false);
-BENCHMARK_CAPTURE(BM_Seam<rockwatch::sim::DoubleWallEngine>, double_observer_on, true);
+void BM_FixedObserverOff(benchmark::State& s) { BM_Seam<rockwatch::firmware::WallEngine>(s, false); }
+void BM_FixedObserverOn(benchmark::State& s) { BM_Seam<rockwatch::firmware::WallEngine>(s, true); }
+void BM_DoubleObserverOff(benchmark::State& s) { BM_Seam<rockwatch::sim::DoubleWallEngine>(s, false); }
+void BM_DoubleObserverOn(benchmark::State& s) { BM_Seam<rockwatch::sim::DoubleWallEngine>(s, true); }
+BENCHMARK(BM_FixedObserverOff);
+BENCHMARK(BM_FixedObserverOn);
+BENCHMARK(BM_DoubleObserverOff);
+BENCHMARK(BM_DoubleObserverOn);
 
 BENCHMARK_MAIN();

@@ -2,7 +2,7 @@
 // callgrind_per_sample.sh --observer (run under `valgrind --tool=callgrind --collect-atstart=no
 // --combine-dumps=yes`; each measured call wrapped in CALLGRIND_TOGGLE_COLLECT and followed by
 // CALLGRIND_DUMP_STATS_AT(pass), as bench_sample_instructions.cpp). Input: observer_input.hpp (set 1 X at 0.2 g, the
-// sensors of a true wall with r_ana). Passes: fixed_off, fixed_observer (firmware::WallEngine), double_off,
+// sensors of a true wall with r = 0.9 r_exp). Passes: fixed_off, fixed_observer (firmware::WallEngine), double_off,
 // double_observer (sim::DoubleWallEngine): push_sensor (observer on) + step_at; overhead: an empty call.
 //
 //   bench_observer_instructions SET_FILE
@@ -37,20 +37,26 @@ int pass(const char* name, bool observer, const std::vector<double>& ug,
     return 1;
   }
   e.start(ug[0], 0.0);
-  std::uint64_t corrected = 0, collapses = 0;
+  std::uint64_t corrected = 0, collapses = 0, moving = 0;
+  double max_abs_x = 0.0;
   for (std::size_t i = 1; i < ug.size(); ++i) {
     CALLGRIND_TOGGLE_COLLECT;
     const core::EngineSample s = measured(e, observer, ug, sensors, i);
     CALLGRIND_TOGGLE_COLLECT;
     CALLGRIND_DUMP_STATS_AT(name);
     corrected += s.observer.corrected ? 1U : 0U;
-    if (s.alarm.level == core::AlarmLevel::collapsed) {
+    moving += s.moving ? 1U : 0U;
+    max_abs_x = s.x_m > max_abs_x ? s.x_m : (-s.x_m > max_abs_x ? -s.x_m : max_abs_x);
+    if (e.stepper().collapsed()) {
       ++collapses;
       e.restart(ug[i], 0.0);
     }
   }
-  std::fprintf(stderr, "%-15s samples %zu corrected %llu collapses %llu x_updates %lld a_updates %lld rejected %lld\n",
-               name, ug.size() - 1, static_cast<unsigned long long>(corrected),
+  std::fprintf(stderr,
+               "%-15s samples %zu moving %llu max_abs_x_m %.4f corrected %llu collapses %llu x_updates %lld "
+               "a_updates %lld rejected %lld\n",
+               name, ug.size() - 1, static_cast<unsigned long long>(moving), max_abs_x,
+               static_cast<unsigned long long>(corrected),
                static_cast<unsigned long long>(collapses), static_cast<long long>(e.observer_counters().x_updates),
                static_cast<long long>(e.observer_counters().a_updates),
                static_cast<long long>(e.observer_counters().rejected));
