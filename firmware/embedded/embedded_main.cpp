@@ -4,7 +4,9 @@
 // the sensor node sends it, decoded, checked, stepped, and the wall state, alarm events and status encoded for a
 // static transport that only counts them), so that the linker keeps everything a real firmware would (init in
 // double, the loop and the engine per sample) and arm-none-eabi-size reports a realistic footprint. Not run on a
-// target; linked against newlib-nano with nosys stubs.
+// target; linked against newlib-nano with nosys stubs. Then the monitor loop once more on an engine with the wall
+// observer (core::WallObserver in fixed point): a wall_sensor_t message before every ground sample, so that the image
+// holds the observer's per-sample path (push, covariance prediction, gated updates) and its size is measured with it.
 //
 // The input is a table computed at compile time (constexpr Taylor series; no libm, no floating point per
 // sample on the sensor path): one period of a 2 Hz sine at 0.30 g, replayed for 4 s with an integer gain that
@@ -17,6 +19,7 @@
 #include "rockwatch/firmware/monitor_loop.hpp"
 #include "rockwatch/firmware/wall_engine.hpp"
 #include "rockwatch/ground_accel_t.hpp"
+#include "rockwatch/wall_sensor_t.hpp"
 
 namespace {
 
@@ -55,6 +58,7 @@ volatile std::uint32_t g_collapses = 0;
 volatile std::uint8_t g_level = 0;
 
 firmware::WallEngine g_engine;  // static storage: no heap, no large stack frame
+firmware::WallEngine g_observed;  // the same with the wall observer
 
 // The loop's transport: where a real firmware would hand the bytes to its radio or UART.
 class CountingTransport final : public firmware::Transport {
@@ -69,7 +73,8 @@ class CountingTransport final : public firmware::Transport {
 };
 
 firmware::MonitorLoop g_loop;
-std::uint8_t g_message[64];  // one encoded ground_accel_t (48 bytes)
+firmware::MonitorLoop g_observed_loop;
+std::uint8_t g_message[64];  // one encoded ground_accel_t (48 bytes) or wall_sensor_t (52 bytes)
 
 // The input sample n (0.3 g · gain(n) · sine) [m/s²] in Q7.24.
 core::AccelQ7_24 input_sample(int n) {
@@ -142,5 +147,41 @@ int main() {
     g_level = static_cast<std::uint8_t>(g_loop.alarm_level());
   }
   g_loop.publish_status(std::int64_t{kSamples} * kPeriodUs);
-  return g_loop.counters().samples_processed == kSamples ? 0 : 5;
+  if (g_loop.counters().samples_processed != kSamples) return 5;
+
+  // The loop with the observer: the transducer reads the fixed-point engine's own displacement (the model of the
+  // first pass) with a 1 mm offset, the accelerometer the ground; both go through wall_sensor_t.
+  // Through int32 constants: arm-none-eabi-g++ 12 warns (-Wconversion) on `VALID_X | VALID_A` of lcm-gen's enums.
+  constexpr std::int32_t kValidX = rockwatch::wall_sensor_t::VALID_X, kValidA = rockwatch::wall_sensor_t::VALID_A;
+  constexpr std::int32_t kValidXA = kValidX | kValidA;
+  firmware::MonitorSettings observed = settings;
+  observed.engine.observer_enabled = true;
+  if (g_observed_loop.init(observed, g_observed, transport) != firmware::MonitorError::ok) return 6;
+  for (int n = 0; n < kSamples; ++n) {
+    const std::int64_t utime = std::int64_t{n} * kPeriodUs;
+    rockwatch::wall_sensor_t s;
+    s.utime = utime;
+    s.seq = n;
+    s.schema_version = rockwatch::wall_sensor_t::SCHEMA_VERSION;
+    s.x_mid_m = g_observed.stepper().x_m().to_double() + 1e-3;
+    s.a_mid_mps2 = input_sample(n).to_double();
+    s.valid = kValidXA;
+    s.sensor_status = 0;
+    int size = s.encode(g_message, 0, static_cast<int>(sizeof g_message));
+    if (size <= 0) return 7;
+    g_observed_loop.on_message(observed.channels.wall_sensor, g_message, static_cast<std::size_t>(size), utime + 500);
+    rockwatch::ground_accel_t m;
+    m.utime = utime;
+    m.seq = n;
+    m.schema_version = rockwatch::ground_accel_t::SCHEMA_VERSION;
+    m.ug_mps2 = input_sample(n).to_double();
+    m.vg_mps2 = 0.0;
+    m.sensor_status = 0;
+    size = m.encode(g_message, 0, static_cast<int>(sizeof g_message));
+    if (size <= 0) return 4;
+    g_observed_loop.on_message(observed.channels.accel, g_message, static_cast<std::size_t>(size), utime + 1000);
+    g_level = static_cast<std::uint8_t>(g_observed_loop.alarm_level());
+  }
+  g_observed_loop.publish_status(std::int64_t{kSamples} * kPeriodUs);
+  return g_observed_loop.counters().estimates_published == kSamples ? 0 : 8;
 }

@@ -17,6 +17,24 @@ namespace {
 
 using Status = rockwatch::monitor_status_t;
 
+// The published bits are core's bits, one for one (the messages carry them unchanged).
+using Estimate = rockwatch::wall_estimate_t;
+namespace flag = core::observer_flag;
+static_assert(Estimate::SENSOR_X_ACTIVE == flag::x_active && Estimate::SENSOR_A_ACTIVE == flag::a_active &&
+              Estimate::SENSOR_LOST == flag::sensor_lost && Estimate::SENSOR_REJECTED == flag::rejected &&
+              Estimate::SENSOR_NOT_FINITE == flag::not_finite && Estimate::SENSOR_OUT_OF_RANGE == flag::out_of_range &&
+              Estimate::SENSOR_STUCK == flag::stuck && Estimate::SENSOR_MOTION_WHILE_QUIET == flag::motion_while_quiet &&
+              Estimate::SENSOR_MISALIGNED == flag::misaligned && Estimate::SENSOR_STALE == flag::stale &&
+              Estimate::SENSOR_QUEUE_OVERFLOW == flag::queue_overflow &&
+              Estimate::SENSOR_REINITIALISED == flag::reinitialised && Estimate::SENSOR_FLAG == flag::sensor_flag &&
+              Estimate::SENSOR_JUMP == flag::jump,
+              "wall_estimate_t SENSOR_* must equal core::observer_flag");
+static_assert(rockwatch::alarm_event_t::REASON_MEASURED == core::alarm_reason::measured &&
+              rockwatch::alarm_event_t::REASON_PREDICTED == core::alarm_reason::predicted &&
+              rockwatch::alarm_event_t::REASON_SENSOR_FAULT == core::alarm_reason::sensor_fault &&
+              rockwatch::alarm_event_t::REASON_ARITHMETIC_SATURATED == core::alarm_reason::arithmetic_saturated,
+              "alarm_event_t REASON_* must equal core::alarm_reason");
+
 constexpr int kSeenBits = 64;  // duplicates are told from out-of-order samples over the last 64 seqs
 
 // Saturating int64 arithmetic: seq and utime come from the network and may be anything.
@@ -72,12 +90,19 @@ MonitorError MonitorLoop::init(const MonitorSettings& s, SampleEngine& engine, T
   if (!(s.late_limit_s > 0.0 && s.late_limit_s <= 60.0)) return MonitorError::late_limit_out_of_range;
   if (s.restart_window < 1 || s.restart_window > 1000000000) return MonitorError::restart_window_out_of_range;
   const MonitorChannels& c = s.channels;
-  const char(*names[5])[kChannelNameMax] = {&c.accel, &c.accel_batch, &c.wall_state, &c.alarm, &c.status};
-  for (const auto* n : names) {
-    if (!name_valid(*n)) return MonitorError::channel_name_invalid;
+  // The wall-sensor channels exist only with the observer: without it their names are not checked, so that a
+  // configuration valid before them stays valid.
+  const char(*names[7])[kChannelNameMax] = {&c.accel,  &c.accel_batch, &c.wall_state,   &c.alarm,
+                                            &c.status, &c.wall_sensor, &c.wall_estimate};
+  const bool observer = s.engine.observer_enabled;
+  const int n_names = observer ? 7 : 5;
+  for (int i = 0; i < n_names; ++i) {
+    if (!name_valid(*names[i])) return MonitorError::channel_name_invalid;
   }
-  for (int input = 0; input < 2; ++input) {
-    for (int other = 0; other < 5; ++other) {
+  const int inputs[3] = {0, 1, 5};
+  for (int k = 0; k < (observer ? 3 : 2); ++k) {
+    const int input = inputs[k];
+    for (int other = 0; other < n_names; ++other) {
       if (other != input && same_name(*names[input], *names[other])) return MonitorError::channel_name_invalid;
     }
   }
@@ -105,10 +130,14 @@ MonitorError MonitorLoop::init(const MonitorSettings& s, SampleEngine& engine, T
   last_vg_ = 0.0;
   period_us_ = std::llround(1e6 / s.sample_rate_hz);
   late_limit_us_ = std::llround(s.late_limit_s * 1e6);
+  last_time_trusted_ = false;
+  step_end_us_ = 0;
   state_seq_ = 0;
   alarm_seq_ = 0;
   status_seq_ = 0;
+  estimate_seq_ = 0;
   quality_since_status_ = Status::QUALITY_MONITOR_RESTARTED;
+  last_observer_ = core::ObserverSample{};
   engine.start(0.0, 0.0);
   level_ = core::AlarmLevel::quiet;
   ready_ = true;
@@ -116,6 +145,10 @@ MonitorError MonitorLoop::init(const MonitorSettings& s, SampleEngine& engine, T
 }
 
 core::AlarmLevel MonitorLoop::alarm_level() const { return level_; }
+
+const core::ObserverCounters* MonitorLoop::observer_counters() const {
+  return ready_ && settings_.engine.observer_enabled ? &engine_->observer_counters() : nullptr;
+}
 
 void MonitorLoop::on_message(const char* channel, const std::uint8_t* data, std::size_t size,
                              std::int64_t receive_utime) {
@@ -128,6 +161,8 @@ void MonitorLoop::on_message(const char* channel, const std::uint8_t* data, std:
     on_accel(data, size, receive_utime);
   } else if (same_name(channel, settings_.channels.accel_batch)) {
     on_accel_batch(data, size, receive_utime);
+  } else if (settings_.engine.observer_enabled && same_name(channel, settings_.channels.wall_sensor)) {
+    on_wall_sensor(data, size, receive_utime);
   } else {
     ++counters_.messages_ignored;
   }
@@ -164,6 +199,37 @@ void MonitorLoop::on_accel_batch(const std::uint8_t* data, std::size_t size, std
     const std::int64_t utime = sat_add(m.utime, std::int64_t{i} * m.sample_period_us);
     process_sample(utime, sat_add(m.seq, i), m.ug_mps2[i], m.vg_mps2[i], m.sensor_status,
                    sat_sub(receive_utime, newest_utime));
+  }
+}
+
+void MonitorLoop::on_wall_sensor(const std::uint8_t* data, std::size_t size, std::int64_t receive_utime) {
+  rockwatch::wall_sensor_t m;
+  if (data == nullptr || size > static_cast<std::size_t>(INT_MAX)) return decode_error();
+  const int n = static_cast<int>(size);
+  if (m.decode(data, 0, n) != n || m.schema_version != rockwatch::wall_sensor_t::SCHEMA_VERSION) {
+    return decode_error();
+  }
+  ++counters_.sensor_samples_received;
+  // The sample's time is all that places it against the ground stream: a time the monitor does not trust would
+  // apply the reading to the wrong step (or hold it in the queue for ever), so the sample is dropped, not used.
+  const std::int64_t delay_us = sat_sub(receive_utime, m.utime);
+  if (!(delay_us >= -kClockTolerance_us && delay_us <= kClockTolerance_us)) {
+    ++counters_.time_untrusted;
+    ++counters_.sensor_time_untrusted;
+    quality_since_status_ |= Status::QUALITY_TIME_UNTRUSTED;
+    return;
+  }
+  core::WallSensorSample sample;
+  sample.utime_us = m.utime;
+  sample.x_mid_m = m.x_mid_m;
+  sample.a_mid_mps2 = m.a_mid_mps2;
+  sample.x_valid = (m.valid & rockwatch::wall_sensor_t::VALID_X) != 0;
+  sample.a_valid = (m.valid & rockwatch::wall_sensor_t::VALID_A) != 0;
+  sample.sensor_status = m.sensor_status;
+  // Faults found on arrival also reach the next step's flags; flagged here for the status in case no step follows
+  // (sensor samples without ground samples).
+  if ((engine_->push_sensor(sample) & core::observer_flag::faults) != 0) {
+    quality_since_status_ |= Status::QUALITY_SENSOR_FAULT;
   }
 }
 
@@ -220,7 +286,7 @@ void MonitorLoop::process_sample(std::int64_t utime, std::int64_t seq, double ug
     for (std::int64_t k = 1; k <= missing; ++k) {
       ++counters_.samples_bridged;
       step_and_publish(sat_add(last_utime_, k * period_us_), last_seq_ + k, last_ug_, last_vg_,
-                       Status::QUALITY_GAP_BRIDGED, false, true);
+                       Status::QUALITY_GAP_BRIDGED, false, true, last_time_trusted_);
     }
   }
 
@@ -265,21 +331,26 @@ void MonitorLoop::process_sample(std::int64_t utime, std::int64_t seq, double ug
     have_trusted_time_ = true;
     last_trusted_utime_ = utime;
   }
-  step_and_publish(utime, seq, ug, vg, quality, reset, false);
+  last_time_trusted_ = time_trusted;
+  step_and_publish(utime, seq, ug, vg, quality, reset, false, time_trusted);
 }
 
-EngineSample MonitorLoop::run_engine(double ug, double vg, bool reset) {
+EngineSample MonitorLoop::run_engine(double ug, double vg, bool reset, std::int64_t t_us) {
   const bool first = reset && counters_.samples_processed == 0;
   if (first) return engine_->start(ug, vg);      // the monitor's first sample: wall at rest, alarm QUIET
   if (reset) return engine_->restart(ug, vg);    // state unknown: motion from rest, the alarm keeps its level
-  return engine_->step(ug, vg);
+  return engine_->step_at(ug, vg, t_us, period_us_);
 }
 
 void MonitorLoop::step_and_publish(std::int64_t utime, std::int64_t seq, double ug, double vg, std::int32_t quality,
-                                   bool reset, bool bridged) {
+                                   bool reset, bool bridged, bool time_trusted) {
   const core::AlarmLevel before = level_;
+  // The sensor clock of this step: the sample's own time when trusted, else one period after the previous step (a
+  // stamp an hour ahead would apply every queued sensor sample at once, one an hour behind none).
+  const bool first_step = counters_.samples_processed == 0;
+  step_end_us_ = time_trusted || first_step ? utime : sat_add(step_end_us_, period_us_);
   const std::int64_t t0 = step_clock_ != nullptr ? step_clock_() : 0;
-  const EngineSample e = run_engine(ug, vg, reset);
+  const EngineSample e = run_engine(ug, vg, reset, step_end_us_);
   if (step_clock_ != nullptr) {
     const std::int64_t ns = sat_sub(step_clock_(), t0);
     if (ns > counters_.worst_step_ns) counters_.worst_step_ns = ns;
@@ -296,6 +367,18 @@ void MonitorLoop::step_and_publish(std::int64_t utime, std::int64_t seq, double 
 
   std::uint32_t reasons = e.alarm.reasons;
   if ((quality & Status::QUALITY_LIFT_OFF) != 0) reasons |= core::alarm_reason::input_invalid;
+  last_observer_ = e.observer;
+  if (e.observer.enabled) {
+    // Which state the alarm saw, and whether a sensor fault coincides with it: never an alarm from a faulty sensor
+    // without saying so.
+    const bool measured = (e.observer.flags & (core::observer_flag::x_active | core::observer_flag::a_active)) != 0;
+    reasons |= measured ? core::alarm_reason::measured : core::alarm_reason::predicted;
+    if ((e.observer.flags & core::observer_flag::faults) != 0) {
+      reasons |= core::alarm_reason::sensor_fault;
+      quality |= Status::QUALITY_SENSOR_FAULT;
+      quality_since_status_ |= Status::QUALITY_SENSOR_FAULT;
+    }
+  }
   const core::AlarmLevel level = e.alarm.level;
   level_ = level;
   const double x = e.x_m, xd = e.xd_mps;
@@ -323,6 +406,7 @@ void MonitorLoop::step_and_publish(std::int64_t utime, std::int64_t seq, double 
       publish(settings_.channels.wall_state, st_size)) {
     ++counters_.states_published;
   }
+  if (e.observer.enabled) publish_estimate(utime, seq, e);
 
   if (level == before) return;
   ++counters_.alarm_events;
@@ -346,6 +430,48 @@ void MonitorLoop::step_and_publish(std::int64_t utime, std::int64_t seq, double 
     ++counters_.publish_failures;
   }
   if (listener_ != nullptr) listener_->on_alarm(ev);
+}
+
+void MonitorLoop::publish_estimate(std::int64_t utime, std::int64_t seq, const EngineSample& e) {
+  const core::ObserverCounters& c = engine_->observer_counters();
+  rockwatch::wall_estimate_t m;
+  m.utime = utime;
+  m.seq = estimate_seq_++;
+  m.input_seq = seq;
+  m.schema_version = rockwatch::wall_estimate_t::SCHEMA_VERSION;
+  m.x_m = e.x_m;
+  m.xd_mps = e.xd_mps;
+  m.sigma_x_m = e.observer.sigma_x_m;
+  m.sigma_xd_mps = e.observer.sigma_xd_mps;
+  m.r_estimate = e.observer.r_estimate;
+  m.sigma_r = e.observer.sigma_r;
+  m.bias_m = e.observer.bias_m;
+  m.innovation_x_m = e.observer.innovation_x_m;
+  m.innovation_a_mps2 = e.observer.innovation_a_mps2;
+  m.sensor_health = static_cast<std::int32_t>(e.observer.flags);
+  m.sensor_samples = c.samples;
+  m.x_updates = c.x_updates;
+  m.a_updates = c.a_updates;
+  m.rejected = c.rejected;
+  m.not_finite = c.not_finite;
+  m.out_of_range = c.out_of_range;
+  m.stuck = c.stuck;
+  m.motion_while_quiet = c.motion_while_quiet;
+  m.jumps = c.jumps;
+  m.misaligned = c.misaligned;
+  m.stale = c.stale;
+  m.queue_overflow = c.queue_overflow;
+  m.reinitialised = c.reinitialised;
+  m.dropouts = c.dropouts;
+  m.sensor_flags = c.sensor_flags;
+  m.time_untrusted = counters_.sensor_time_untrusted;
+  const int size = m.getEncodedSize();
+  if (size <= static_cast<int>(sizeof out_buffer_) &&
+      m.encode(out_buffer_, 0, static_cast<int>(sizeof out_buffer_)) == size) {
+    if (publish(settings_.channels.wall_estimate, size)) ++counters_.estimates_published;
+  } else {
+    ++counters_.publish_failures;
+  }
 }
 
 bool MonitorLoop::publish(const char* channel, int size) {

@@ -14,11 +14,15 @@ const char* wall_engine_error_message(WallEngineError e) {
     case WallEngineError::fixed_point_setup: return "wall or step outside the fixed-point engine's formats";
     case WallEngineError::indicator_constants: return "x_inst must be in (0.008, 1.9) m for the alarm's formats";
     case WallEngineError::model_not_supported: return "the fixed-point engine runs the linear model only";
+    case WallEngineError::observer_invalid: return "wall observer options invalid (see the observer error)";
   }
   return "?";
 }
 
 WallEngineError WallEngine::init(const WallEngineConfig& c) {
+  observer_enabled_ = false;
+  observer_error_ = core::ObserverError::ok;
+  if (c.observer_enabled) observer_error_ = core::validate_observer_options(c.observer);
   const WallEngineError common = validate_wall_engine_config(c);
   if (common != WallEngineError::ok) return common;
   if (c.model != core::ModelKind::linear) return WallEngineError::model_not_supported;
@@ -31,8 +35,14 @@ WallEngineError WallEngine::init(const WallEngineConfig& c) {
     case core::AlarmChainError::stepper_setup: return WallEngineError::fixed_point_setup;
     case core::AlarmChainError::indicator_constants: return WallEngineError::indicator_constants;
   }
+  if (c.observer_enabled) {
+    observer_error_ = observer_.init(c.observer, setup, c.wall);
+    if (observer_error_ != core::ObserverError::ok) return WallEngineError::observer_invalid;
+    observer_enabled_ = true;
+  }
   axes_ = core::cast_sensor_axes<core::AccelQ7_24>(c.axes);
   out_ = WallEngineOutput{};
+  observer_report_ = core::ObserverStepReport{};
   return WallEngineError::ok;
 }
 
@@ -58,13 +68,28 @@ const WallEngineOutput& WallEngine::process_wall(core::AccelQ7_56 ug_mps2, core:
   return out_;
 }
 
+const WallEngineOutput& WallEngine::process_wall_at(core::AccelQ7_56 ug_mps2, core::AccelQ7_56 vg_mps2,
+                                                    std::int64_t t_us, std::int64_t step_us) {
+  if (!observer_enabled_) return process_wall(ug_mps2, vg_mps2);
+  out_.ug_mps2 = core::wide_convert<core::AccelQ7_24>(ug_mps2);
+  out_.vg_mps2 = core::wide_convert<core::AccelQ7_24>(vg_mps2);
+  observer_report_ = chain_.step_observed(ug_mps2, vg_mps2, observer_, t_us, step_us, out_);
+  return out_;
+}
+
+// The wall at rest again: the observer's motion covariance follows; what it learned (ê, b̂), its queue and counters
+// stay (init() starts a new observer).
 void WallEngine::reset_wall(core::AccelQ7_56 ug_mps2, core::AccelQ7_56 vg_mps2) {
   chain_.reset(ug_mps2, vg_mps2);
   out_ = WallEngineOutput{};
+  if (observer_enabled_) observer_.restart_motion();
+  observer_report_ = core::ObserverStepReport{};
 }
 
 void WallEngine::restart_motion(core::AccelQ7_56 ug_mps2, core::AccelQ7_56 vg_mps2) {
   chain_.restart_motion(ug_mps2, vg_mps2, out_);
+  if (observer_enabled_) observer_.restart_motion();
+  observer_report_ = core::ObserverStepReport{};
 }
 
 // Straight to Q7.56: bit-identical to `rockwatch simulate --arith fixed` on the same doubles.
@@ -83,6 +108,15 @@ EngineSample WallEngine::step(double ug_mps2, double vg_mps2) {
   return sample();
 }
 
+EngineSample WallEngine::step_at(double ug_mps2, double vg_mps2, std::int64_t t_us, std::int64_t step_us) {
+  process_wall_at(core::AccelQ7_56(ug_mps2), core::AccelQ7_56(vg_mps2), t_us, step_us);
+  return sample();
+}
+
+std::uint32_t WallEngine::push_sensor(const core::WallSensorSample& sample) {
+  return observer_enabled_ ? observer_.push(sample) : 0u;
+}
+
 EngineSample WallEngine::sample() const {
   const core::FixedRockingStepper& stepper = chain_.stepper();
   EngineSample e;
@@ -95,6 +129,19 @@ EngineSample WallEngine::sample() const {
   e.input_invalid = out_.step.input_invalid;
   e.saturated = out_.step.saturated;
   e.alarm = out_.alarm;
+  if (observer_enabled_) {
+    core::ObserverSample& o = e.observer;
+    o.enabled = true;
+    o.flags = observer_report_.flags;
+    o.corrected = observer_report_.corrected;
+    o.sigma_x_m = observer_.sigma_x_m();
+    o.sigma_xd_mps = observer_.sigma_xd_mps();
+    o.r_estimate = observer_.r_estimate();
+    o.sigma_r = observer_.sigma_r();
+    o.bias_m = observer_.bias_m();
+    o.innovation_x_m = observer_.last_innovation_x_m();
+    o.innovation_a_mps2 = observer_.last_innovation_a_mps2();
+  }
   return e;
 }
 

@@ -58,8 +58,8 @@ std::string source_network_text(const SourceNetwork& n) {
 }
 
 DatagramInput::DatagramInput(const firmware::MonitorChannels& channels, std::vector<SourceNetwork> accept,
-                             InputMessageSink& sink)
-    : channels_(channels), accept_(std::move(accept)), sink_(sink) {}
+                             InputMessageSink& sink, bool wall_sensors)
+    : channels_(channels), accept_(std::move(accept)), sink_(sink), wall_sensors_(wall_sensors) {}
 
 void DatagramInput::on_datagram(const std::uint8_t* data, std::size_t size, firmware::DatagramSource source,
                                 std::int64_t receive_utime) {
@@ -75,7 +75,8 @@ void DatagramInput::on_datagram(const std::uint8_t* data, std::size_t size, firm
   if (reassembler_.accept(data, size, source, receive_utime, &message, nullptr) != firmware::DatagramOutcome::message) {
     return;
   }
-  if (std::strcmp(message.channel, channels_.accel) == 0 || std::strcmp(message.channel, channels_.accel_batch) == 0) {
+  if (std::strcmp(message.channel, channels_.accel) == 0 || std::strcmp(message.channel, channels_.accel_batch) == 0 ||
+      (wall_sensors_ && std::strcmp(message.channel, channels_.wall_sensor) == 0)) {
     ++counters_.input_messages;
     sink_.on_input_message(message.channel, message.payload, message.size, receive_utime);
   } else {

@@ -1,7 +1,7 @@
 // The monitor's receive path from raw UDP datagrams to MonitorLoop::on_message, without the socket (udp_receiver.hpp
 // owns that), so that tests and the fuzzer drive exactly what the live monitor runs:
 //   datagram → source filter (--accept-from) → firmware::LcmDatagramReassembler (LC02/LC03, checked) →
-//   channel filter (the two input channels) → the sink (the traffic log, then the loop).
+//   channel filter (the two input channels, and the wall-sensor channel with the observer) → the sink (the traffic log, then the loop).
 // Nothing here trusts a length, offset or name in the datagram; every datagram is accounted for:
 //   datagrams = from_other_sources + rejected + fragments_stored + messages (input + other channels).
 #pragma once
@@ -44,7 +44,9 @@ struct DatagramInputCounters {
 class DatagramInput {
  public:
   // channels: the loop's settings (only accel and accel_batch are read). accept: empty = every source.
-  DatagramInput(const firmware::MonitorChannels& channels, std::vector<SourceNetwork> accept, InputMessageSink& sink);
+  // wall_sensors: the wall-sensor channel is an input too (the monitor runs the observer).
+  DatagramInput(const firmware::MonitorChannels& channels, std::vector<SourceNetwork> accept, InputMessageSink& sink,
+                bool wall_sensors = false);
 
   // One datagram as received from `source`; receive_utime: the monitor's clock [µs since 1970-01-01 UTC].
   void on_datagram(const std::uint8_t* data, std::size_t size, firmware::DatagramSource source,
@@ -57,6 +59,7 @@ class DatagramInput {
   firmware::MonitorChannels channels_;
   std::vector<SourceNetwork> accept_;
   InputMessageSink& sink_;
+  bool wall_sensors_ = false;
   firmware::LcmDatagramReassembler reassembler_{};
   DatagramInputCounters counters_{};
 };

@@ -116,11 +116,16 @@ LcmInput::LcmInput(lcm::LCM& lcm, firmware::MonitorLoop& loop)
   batch_ = lcm_subscribe(raw, exact_channel_regex(c.accel_batch).c_str(), &LcmInput::on_raw, this);
   if (accel_ != nullptr) lcm_subscription_set_queue_capacity(accel_, queue_capacity_);
   if (batch_ != nullptr) lcm_subscription_set_queue_capacity(batch_, queue_capacity_);
+  if (loop.settings().engine.observer_enabled) {
+    sensor_ = lcm_subscribe(raw, exact_channel_regex(c.wall_sensor).c_str(), &LcmInput::on_raw, this);
+    if (sensor_ != nullptr) lcm_subscription_set_queue_capacity(sensor_, queue_capacity_);
+  }
 }
 
 LcmInput::~LcmInput() {
   if (accel_ != nullptr) lcm_unsubscribe(lcm_.getUnderlyingLCM(), accel_);
   if (batch_ != nullptr) lcm_unsubscribe(lcm_.getUnderlyingLCM(), batch_);
+  if (sensor_ != nullptr) lcm_unsubscribe(lcm_.getUnderlyingLCM(), sensor_);
 }
 
 void LcmInput::on_raw(const lcm_recv_buf_t* rbuf, const char* channel, void* user) {

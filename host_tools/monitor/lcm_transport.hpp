@@ -68,7 +68,7 @@ class LcmTransport final : public firmware::Transport {
   lcm::LCM& lcm_;
 };
 
-// Subscribes the loop's two input channels (and only those, exactly) and passes every message's raw bytes to
+// Subscribes the loop's two input channels (and the wall-sensor channel with the observer; only those, exactly) and passes every message's raw bytes to
 // MonitorLoop::on_message with the receive time LCM stamped on it (CLOCK_REALTIME µs; now when LCM gave none).
 // Both subscriptions hold up to input_queue_capacity(the loop's sample rate) unhandled messages (not LCM's 30).
 // Any other subscription of the same LCM instance to an input channel needs the same capacity: liblcm keeps a
@@ -80,7 +80,9 @@ class LcmInput {
   ~LcmInput();
   LcmInput(const LcmInput&) = delete;
   LcmInput& operator=(const LcmInput&) = delete;
-  bool good() const { return accel_ != nullptr && batch_ != nullptr; }
+  bool good() const {
+    return accel_ != nullptr && batch_ != nullptr && (!loop_.settings().engine.observer_enabled || sensor_ != nullptr);
+  }
   std::int64_t messages() const { return messages_; }
   int queue_capacity() const { return queue_capacity_; }
 
@@ -93,6 +95,7 @@ class LcmInput {
   // 15 characters (ROCKWATCH_ACCEL_BATCH) — the soak's allocation count found its twin on the publishing side.
   lcm_subscription_t* accel_ = nullptr;
   lcm_subscription_t* batch_ = nullptr;
+  lcm_subscription_t* sensor_ = nullptr;  // the wall-sensor channel, with the observer only
   int queue_capacity_ = 0;
   std::int64_t messages_ = 0;
 };

@@ -47,7 +47,7 @@ struct RawOptions {
   cli::WallOptionTexts wall;
   std::string r = "exp", model = "linear", kappa;
   cli::AlarmOptionTexts alarm;  // --lambda-w, --alarm-hold, --energy-margin (its arith and alarms are unused)
-  bool print_config = false, version = false;
+  bool print_config = false, version = false, observer = false;
 };
 
 const char* const kFooter =
@@ -64,7 +64,10 @@ const char* const kFooter =
     "  r \"ana\"|\"exp\"|\"impulse\"|number   model \"linear\"   kappa K\n"
     "  alarm {lambda_w, hold_s, energy_margin}   (as --lambda-w, --alarm-hold, --energy-margin)\n"
     "  sample_rate_hz (--rate, 200)   max_bridge_samples (10)   sensor_range_mps2 (80)   late_limit_s (0.05)\n"
-    "  channels {accel, accel_batch, wall_state, alarm, status}   (ROCKWATCH_ACCEL, ...)\n"
+    "  channels {accel, accel_batch, wall_state, alarm, status, wall_sensor, wall_estimate}   (ROCKWATCH_ACCEL, ...)\n"
+    "  observer {enabled, x_noise_m, a_noise_mps2, process_accel_mps2, gate_chi2, dropout_s, max_age_s}\n"
+    "    the wall observer (--observer: enabled with the defaults): fuses wall_sensor_t samples (channel\n"
+    "    wall_sensor) with the model, publishes wall_estimate_t (channel wall_estimate) and alarms on the fused state\n"
     "  lcm_url (--lcm-url; default $LCM_DEFAULT_URL, else udpm://239.255.76.67:7667?ttl=0)\n"
     "  accept_from [\"ADDR\" or \"ADDR/PREFIX\", ...]   (--accept-from; sources of input datagrams, default any)\n"
     "\n"
@@ -116,6 +119,9 @@ void add_options(CLI::App& app, RawOptions& raw) {
                  "Live mode: own (default: the monitor's checked datagram path) or liblcm (liblcm's receive thread, "
                  "for measuring the two side by side only: it crashes on crafted datagrams)")
       ->type_name("own|liblcm");
+  app.add_flag("--observer", raw.observer,
+               "Run the wall observer: fuse the wall sensors (wall_sensor_t) with the model, publish wall_estimate_t "
+               "and alarm on the fused state (settings: the file's observer object, else the defaults)");
   app.add_flag("--print-config", raw.print_config,
                "Print the normalised settings and their digest as one JSON object and exit");
   app.add_flag("--version", raw.version, "Print the version and exit");
@@ -161,8 +167,11 @@ struct FileValues {
   std::optional<firmware::MonitorArithmetic> arith;
   std::optional<double> kappa, lambda_w, hold_s, energy_margin, sample_rate_hz, sensor_range_mps2, late_limit_s;
   std::optional<std::int32_t> max_bridge_samples;
-  std::optional<std::string> channels[5];
+  std::optional<std::string> channels[7];
   std::optional<std::string> lcm_url;
+  // observer {...}: enabled, then the options in kObserverFields order.
+  std::optional<bool> observer_enabled;
+  std::optional<double> observer[6];
   std::optional<std::vector<SourceNetwork>> accept_from;
 };
 
@@ -185,7 +194,24 @@ constexpr WallField kWallFields[8] = {
     {"g", "--g", &core::WallParameters::g_mps2, &cli::WallOptionTexts::g, "m/s2"},
 };
 
-constexpr const char* kChannelKeys[5] = {"accel", "accel_batch", "wall_state", "alarm", "status"};
+// The last two exist only with the observer.
+constexpr const char* kChannelKeys[7] = {"accel", "accel_batch", "wall_state", "alarm", "status", "wall_sensor",
+                                         "wall_estimate"};
+
+// The observer's settings a configuration may give (the others keep core::ObserverOptions' defaults).
+struct ObserverField {
+  const char* key;  // under "observer"
+  double core::ObserverOptions::*member;
+  const char* unit;
+};
+constexpr ObserverField kObserverFields[6] = {
+    {"x_noise_m", &core::ObserverOptions::x_noise_m, "m"},
+    {"a_noise_mps2", &core::ObserverOptions::a_noise_mps2, "m/s2"},
+    {"process_accel_mps2", &core::ObserverOptions::process_accel_mps2, "m/s2"},
+    {"gate_chi2", &core::ObserverOptions::gate_chi2, "-"},
+    {"dropout_s", &core::ObserverOptions::dropout_s, "s"},
+    {"max_age_s", &core::ObserverOptions::max_age_s, "s"},
+};
 
 std::string json_type(const json& v) {
   if (v.is_null()) return "null";
@@ -211,7 +237,7 @@ class ConfigReader {
     const json root = parse();
     if (!root.is_object()) fail("the top level", "expected a JSON object {...}, got " + json_type(root));
     check_keys(root, "", {"arith", "wall", "r", "model", "kappa", "alarm", "sample_rate_hz", "max_bridge_samples",
-                          "sensor_range_mps2", "late_limit_s", "channels", "lcm_url", "accept_from"});
+                          "sensor_range_mps2", "late_limit_s", "channels", "lcm_url", "accept_from", "observer"});
     FileValues v;
     if (root.contains("wall")) read_wall(root.at("wall"), v);
     if (root.contains("r")) v.r = read_restitution(root.at("r"));
@@ -235,11 +261,13 @@ class ConfigReader {
     if (root.contains("channels")) {
       const json& c = root.at("channels");
       object(c, "channels");
-      check_keys(c, "channels.", {kChannelKeys[0], kChannelKeys[1], kChannelKeys[2], kChannelKeys[3], kChannelKeys[4]});
-      for (int i = 0; i < 5; ++i) {
+      check_keys(c, "channels.", {kChannelKeys[0], kChannelKeys[1], kChannelKeys[2], kChannelKeys[3], kChannelKeys[4],
+                                  kChannelKeys[5], kChannelKeys[6]});
+      for (int i = 0; i < 7; ++i) {
         if (c.contains(kChannelKeys[i])) v.channels[i] = string(c.at(kChannelKeys[i]), std::string("channels.") + kChannelKeys[i]);
       }
     }
+    if (root.contains("observer")) read_observer(root.at("observer"), v);
     if (root.contains("accept_from")) {
       const json& a = root.at("accept_from");
       if (!a.is_array()) fail("accept_from", "expected an array of \"ADDR\" or \"ADDR/PREFIX\" strings, got " + json_type(a));
@@ -355,6 +383,32 @@ class ConfigReader {
       fail(key, "must be in [0, 1000] samples (got " + v.dump() + ")");
     }
     return static_cast<std::int32_t>(v.get<std::int64_t>());
+  }
+
+  // Each value is checked on its own against core::validate_observer_options' ranges, so the message names its key.
+  void read_observer(const json& o, FileValues& v) const {
+    object(o, "observer");
+    std::vector<std::string> keys{"enabled"};
+    for (const ObserverField& f : kObserverFields) keys.emplace_back(f.key);
+    check_keys(o, "observer.", keys);
+    if (o.contains("enabled")) {
+      const json& e = o.at("enabled");
+      if (!e.is_boolean()) fail("observer.enabled", "expected true or false, got " + json_type(e));
+      v.observer_enabled = e.get<bool>();
+    }
+    for (int i = 0; i < 6; ++i) {
+      const ObserverField& f = kObserverFields[i];
+      if (!o.contains(f.key)) continue;
+      const std::string key = std::string("observer.") + f.key;
+      const double value = number(o.at(f.key), key, std::string(" [") + f.unit + "]");
+      core::ObserverOptions options;
+      options.*f.member = value;
+      const core::ObserverError err = core::validate_observer_options(options);
+      if (err != core::ObserverError::ok) {
+        fail(key, std::string(core::observer_error_message(err)) + " (got " + o.at(f.key).dump() + ")");
+      }
+      v.observer[i] = value;
+    }
   }
 
   void read_wall(const json& w, FileValues& v) const {
@@ -540,6 +594,19 @@ json normalised_settings(const MonitorConfig& config) {
        {{"accel", s.channels.accel}, {"accel_batch", s.channels.accel_batch}, {"wall_state", s.channels.wall_state},
         {"alarm", s.channels.alarm}, {"status", s.channels.status}}},
   };
+  // The observer changes every output; absent when off, so that the digest of a configuration without it stays.
+  if (s.engine.observer_enabled) {
+    const core::ObserverOptions& o = s.engine.observer;
+    out["observer"] = {{"enabled", true},
+                       {"x_noise_m", o.x_noise_m},
+                       {"a_noise_mps2", o.a_noise_mps2},
+                       {"process_accel_mps2", o.process_accel_mps2},
+                       {"gate_chi2", o.gate_chi2},
+                       {"dropout_s", o.dropout_s},
+                       {"max_age_s", o.max_age_s}};
+    out["channels"]["wall_sensor"] = s.channels.wall_sensor;
+    out["channels"]["wall_estimate"] = s.channels.wall_estimate;
+  }
   // Which sources are accepted changes what the monitor processes; absent when any is (the default digest stays).
   if (!config.accept_from.empty()) {
     json a = json::array();
@@ -647,10 +714,22 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
     s.late_limit_s = *file.late_limit_s;
   }
 
-  // Channels: printable names that fit the firmware's buffers, all five different.
-  std::string channel_names[5] = {s.channels.accel, s.channels.accel_batch, s.channels.wall_state, s.channels.alarm,
-                                  s.channels.status};
-  for (int i = 0; i < 5; ++i) {
+  // The wall observer: the file's observer object, enabled there or by --observer.
+  const bool observer = raw.observer || file.observer_enabled.value_or(false);
+  engine.observer_enabled = observer;
+  for (int i = 0; i < 6; ++i) {
+    if (file.observer[i]) engine.observer.*kObserverFields[i].member = *file.observer[i];
+  }
+  if (observer && core::validate_observer_options(engine.observer) != core::ObserverError::ok) {
+    throw UsageError(file_label("observer") + ": " +
+                     core::observer_error_message(core::validate_observer_options(engine.observer)));
+  }
+
+  // Channels: printable names that fit the firmware's buffers, all different (the wall-sensor pair only counts with
+  // the observer, as in the firmware's check).
+  std::string channel_names[7] = {s.channels.accel,  s.channels.accel_batch, s.channels.wall_state,   s.channels.alarm,
+                                  s.channels.status, s.channels.wall_sensor, s.channels.wall_estimate};
+  for (int i = 0; i < 7; ++i) {
     if (!file.channels[i]) continue;
     const std::string key = std::string("channels.") + kChannelKeys[i];
     if (!channel_text_ok(*file.channels[i])) {
@@ -659,7 +738,8 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
     }
     channel_names[i] = *file.channels[i];
   }
-  for (int i = 0; i < 5; ++i) {
+  const int n_channels = observer ? 7 : 5;
+  for (int i = 0; i < n_channels; ++i) {
     for (int j = 0; j < i; ++j) {
       if (channel_names[i] == channel_names[j]) {
         throw UsageError((reader ? reader->key_label(std::string("channels.") + kChannelKeys[i])
@@ -669,9 +749,10 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
       }
     }
   }
-  char(*fields[5])[firmware::kChannelNameMax] = {&s.channels.accel, &s.channels.accel_batch, &s.channels.wall_state,
-                                                 &s.channels.alarm, &s.channels.status};
-  for (int i = 0; i < 5; ++i) set_channel(*fields[i], channel_names[i]);
+  char(*fields[7])[firmware::kChannelNameMax] = {&s.channels.accel,  &s.channels.accel_batch, &s.channels.wall_state,
+                                                 &s.channels.alarm,  &s.channels.status,      &s.channels.wall_sensor,
+                                                 &s.channels.wall_estimate};
+  for (int i = 0; i < 7; ++i) set_channel(*fields[i], channel_names[i]);
 
   // LCM URL and mode.
   if (const char* env = std::getenv("LCM_DEFAULT_URL"); env != nullptr && *env != '\0') {

@@ -10,7 +10,9 @@
 //   kappa        number in [1, 100)                                   (--kappa; default 2)
 //   alarm {lambda_w, hold_s, energy_margin}                           (--lambda-w, --alarm-hold, --energy-margin)
 //   sample_rate_hz (--rate), max_bridge_samples, sensor_range_mps2, late_limit_s
-//   channels {accel, accel_batch, wall_state, alarm, status}
+//   channels {accel, accel_batch, wall_state, alarm, status, wall_sensor, wall_estimate}
+//   observer {enabled, x_noise_m, a_noise_mps2, process_accel_mps2, gate_chi2, dropout_s, max_age_s}
+//                the wall observer (--observer enables it with these or the defaults); in the digest only when on
 //   lcm_url      (--lcm-url)
 //   accept_from  (--accept-from) ["ADDR" or "ADDR/PREFIX", ...]: the only sources of input datagrams (default: any)
 #pragma once

@@ -57,6 +57,42 @@ json counters_json(const firmware::MonitorCounters& c) {
               {"states_published", c.states_published}};
 }
 
+json observer_json(const core::ObserverOptions& o, const core::ObserverSample& last, const core::ObserverCounters& c,
+                  const firmware::MonitorCounters& loop) {
+  return json{{"settings",
+               {{"x_noise_m", o.x_noise_m},
+                {"a_noise_mps2", o.a_noise_mps2},
+                {"process_accel_mps2", o.process_accel_mps2},
+                {"gate_chi2", o.gate_chi2},
+                {"dropout_s", o.dropout_s},
+                {"max_age_s", o.max_age_s}}},
+              {"r_estimate", last.r_estimate},
+              {"sigma_r", last.sigma_r},
+              {"bias_estimate_m", last.bias_m},
+              {"sigma_x_m", last.sigma_x_m},
+              {"sensor_health", last.flags},
+              {"sensor_samples_received", loop.sensor_samples_received},
+              {"sensor_time_untrusted", loop.sensor_time_untrusted},
+              {"estimates_published", loop.estimates_published},
+              {"counters",
+               {{"samples", c.samples},
+                {"x_updates", c.x_updates},
+                {"a_updates", c.a_updates},
+                {"rejected", c.rejected},
+                {"not_finite", c.not_finite},
+                {"out_of_range", c.out_of_range},
+                {"stuck", c.stuck},
+                {"motion_while_quiet", c.motion_while_quiet},
+                {"jumps", c.jumps},
+                {"misaligned", c.misaligned},
+                {"stale", c.stale},
+                {"queue_overflow", c.queue_overflow},
+                {"reinitialised", c.reinitialised},
+                {"sensor_flags", c.sensor_flags},
+                {"impacts", c.impacts},
+                {"dropouts", c.dropouts}}}};
+}
+
 void AlarmPrinter::on_alarm(const rockwatch::alarm_event_t& event) {
   ++events_;
   if (event.level > max_level_) max_level_ = event.level;

@@ -21,6 +21,9 @@ std::string level_name(std::int64_t level);
 
 // Every MonitorCounters field by name.
 nlohmann::json counters_json(const firmware::MonitorCounters& counters);
+// The summary's "observer" object (with the observer only): its settings, the last estimates and its counters.
+nlohmann::json observer_json(const core::ObserverOptions& options, const core::ObserverSample& last,
+                             const core::ObserverCounters& counters, const firmware::MonitorCounters& loop);
 
 // The listener the executable installs: prints each alarm event and remembers the highest level.
 class AlarmPrinter final : public firmware::MonitorListener {

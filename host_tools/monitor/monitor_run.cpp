@@ -222,6 +222,9 @@ json common_summary(const MonitorConfig& config, const firmware::MonitorLoop& lo
   s["alarm_events"] = printer.events();
   s["status_published"] = statuses;
   s["counters"] = counters_json(loop.counters());
+  if (const core::ObserverCounters* c = loop.observer_counters()) {
+    s["observer"] = observer_json(config.settings.engine.observer, loop.last_observer(), *c, loop.counters());
+  }
   return s;
 }
 
@@ -289,7 +292,7 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
   if (!init_loop(*loop, *engines, config, transport, printer, err)) return kExitUsage;
   loop->set_step_clock(&monotonic_ns);
   LoopInputSink sink(*loop, config.log_path ? &log : nullptr);
-  DatagramInput input(config.settings.channels, config.accept_from, sink);
+  DatagramInput input(config.settings.channels, config.accept_from, sink, config.settings.engine.observer_enabled);
   std::unique_ptr<LcmInput> lcm_input;
   if (via_liblcm) {
     lcm_input = std::make_unique<LcmInput>(lcm, *loop);
@@ -304,8 +307,11 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
   ++statuses;
   const firmware::MonitorChannels& ch = config.settings.channels;
   const std::string buffer_warning = receive_buffer_warning(url);
+  const bool observer = config.settings.engine.observer_enabled;
   err << kPrefix << "listening on " << url << " (" << config.lcm_url_origin << "): " << ch.accel << ", "
-      << ch.accel_batch << " -> " << ch.wall_state << ", " << ch.alarm << ", " << ch.status << "; "
+      << ch.accel_batch << (observer ? std::string(", ") + ch.wall_sensor : std::string()) << " -> " << ch.wall_state
+      << ", " << ch.alarm << ", " << ch.status << (observer ? std::string(", ") + ch.wall_estimate : std::string())
+      << (observer ? "; wall observer on" : "") << "; "
       << cli::number_text(config.settings.sample_rate_hz) << " Hz; config digest "
       << digest_hex(config.settings.config_digest) << std::endl;
   if (!buffer_warning.empty()) err << kPrefix << "note: " << buffer_warning << std::endl;
@@ -448,13 +454,14 @@ int run_offline(const MonitorConfig& config, std::ostream& out, std::ostream& er
     }
     ++events;
     last_us = ts;
-    if (event->channel == ch.accel || event->channel == ch.accel_batch) {
+    if (event->channel == ch.accel || event->channel == ch.accel_batch ||
+        (config.settings.engine.observer_enabled && event->channel == ch.wall_sensor)) {
       transport.set_event_time(ts);
       const auto size = event->datalen > 0 ? static_cast<std::size_t>(event->datalen) : std::size_t{0};
       loop->on_message(event->channel.c_str(), static_cast<const std::uint8_t*>(event->data), size, ts);
       ++fed;
     } else {
-      ++skipped;  // as live: the monitor subscribes to its two input channels only
+      ++skipped;  // as live: the monitor subscribes to its input channels only
     }
     if (in_file != nullptr) read_end = std::ftell(in_file);  // before the next read (the event stays valid till then)
   }

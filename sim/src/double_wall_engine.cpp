@@ -6,6 +6,9 @@ using core::EngineSample;
 using core::WallEngineError;
 
 WallEngineError DoubleWallEngine::init(const core::WallEngineConfig& c) {
+  observer_enabled_ = false;
+  observer_error_ = core::ObserverError::ok;
+  if (c.observer_enabled) observer_error_ = core::validate_observer_options(c.observer);
   const WallEngineError common = core::validate_wall_engine_config(c);
   if (common != WallEngineError::ok) return common;
   core::StepperOptions so;
@@ -14,19 +17,40 @@ WallEngineError DoubleWallEngine::init(const core::WallEngineConfig& c) {
   const core::StepperSetup<double> setup = core::make_stepper_setup(c.wall, c.model, c.r_energy, so);
   // The same hold in steps as sim::analyse for this step. The double chain cannot refuse a valid configuration.
   chain_.init(setup, c.alarm, c.dt_s);
+  if (c.observer_enabled) {
+    observer_error_ = observer_.init(c.observer, setup, c.wall);
+    if (observer_error_ != core::ObserverError::ok) return WallEngineError::observer_invalid;
+    observer_enabled_ = true;
+  }
   out_ = DoubleWallEngineOutput{};
+  observer_report_ = core::ObserverStepReport{};
   return WallEngineError::ok;
 }
 
+// As firmware::WallEngine: the observer's motion restarts with the wall's, what it learned stays.
 EngineSample DoubleWallEngine::start(double ug_mps2, double vg_mps2) {
   chain_.reset(ug_mps2, vg_mps2);
   out_ = DoubleWallEngineOutput{};
+  if (observer_enabled_) observer_.restart_motion();
+  observer_report_ = core::ObserverStepReport{};
   return sample();
 }
 
 EngineSample DoubleWallEngine::restart(double ug_mps2, double vg_mps2) {
   chain_.restart_motion(ug_mps2, vg_mps2, out_);
+  if (observer_enabled_) observer_.restart_motion();
+  observer_report_ = core::ObserverStepReport{};
   return sample();
+}
+
+EngineSample DoubleWallEngine::step_at(double ug_mps2, double vg_mps2, std::int64_t t_us, std::int64_t step_us) {
+  if (!observer_enabled_) return step(ug_mps2, vg_mps2);
+  observer_report_ = chain_.step_observed(ug_mps2, vg_mps2, observer_, t_us, step_us, out_);
+  return sample();
+}
+
+std::uint32_t DoubleWallEngine::push_sensor(const core::WallSensorSample& sample) {
+  return observer_enabled_ ? observer_.push(sample) : 0u;
 }
 
 EngineSample DoubleWallEngine::step(double ug_mps2, double vg_mps2) {
@@ -45,6 +69,19 @@ EngineSample DoubleWallEngine::sample() const {
   e.moving = stepper.moving();
   e.input_invalid = out_.step.input_invalid;
   e.alarm = out_.alarm;
+  if (observer_enabled_) {
+    core::ObserverSample& o = e.observer;
+    o.enabled = true;
+    o.flags = observer_report_.flags;
+    o.corrected = observer_report_.corrected;
+    o.sigma_x_m = observer_.sigma_x_m();
+    o.sigma_xd_mps = observer_.sigma_xd_mps();
+    o.r_estimate = observer_.r_estimate();
+    o.sigma_r = observer_.sigma_r();
+    o.bias_m = observer_.bias_m();
+    o.innovation_x_m = observer_.last_innovation_x_m();
+    o.innovation_a_mps2 = observer_.last_innovation_a_mps2();
+  }
   return e;
 }
 

@@ -5,9 +5,11 @@
 # of instructions per sample: min, median, p99, max (and the sample where it occurs) and max/median. The constant
 # cost of the measurement window (an empty call, row `overhead`) is subtracted from the other rows.
 #
-#   tests/bench/callgrind_per_sample.sh BUILD_DIR [--check MAX_MEDIAN_RATIO MAX_INSTR] [--record SET_FILE]
+#   tests/bench/callgrind_per_sample.sh BUILD_DIR [--check MAX_MEDIAN_RATIO MAX_INSTR] [--record SET_FILE] [--observer]
 #     BUILD_DIR  CMake build directory holding tests/bench/bench_sample_instructions (e.g. build/release)
 #     --check    exit 1 if, for fixed_step or fixed_process, max > MAX_MEDIAN_RATIO × median or max > MAX_INSTR
+#     --observer the engines through the monitor's seam with the wall observer off and on instead
+#                (bench_observer_instructions: fixed_off, fixed_observer, double_off, double_observer)
 #   Environment: CALLGRIND_OUT_DIR keeps callgrind.out there (one part per sample) instead of a temporary directory.
 # Exit status: 0 report printed (and checks passed); 1 check failed or run failed; 2 usage; 77 valgrind missing.
 set -euo pipefail
@@ -17,11 +19,12 @@ usage() { sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
 [[ $# -ge 1 ]] || usage
 build_dir=$1
 shift
-check_ratio="" check_max="" record=$root/sim/suites/npr9998-2015/set01.txt
+check_ratio="" check_max="" record=$root/sim/suites/npr9998-2015/set01.txt observer=0
 while [[ $# -gt 0 ]]; do
   case $1 in
     --check) [[ $# -ge 3 ]] || usage; check_ratio=$2; check_max=$3; shift 3 ;;
     --record) [[ $# -ge 2 ]] || usage; record=$2; shift 2 ;;
+    --observer) observer=1; shift ;;
     *) usage ;;
   esac
 done
@@ -30,8 +33,14 @@ if ! command -v valgrind >/dev/null; then
   echo "callgrind_per_sample: SKIPPED: valgrind not found (Debian: valgrind; scripts/install-deps.sh installs it)" >&2
   exit 77
 fi
-exe=$build_dir/tests/bench/bench_sample_instructions
-[[ -x $exe ]] || { echo "error: $exe not found; build the bench_sample_instructions target first" >&2; exit 1; }
+driver=bench_sample_instructions
+passes="fixed_step fixed_process double_step double_process overhead"
+if [[ $observer -eq 1 ]]; then
+  driver=bench_observer_instructions
+  passes="fixed_off fixed_observer double_off double_observer overhead"
+fi
+exe=$build_dir/tests/bench/$driver
+[[ -x $exe ]] || { echo "error: $exe not found; build the $driver target first" >&2; exit 1; }
 
 if [[ -n ${CALLGRIND_OUT_DIR:-} ]]; then
   out_dir=$CALLGRIND_OUT_DIR
@@ -67,7 +76,7 @@ overhead=$(values overhead 0 | sort -n | awk -v n="$n_overhead" 'NR == int((n + 
 
 printf '%-15s %7s %7s %7s %7s %7s %7s %11s\n' pass samples min median p99 max max_at max/median
 failed=0
-for pass in fixed_step fixed_process double_step double_process overhead; do
+for pass in $passes; do
   ovh=$overhead
   [[ $pass == overhead ]] && ovh=0
   n=$(values "$pass" "$ovh" | wc -l)

@@ -119,7 +119,10 @@ std::vector<std::string> alarm_reason_list(std::uint32_t reasons) {
                {bit::over_collapse_displacement, "over_collapse_displacement"},
                {bit::held, "held"},
                {bit::input_invalid, "input_invalid"},
-               {bit::arithmetic_saturated, "arithmetic_saturated"}};
+               {bit::arithmetic_saturated, "arithmetic_saturated"},
+               {bit::measured, "measured"},
+               {bit::predicted, "predicted"},
+               {bit::sensor_fault, "sensor_fault"}};
   std::vector<std::string> list;
   std::uint32_t known = 0;
   for (const auto& n : names) {

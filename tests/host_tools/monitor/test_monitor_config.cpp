@@ -436,3 +436,44 @@ TEST(MonitorAcceptFrom, InTheSettingsAndTheDigestOnlyWhenGiven) {
   const json file_only = printed_config(R"({"accept_from": ["192.168.1.20"]})", {});
   CHECK(file_only.at("settings").at("accept_from") == json::array({"192.168.1.20/32"}));
 }
+
+TEST_GROUP(MonitorObserverSettings){};
+
+TEST(MonitorObserverSettings, BadValuesNameTheKeyAndTheRange) {
+  expect_config_rejected(R"({"observer": {"enabled": true, "x_noise_m": 0}})", {"observer.x_noise_m", "noise", "got 0"});
+  expect_config_rejected(R"({"observer": {"gate_chi2": 2000}})", {"observer.gate_chi2", "[1, 1000]"});
+  expect_config_rejected(R"({"observer": {"dropout_s": -1}})", {"observer.dropout_s", "(0, 60]"});
+  expect_config_rejected(R"({"observer": {"max_age_s": 11}})", {"observer.max_age_s", "[0, 10]"});
+  expect_config_rejected(R"({"observer": {"a_noise_mps2": 50}})", {"observer.a_noise_mps2"});
+  expect_config_rejected(R"({"observer": {"process_accel_mps2": "1"}})", {"observer.process_accel_mps2", "a string"});
+  expect_config_rejected(R"({"observer": {"enabled": 1}})", {"observer.enabled", "true or false"});
+  expect_config_rejected(R"({"observer": {"gain": 1}})", {"observer.gain", "unknown key"});
+  expect_config_rejected(R"({"observer": true})", {"observer", "an object"});
+  // With the observer, the sensor channel is an input: it must differ from every other channel.
+  expect_config_rejected(R"({"observer": {"enabled": true}, "channels": {"wall_sensor": "ROCKWATCH_ACCEL"}})",
+                         {"channels.wall_sensor", "the same as channels.accel"});
+}
+
+TEST(MonitorObserverSettings, InTheSettingsAndTheDigestOnlyWhenEnabled) {
+  const json none = printed_config("", {});
+  CHECK_FALSE(none.at("settings").contains("observer"));
+  CHECK_FALSE(none.at("settings").at("channels").contains("wall_sensor"));
+  // Settings given but not enabled change nothing (the digest of existing configurations stays).
+  const json off = printed_config(R"({"observer": {"enabled": false, "gate_chi2": 25}})", {});
+  CHECK(off.at("config_digest") == none.at("config_digest"));
+  const json flag = printed_config("", {"--observer"});
+  const json& o = flag.at("settings").at("observer");
+  CHECK(o.at("enabled").get<bool>());
+  DOUBLES_EQUAL(0.5e-3, o.at("x_noise_m").get<double>(), 0.0);
+  DOUBLES_EQUAL(16.0, o.at("gate_chi2").get<double>(), 0.0);
+  STRCMP_EQUAL("ROCKWATCH_WALL_SENSOR", flag.at("settings").at("channels").at("wall_sensor").get<std::string>().c_str());
+  STRCMP_EQUAL("ROCKWATCH_WALL_ESTIMATE",
+               flag.at("settings").at("channels").at("wall_estimate").get<std::string>().c_str());
+  CHECK(flag.at("config_digest") != none.at("config_digest"));
+  // The file's values with --observer; the file enabling it is the same as the flag.
+  const json file = printed_config(R"({"observer": {"gate_chi2": 25, "dropout_s": 0.5}})", {"--observer"});
+  DOUBLES_EQUAL(25.0, file.at("settings").at("observer").at("gate_chi2").get<double>(), 0.0);
+  DOUBLES_EQUAL(0.5, file.at("settings").at("observer").at("dropout_s").get<double>(), 0.0);
+  const json enabled = printed_config(R"({"observer": {"enabled": true}})", {});
+  CHECK(enabled.at("config_digest") == flag.at("config_digest"));
+}

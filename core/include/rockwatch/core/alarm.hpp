@@ -35,6 +35,11 @@ inline constexpr std::uint32_t over_collapse_displacement = 1u << 4;  // |x| ≥
 inline constexpr std::uint32_t held = 1u << 5;                   // level held by the hold time; conditions are lower
 inline constexpr std::uint32_t input_invalid = 1u << 6;          // G = g + v̈ ≤ 0 or unusable input: state held
 inline constexpr std::uint32_t arithmetic_saturated = 1u << 7;   // a fixed-point quantity hit its range limit
+// Set by the monitor when it runs the wall observer (core/wall_observer.hpp), never by the alarm itself: which state
+// the alarm saw, and whether a sensor fault coincides with it (an alarm never follows a sensor fault silently).
+inline constexpr std::uint32_t measured = 1u << 8;         // the state was corrected by the wall sensors within the dropout time
+inline constexpr std::uint32_t predicted = 1u << 9;        // observer on but no usable sensor: the model alone
+inline constexpr std::uint32_t sensor_fault = 1u << 10;    // a sensor fault (observer_flag::faults) was raised at this sample
 }  // namespace alarm_reason
 
 // What the engine found at the end of a sample.

@@ -17,6 +17,7 @@
 #include "rockwatch/core/model.hpp"
 #include "rockwatch/core/sensor_axes.hpp"
 #include "rockwatch/core/wall.hpp"
+#include "rockwatch/core/wall_observer.hpp"
 
 namespace rockwatch::core {
 
@@ -29,6 +30,10 @@ struct WallEngineConfig {
   double dt_s = 0.005;             // sample interval = integration step [s]
   AlarmSettings alarm{};
   SensorAxes<double> axes = default_sensor_axes();
+  // The wall observer (core/wall_observer.hpp) between the stepper and the alarm: off, the engine is the open-loop
+  // model exactly as before (bit-identical outputs); on, push_sensor() feeds it and step_at() aligns the streams.
+  bool observer_enabled = false;
+  ObserverOptions observer{};
 };
 
 // Why init() refused a configuration. Values are stable: append, never renumber.
@@ -42,6 +47,7 @@ enum class WallEngineError : std::uint8_t {
   fixed_point_setup = 6,         // see WallEngine::fixed_setup_error()
   indicator_constants = 7,       // x_inst or ω outside the indicator formats
   model_not_supported = 8,       // the fixed-point engine runs the linear model only
+  observer_invalid = 9,          // the observer refused its options or the step (see observer_error())
 };
 
 
@@ -52,6 +58,9 @@ inline WallEngineError validate_wall_engine_config(const WallEngineConfig& c) {
   if (!(c.kappa >= 1.0 && c.kappa < 100.0)) return WallEngineError::kappa_out_of_range;
   if (!alarm_settings_valid(c.alarm)) return WallEngineError::alarm_settings_invalid;
   if (!sensor_axes_valid(c.axes)) return WallEngineError::sensor_axes_invalid;
+  if (c.observer_enabled && validate_observer_options(c.observer) != ObserverError::ok) {
+    return WallEngineError::observer_invalid;
+  }
   return WallEngineError::ok;
 }
 
@@ -62,25 +71,51 @@ enum class MonitorArithmetic : std::uint8_t {
 };
 
 // What an engine gives after a sample, in the published units (double: the LCM messages carry doubles).
+// With the observer on, x_m and xd_mps are the fused state (what the alarm saw) and `observer` says how it was made.
+struct ObserverSample {
+  bool enabled = false;           // the engine runs the observer (all fields below are 0 otherwise)
+  std::uint32_t flags = 0;        // observer_flag bits of this sample (health and events)
+  bool corrected = false;         // a measurement corrected the motion in this step
+  double sigma_x_m = 0.0;         // standard deviation of x [m]
+  double sigma_xd_mps = 0.0;      // standard deviation of ẋ [m/s]
+  double r_estimate = 0.0;        // estimated restitution energy ratio [-]
+  double sigma_r = 0.0;           // its standard deviation [-]
+  double bias_m = 0.0;            // estimated zero offset of the displacement transducer [m]
+  double innovation_x_m = 0.0;    // last displacement innovation [m]
+  double innovation_a_mps2 = 0.0; // last acceleration innovation [m/s²]
+};
+
 struct EngineSample {
   double x_m = 0.0, xd_mps = 0.0, energy_ratio = 0.0;
   double t_to_instability_s = -1.0;  // −1: no prediction
   bool side_positive = true, moving = false, input_invalid = false, saturated = false;
   AlarmUpdate alarm{};
+  ObserverSample observer{};
 };
 
 class SampleEngine {
  public:
   virtual MonitorArithmetic arithmetic() const = 0;
-  // Validates and prepares (all floating-point set-up happens here). The engine is at rest afterwards.
+  // Validates and prepares (all floating-point set-up happens here). The engine is at rest afterwards; the observer
+  // (config.observer_enabled) starts fresh: ê = √r of the configuration, b̂ = 0, counters zero.
   virtual WallEngineError init(const WallEngineConfig& config) = 0;
   // Inputs are wall-frame accelerations ü, v̈ [m/s²] as received. Bounded work, no allocation:
-  // the wall at rest and the alarm QUIET, with this sample as the current input (no step);
+  // the wall at rest and the alarm QUIET, with this sample as the current input (no step); the observer keeps what
+  // it learned (ê, b̂), its queue and counters (the same wall: a new run is a new init());
   virtual EngineSample start(double ug_mps2, double vg_mps2) = 0;
   // the state restarts from rest (state unknown) with this sample as the current input, the alarm keeps its level;
   virtual EngineSample restart(double ug_mps2, double vg_mps2) = 0;
   // one step to this sample.
   virtual EngineSample step(double ug_mps2, double vg_mps2) = 0;
+  // One step to this sample, which ends at t_us on the sensor clock, step_us after the previous one [µs]: the
+  // observer (when enabled) applies the queued sensor samples up to t_us after the stepper's step. Observer off: the
+  // same as step(), bit for bit.
+  virtual EngineSample step_at(double ug_mps2, double vg_mps2, std::int64_t t_us, std::int64_t step_us) = 0;
+  // A wall-sensor sample for the observer: checked and queued until a step reaches its time. Returns the
+  // observer_flag bits it raised (0 and ignored when the observer is off).
+  virtual std::uint32_t push_sensor(const WallSensorSample& sample) = 0;
+  // The observer's counters since init() (all zero when it is off).
+  virtual const ObserverCounters& observer_counters() const = 0;
 
  protected:
   SampleEngine() = default;

@@ -33,6 +33,18 @@
 // - a message on an input channel that does not decode as its type (fingerprint, length: decode() must consume
 //   exactly `size` bytes), or with schema_version != 1, batch count outside 1..MAX_SAMPLES, sample_period_us ≤ 0:
 //   decode_errors, QUALITY_DECODE_ERROR in the status; ignored. Messages on other channels: messages_ignored.
+// Wall sensors (settings.engine.observer_enabled; core::WallObserver in the engine): a wall_sensor_t is decoded and
+// checked like a ground message (decode errors and schema_version != 1 counted as decode_errors), a sample stamped more
+// than kClockTolerance_us from its receive time is counted (time_untrusted, sensor_time_untrusted) and dropped (its
+// time is what aligns it with the ground stream), the others are pushed into the engine, which queues them until a
+// ground step reaches their utime. Each ground step ends at the ground sample's utime (a step whose ground sample's
+// time is not trusted ends one period after the previous step). Every processed sample then also publishes a
+// wall_estimate_t; the alarm reasons say which state the alarm saw — REASON_MEASURED (a sensor corrected it within the
+// dropout time) or REASON_PREDICTED (the model alone) — and REASON_SENSOR_FAULT plus QUALITY_SENSOR_FAULT mark a
+// sample at which the observer raised a sensor fault (core::observer_flag::faults). Sensor samples without ground
+// samples overflow the observer's queue (counted, QUALITY_SENSOR_FAULT in the status); ground samples without sensor
+// samples run the model alone (SENSOR_LOST, dropouts, REASON_PREDICTED). Observer off: the wall-sensor channel is not
+// an input (its messages count as messages_ignored) and every output is what it was without the observer.
 // Outputs: one wall_state_t per processed sample (received or bridged); an alarm_event_t per alarm level change,
 // including the change to QUIET when a reset (long gap, publisher restart) restarts the alarm from a higher level;
 // the listener is called after each alarm_event_t is published.
@@ -46,6 +58,8 @@
 #include "rockwatch/ground_accel_batch_t.hpp"
 #include "rockwatch/ground_accel_t.hpp"
 #include "rockwatch/monitor_status_t.hpp"
+#include "rockwatch/wall_estimate_t.hpp"
+#include "rockwatch/wall_sensor_t.hpp"
 #include "rockwatch/wall_state_t.hpp"
 
 namespace rockwatch::firmware {
@@ -61,6 +75,9 @@ struct MonitorChannels {
   char wall_state[kChannelNameMax] = "ROCKWATCH_WALL_STATE";
   char alarm[kChannelNameMax] = "ROCKWATCH_ALARM";
   char status[kChannelNameMax] = "ROCKWATCH_STATUS";
+  // Used only with the observer (settings.engine.observer_enabled): an input and an output.
+  char wall_sensor[kChannelNameMax] = "ROCKWATCH_WALL_SENSOR";
+  char wall_estimate[kChannelNameMax] = "ROCKWATCH_WALL_ESTIMATE";
 };
 
 struct MonitorSettings {
@@ -119,6 +136,9 @@ struct MonitorCounters {
   std::int64_t datagrams_rejected = 0, datagrams_from_other_sources = 0;
   std::int64_t worst_step_ns = 0;
   std::int64_t alarm_events = 0, states_published = 0;
+  // With the observer: wall_sensor_t samples decoded, those dropped for an untrusted time (also in time_untrusted),
+  // and wall_estimate_t messages the transport accepted.
+  std::int64_t sensor_samples_received = 0, sensor_time_untrusted = 0, estimates_published = 0;
 };
 
 class MonitorLoop {
@@ -146,6 +166,10 @@ class MonitorLoop {
   void publish_status(std::int64_t now_utime);
 
   const MonitorCounters& counters() const { return counters_; }
+  // With the observer (settings.engine.observer_enabled): its counters since init(), and its estimates after the last
+  // processed sample; null / zero without it.
+  const core::ObserverCounters* observer_counters() const;
+  const core::ObserverSample& last_observer() const { return last_observer_; }
   const MonitorSettings& settings() const { return settings_; }
   core::AlarmLevel alarm_level() const;
 
@@ -158,17 +182,20 @@ class MonitorLoop {
  private:
   void on_accel(const std::uint8_t* data, std::size_t size, std::int64_t receive_utime);
   void on_accel_batch(const std::uint8_t* data, std::size_t size, std::int64_t receive_utime);
+  void on_wall_sensor(const std::uint8_t* data, std::size_t size, std::int64_t receive_utime);
   void decode_error();
   // delay_us: receive time − sample time (for a batch: − the time of its newest sample).
   void process_sample(std::int64_t utime, std::int64_t seq, double ug, double vg, std::int32_t sensor_status,
                       std::int64_t delay_us);
   // Engine step or reset (reset: first = the monitor's first sample, else a restart of the motion); ug, vg in the
-  // wall frame [m/s²].
-  EngineSample run_engine(double ug, double vg, bool reset);
+  // wall frame [m/s²]; the step ends at t_us on the sensor clock.
+  EngineSample run_engine(double ug, double vg, bool reset, std::int64_t t_us);
   // Engine step or reset with timing; then publishes the state (and the alarm event on a level change).
-  // bridged: a held input for a missing sample (not counted again as an input fault).
+  // bridged: a held input for a missing sample (not counted again as an input fault). time_trusted: utime may align
+  // the wall sensors.
   void step_and_publish(std::int64_t utime, std::int64_t seq, double ug, double vg, std::int32_t quality, bool reset,
-                        bool bridged);
+                        bool bridged, bool time_trusted);
+  void publish_estimate(std::int64_t utime, std::int64_t seq, const EngineSample& e);
   bool publish(const char* channel, int size);
 
   bool ready_ = false;  // init() succeeded
@@ -190,8 +217,11 @@ class MonitorLoop {
   double last_ug_ = 0.0, last_vg_ = 0.0;  // last good value of each component [m/s²]
   std::int64_t period_us_ = 5000;  // 1/sample_rate_hz [µs] (times of bridged samples)
   std::int64_t late_limit_us_ = 50000;
-  std::int64_t state_seq_ = 0, alarm_seq_ = 0, status_seq_ = 0;
+  bool last_time_trusted_ = false;  // the last processed sample's time was trusted (bridged steps follow it)
+  std::int64_t step_end_us_ = 0;     // where the last engine step ended on the sensor clock [µs]
+  std::int64_t state_seq_ = 0, alarm_seq_ = 0, status_seq_ = 0, estimate_seq_ = 0;
   std::int32_t quality_since_status_ = 0;
+  core::ObserverSample last_observer_{};
   // Encode buffers, sized for the largest message (ground_accel_batch_t is the largest type).
   std::uint8_t out_buffer_[1024]{};
 };

@@ -2,7 +2,9 @@
 // Sensor axes (Eigen fixed size) → core::StepperAlarmChain over the fixed-point rocking stepper (stepper →
 // instability indicators → alarm state machine). init() does all floating-point work and validation; process() then
 // runs integer arithmetic only, allocates nothing and takes the same work every sample (bounded loops with fixed
-// iteration counts). It is the firmware's SampleEngine: the monitor loop runs it behind that seam; the embedded
+// iteration counts). With the observer enabled (WallEngineConfig::observer_enabled), core::WallObserver over the same
+// fixed-point stepper (scalar ObserverQ10_53) corrects the state between the stepper and the indicators: its work is
+// bounded too (at most kQueueCapacity scalar updates per sample). It is the firmware's SampleEngine: the monitor loop runs it behind that seam; the embedded
 // build (scripts/embedded-build.sh) compiles it for a Cortex-M4.
 #pragma once
 
@@ -19,6 +21,7 @@
 #include "rockwatch/core/sensor_axes.hpp"
 #include "rockwatch/core/stepper_alarm_chain.hpp"
 #include "rockwatch/core/wall.hpp"
+#include "rockwatch/core/wall_observer.hpp"
 #include "rockwatch/firmware/sample_engine.hpp"
 
 namespace rockwatch::firmware {
@@ -52,6 +55,17 @@ class WallEngine final : public SampleEngine {
   EngineSample start(double ug_mps2, double vg_mps2) override;
   EngineSample restart(double ug_mps2, double vg_mps2) override;
   EngineSample step(double ug_mps2, double vg_mps2) override;
+  EngineSample step_at(double ug_mps2, double vg_mps2, std::int64_t t_us, std::int64_t step_us) override;
+  std::uint32_t push_sensor(const core::WallSensorSample& sample) override;
+  const core::ObserverCounters& observer_counters() const override { return observer_.counters(); }
+
+  // One sample through the stepper and, when enabled, the observer (t_us, step_us as step_at).
+  const WallEngineOutput& process_wall_at(core::AccelQ7_56 ug_mps2, core::AccelQ7_56 vg_mps2, std::int64_t t_us,
+                                          std::int64_t step_us);
+  bool observer_enabled() const { return observer_enabled_; }
+  core::ObserverError observer_error() const { return observer_error_; }
+  const core::WallObserver<core::FixedRockingStepper>& observer() const { return observer_; }
+  const core::ObserverStepReport& last_observer_report() const { return observer_report_; }
 
   const core::FixedRockingStepper& stepper() const { return chain_.stepper(); }
   const WallEngineOutput& last() const { return out_; }
@@ -63,6 +77,10 @@ class WallEngine final : public SampleEngine {
   core::SensorAxes<core::AccelQ7_24> axes_{};
   core::StepperAlarmChain<core::FixedRockingStepper> chain_{};
   WallEngineOutput out_{};
+  bool observer_enabled_ = false;
+  core::ObserverError observer_error_ = core::ObserverError::ok;
+  core::WallObserver<core::FixedRockingStepper> observer_{};
+  core::ObserverStepReport observer_report_{};  // the observer's report of the last step (zero after start/restart)
 };
 
 }  // namespace rockwatch::firmware

@@ -29,6 +29,13 @@ class DoubleWallEngine final : public core::SampleEngine {
   core::EngineSample restart(double ug_mps2, double vg_mps2) override;
   // One sample in the wall's frame [m/s²]: one engine step, the indicators, the alarm. Bounded work; no allocation.
   core::EngineSample step(double ug_mps2, double vg_mps2) override;
+  // With the observer enabled: core::WallObserver over the double stepper between the step and the indicators.
+  core::EngineSample step_at(double ug_mps2, double vg_mps2, std::int64_t t_us, std::int64_t step_us) override;
+  std::uint32_t push_sensor(const core::WallSensorSample& sample) override;
+  const core::ObserverCounters& observer_counters() const override { return observer_.counters(); }
+  bool observer_enabled() const { return observer_enabled_; }
+  core::ObserverError observer_error() const { return observer_error_; }
+  const core::WallObserver<core::RockingStepper<double>>& observer() const { return observer_; }
 
   const core::RockingStepper<double>& stepper() const { return chain_.stepper(); }
   const DoubleWallEngineOutput& last() const { return out_; }
@@ -38,6 +45,10 @@ class DoubleWallEngine final : public core::SampleEngine {
 
   core::StepperAlarmChain<core::RockingStepper<double>> chain_{};
   DoubleWallEngineOutput out_{};
+  bool observer_enabled_ = false;
+  core::ObserverError observer_error_ = core::ObserverError::ok;
+  core::WallObserver<core::RockingStepper<double>> observer_{};
+  core::ObserverStepReport observer_report_{};
 };
 
 }  // namespace rockwatch::sim
