@@ -30,6 +30,7 @@ targets=(
   "fuzz_record_suite      4096  4"
   "fuzz_read_record       8192  7"
   "fuzz_suite_manifest    8192  3"
+  "fuzz_wall_sensor_csv   4096  3"
   "fuzz_monitor_config    4096  6"
   "fuzz_monitor_args      1024  4"
   "fuzz_monitor_loop     32768 10"

@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <optional>
 #include <sstream>
+#include <vector>
 
 #include "analysis_engines.hpp"
 #include "rockwatch/core/rocking_stepper.hpp"
@@ -68,6 +71,20 @@ void check_options(const core::WallParameters& wall, const GroundMotion& motion,
     }
   }
   if (o.evaluate_alarm) check_alarm_settings(o.alarm);
+  if (o.wall_sensors) {
+    const core::ObserverError err = core::validate_observer_options(o.observer);
+    if (err != core::ObserverError::ok) throw AnalysisError(core::observer_error_message(err));
+    if (o.observer_r_after_impacts < 0) throw AnalysisError("observer_r_after_impacts must be >= 0");
+    const std::vector<core::WallSensorSample>& samples = *o.wall_sensors;
+    for (std::size_t i = 1; i < samples.size(); ++i) {
+      if (samples[i].utime_us < samples[i - 1].utime_us) {
+        std::ostringstream m;
+        m << "wall sensor sample " << i << " (utime " << samples[i].utime_us << " us) comes before sample " << i - 1
+          << " (utime " << samples[i - 1].utime_us << " us): the samples must be in time order";
+        throw AnalysisError(m.str());
+      }
+    }
+  }
   if (o.arithmetic == Arithmetic::fixed_point && o.model != core::ModelKind::linear) {
     throw AnalysisError("fixed-point arithmetic supports the linear model only");
   }
@@ -119,20 +136,92 @@ class ResponseRecorder {
   AnalysisResult& result_;
 };
 
+// The wall observer of an analysis with wall sensors (AnalysisOptions::wall_sensors): hands it the samples due by
+// each step end, runs the step through the chain's step_observed (stepper → observer → indicators → alarm) and
+// keeps what the summary reports. The samples are pushed only when due (utime ≤ the step end), in order, so the
+// observer's queue holds only those it applies in this step; a future sample is never seen.
+template <typename Engine>
+class ObservedSteps {
+ public:
+  using Observer = core::WallObserver<typename Engine::Stepper>;
+
+  ObservedSteps(const core::WallParameters& wall, const core::StepperSetup<double>& setup, const AnalysisOptions& o,
+                double h_s)
+      : samples_(*o.wall_sensors), r_after_impacts_(o.observer_r_after_impacts),
+        step_us_(static_cast<std::int64_t>(std::llround(h_s * 1e6))) {
+    const core::ObserverError err = observer_.init(o.observer, setup, wall);
+    if (err != core::ObserverError::ok) throw AnalysisError(core::observer_error_message(err));
+  }
+
+  // The step from t0_s to t0_s + h_s (its end, in whole µs, is the observer's clock).
+  void step(Engine& engine, typename Engine::Input ug, typename Engine::Input vg, double t0_s, double h_s) {
+    const std::int64_t t_us = static_cast<std::int64_t>(std::llround((t0_s + h_s) * 1e6));
+    while (next_ < samples_.size() && samples_[next_].utime_us <= t_us) observer_.push(samples_[next_++]);
+    r_before_step_ = observer_.r_estimate();
+    const core::ObserverStepReport outcome =
+        engine.chain().step_observed(ug, vg, observer_, t_us, step_us_, engine.out());
+    flags_ |= outcome.flags;
+    if (outcome.flags & core::observer_flag::sensor_lost) ++steps_lost_;
+  }
+
+  // After the step's events (counted impacts before and after it): keeps r̂ as it stood before the step in which
+  // impact number r_after_impacts + 1 happened.
+  void impacts(int before, int after) {
+    if (!r_after_ && before >= r_after_impacts_ && after > before) r_after_ = r_before_step_;
+  }
+
+  void summarise(ObserverSummary& s, int n_impacts) const {
+    s.evaluated = true;
+    s.r_estimate = observer_.r_estimate();
+    s.sigma_r = observer_.sigma_r();
+    s.bias_estimate_m = observer_.bias_m();
+    s.sigma_bias_m = observer_.sigma_bias_m();
+    s.sigma_x_m = observer_.sigma_x_m();
+    s.x_rms_innovation_m = observer_.rms_innovation_x_m();
+    s.counters = observer_.counters();
+    s.n_updates = s.counters.x_updates;
+    s.n_accel_updates = s.counters.a_updates;
+    s.n_rejected = s.counters.rejected;
+    s.flags_seen = flags_;
+    s.samples_given = samples_.size();
+    s.samples_pushed = next_;
+    s.steps_sensor_lost = steps_lost_;
+    s.r_estimate_after_impacts = r_after_;
+    if (!r_after_ && n_impacts >= r_after_impacts_) s.r_estimate_after_impacts = s.r_estimate;
+  }
+
+ private:
+  const std::vector<core::WallSensorSample>& samples_;
+  int r_after_impacts_;
+  std::int64_t step_us_;
+  Observer observer_{};
+  std::size_t next_ = 0;
+  std::uint32_t flags_ = 0;
+  std::size_t steps_lost_ = 0;
+  double r_before_step_ = 0.0;
+  std::optional<double> r_after_;
+};
+
 // One step of the engine at the input (ug, vg); then the events, the row and (when evaluated) the alarm update at
 // the time the state stands at. The indicators run when the alarm is evaluated or the engine's verdict needs them.
+// With an observer the step goes through it (the indicators then always run).
 template <typename Engine>
 void analysis_step(Engine& engine, typename Engine::Input ug, typename Engine::Input vg, double t0_s, double h_s,
-                   const AnalysisOptions& o, ResponseRecorder& recorder, AnalysisResult& result) {
+                   const AnalysisOptions& o, ResponseRecorder& recorder, AnalysisResult& result,
+                   ObservedSteps<Engine>* observed) {
   using detail::to_double;
   auto& out = engine.out();
-  if (o.evaluate_alarm || Engine::kVerdictNeedsIndicators) {
+  const int impacts_before = result.n_impacts;
+  if (observed) {
+    observed->step(engine, ug, vg, t0_s, h_s);
+  } else if (o.evaluate_alarm || Engine::kVerdictNeedsIndicators) {
     engine.chain().step(ug, vg, out);
   } else {
     engine.chain().step_motion(ug, vg, out);
   }
   if (Engine::saturated(out.step)) result.saturated = true;
   const double t_s = recorder.events(t0_s, h_s, out.step);
+  if (observed) observed->impacts(impacts_before, result.n_impacts);
   recorder.row(t_s, to_double(ug), to_double(vg), engine);
   if (!o.evaluate_alarm) return;
   detail::AlarmSample sample;
@@ -155,6 +244,9 @@ AnalysisResult run_analysis(const core::WallParameters& wall, const GroundMotion
   const double h = start.h_s;
   Engine engine(wall, start.setup, o, h);
   if (o.evaluate_alarm) result.alarm.evaluated = true;
+  std::optional<ObservedSteps<Engine>> observed;
+  if (o.wall_sensors) observed.emplace(wall, start.setup, o, h);
+  ObservedSteps<Engine>* const observer = observed ? &*observed : nullptr;
 
   const detail::GridInput input{motion, start.n_sub};
   const typename Engine::Input ug0 = Engine::input(input.ug(0)), vg0 = Engine::input(input.vg(0));
@@ -166,7 +258,7 @@ AnalysisResult run_analysis(const core::WallParameters& wall, const GroundMotion
   std::size_t k = 0;
   for (; k < forced_steps && !engine.stepper().collapsed(); ++k) {
     analysis_step(engine, Engine::input(input.ug(k + 1)), Engine::input(input.vg(k + 1)), double(k) * h, h, o,
-                  recorder, result);
+                  recorder, result, observer);
   }
   result.collapsed = engine.stepper().collapsed();
 
@@ -175,12 +267,13 @@ AnalysisResult run_analysis(const core::WallParameters& wall, const GroundMotion
   const typename Engine::Input zero = Engine::input(0.0);
   std::size_t free = 0;
   for (; !engine.stepper().collapsed() && !engine.safe() && free < free_steps; ++free, ++k) {
-    analysis_step(engine, zero, zero, double(k) * h, h, o, recorder, result);
+    analysis_step(engine, zero, zero, double(k) * h, h, o, recorder, result, observer);
   }
   result.t_final_s = double(k) * h;
   if (!result.collapsed && engine.stepper().collapsed()) result.collapse_after_end = true;
   result.free_motion_undecided = !engine.stepper().collapsed() && free == free_steps && free_steps > 0 && !engine.safe();
   if (result.t_collapse_s) result.t_max_abs_x_s = *result.t_collapse_s;  // the maximum is the collapse point
+  if (observer) observer->summarise(result.observer, result.n_impacts);
   return result;
 }
 

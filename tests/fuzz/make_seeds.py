@@ -17,7 +17,7 @@ RECORDS = ROOT / "tests/data/records"
 SUITE = ROOT / "sim/suites/npr9998-2015"
 CORPUS = ROOT / "tests/fuzz/corpus"
 GENERATED = ["record_at2", "record_plain", "record_esm", "record_itaca", "record_miniseed", "record_suite",
-             "read_record", "suite_manifest", "monitor_config", "monitor_args"]
+             "read_record", "suite_manifest", "monitor_config", "monitor_args", "wall_sensor_csv"]
 
 
 def put(target, name, data):
@@ -230,6 +230,17 @@ def write_monitor():
         put("monitor_args", name, "\0".join(argv))
 
 
+# ---- wall-sensor CSV (--wall-sensors) ---------------------------------------------------------------------------
+
+def write_wall_sensor_csv():
+    rows = "".join(f"{k * 0.005:.3f},{0.002 * (k % 7 - 3):.4f},{0.05 * (k % 5 - 2):.3f}\n" for k in range(20))
+    put("wall_sensor_csv", "x_and_a_20_rows.csv", "t_s,x_mid_m,a_mid_mps2\n" + rows)
+    put("wall_sensor_csv", "x_only_absent_fields.csv", "# logger export\nt_s,x_mid_m\n0,0.001\n0.01,\n0.02,-2e-3\n")
+    put("wall_sensor_csv", "reordered_crlf_bom.csv",
+        "\ufeffa_mid_mps2, t_s ,X_MID_M\r\n0.5,-0.1,0.25\r\n,0.2,\r\n+1e-3,0.3,-0\r\n".encode("utf-8"))
+    put("wall_sensor_csv", "times_not_increasing.csv", "t_s,x_mid_m\n0,0\n0.01,0\n0.005,0\n")
+
+
 def main():
     for target in GENERATED:
         shutil.rmtree(CORPUS / target, ignore_errors=True)
@@ -241,6 +252,7 @@ def main():
     write_suite()
     write_read_record()
     write_monitor()
+    write_wall_sensor_csv()
 
 
 if __name__ == "__main__":

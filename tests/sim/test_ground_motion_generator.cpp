@@ -7,7 +7,6 @@
 #include <string>
 #include <vector>
 
-#include "check_throws.hpp"
 #include "rockwatch/sim/analysis.hpp"
 #include "trapezoid_from_rest.hpp"
 #include "rockwatch/core/design_spectrum.hpp"
@@ -16,6 +15,7 @@
 #include "rockwatch/sim/synthesis/ground_motion_generator.hpp"
 #include "rockwatch/sim/synthesis/random_stream.hpp"
 
+#include "check_throws.hpp"  // brings in CppUTest: after every header that may use operator new
 #include <CppUTest/TestHarness.h>
 
 using namespace rockwatch;

@@ -8,6 +8,7 @@
 #include <functional>
 #include <ostream>
 #include <string>
+#include <utility>
 
 #include "common/command_runner.hpp"
 #include "rockwatch/options/option_values.hpp"
@@ -45,12 +46,13 @@ void write_output_file(const std::string& path, const std::function<void(std::os
   }
 }
 
-PendingOutputFile::PendingOutputFile(const std::optional<std::string>& path) {
+PendingOutputFile::PendingOutputFile(const std::optional<std::string>& path, std::string option)
+    : option_(std::move(option)) {
   if (!path) return;
   path_ = *path;
   errno = 0;
   file_.open(path_, std::ios::out | std::ios::trunc | std::ios::binary);
-  if (!file_) throw UsageError("--out " + path_ + ": cannot open the file for writing" + system_reason());
+  if (!file_) throw UsageError(option_ + " " + path_ + ": cannot open the file for writing" + system_reason());
   opened_ = true;
 }
 
@@ -66,7 +68,7 @@ void PendingOutputFile::write(const char* what, const std::function<void(std::os
   errno = 0;
   write_content(file_);
   file_.close();
-  if (file_.fail()) throw UsageError("--out " + path_ + ": writing " + what + " failed" + system_reason());
+  if (file_.fail()) throw UsageError(option_ + " " + path_ + ": writing " + what + " failed" + system_reason());
   complete_ = true;
 }
 

@@ -30,16 +30,17 @@ void write_output_file(const std::string& path, const std::function<void(std::os
 class PendingOutputFile {
  public:
   // Without a path nothing is opened and write() does nothing. Throws UsageError
-  // "--out PATH: cannot open the file for writing: REASON".
-  explicit PendingOutputFile(const std::optional<std::string>& path);
+  // "OPTION PATH: cannot open the file for writing: REASON" (OPTION: the option that named the file).
+  explicit PendingOutputFile(const std::optional<std::string>& path, std::string option = "--out");
   PendingOutputFile(const PendingOutputFile&) = delete;
   PendingOutputFile& operator=(const PendingOutputFile&) = delete;
   ~PendingOutputFile();
 
-  // Writes the content and closes the file. Throws UsageError "--out PATH: writing WHAT failed: REASON".
+  // Writes the content and closes the file. Throws UsageError "OPTION PATH: writing WHAT failed: REASON".
   void write(const char* what, const std::function<void(std::ostream&)>& write_content);
 
  private:
+  std::string option_;
   std::string path_;
   std::ofstream file_;
   bool opened_ = false;

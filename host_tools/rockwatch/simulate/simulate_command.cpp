@@ -6,15 +6,18 @@
 #include <optional>
 #include <string>
 #include <system_error>
+#include <vector>
 
 #include "common/command_runner.hpp"
 #include "common/commands.hpp"
 #include "common/history_csv.hpp"
 #include "common/input_motion.hpp"
 #include "common/output_file.hpp"
+#include "common/wall_sensors.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
 #include "rockwatch/sim/analysis.hpp"
+#include "rockwatch/sim/wall_sensor_synthesis.hpp"
 #include "simulate/simulate_report.hpp"
 #include "simulate/simulate_request.hpp"
 
@@ -45,13 +48,26 @@ void check_work_size(const SimulateRequest& q, const InputMotion& in) {
   }
 }
 
-void check_out_path(const SimulateRequest& q) {
-  if (!q.out_csv_path) return;
-  const std::string& path = *q.out_csv_path;
+void check_out_path(const char* option, const std::optional<std::string>& out, const SimulateRequest& q) {
+  if (!out) return;
+  const std::string& path = *out;
   std::error_code ec;
   if (std::filesystem::equivalent(path, q.record.record_path, ec) ||
       (q.record.vertical_path && std::filesystem::equivalent(path, *q.record.vertical_path, ec))) {
-    throw UsageError("--out " + path + " is an input record: choose another file name");
+    throw UsageError(std::string(option) + " " + path + " is an input record: choose another file name");
+  }
+}
+
+void check_out_paths(const SimulateRequest& q) {
+  check_out_path("--out", q.out_csv_path, q);
+  check_out_path("--sensors-out", q.sensors_out_path, q);
+  std::error_code ec;
+  if (q.out_csv_path && q.sensors_out_path && (*q.out_csv_path == *q.sensors_out_path ||
+                                               std::filesystem::equivalent(*q.out_csv_path, *q.sensors_out_path, ec))) {
+    throw UsageError("--out and --sensors-out name the same file: choose two");
+  }
+  if (q.out_csv_path && q.wall_sensors_path && std::filesystem::equivalent(*q.out_csv_path, *q.wall_sensors_path, ec)) {
+    throw UsageError("--out " + *q.out_csv_path + " is the --wall-sensors input: choose another file name");
   }
 }
 
@@ -59,11 +75,25 @@ int run(const SimulateRequest& q) {
   const InputMotion input = prepare_input(InputRequest{q.record, q.scale_pga_g, q.wall.g_mps2});
   for (const std::string& note : input.notes) std::cerr << "note: " << note << '\n';
   check_work_size(q, input);
-  check_out_path(q);
+  check_out_paths(q);
+  std::vector<core::WallSensorSample> wall_sensors;
+  sim::AnalysisOptions options = q.analysis;
+  if (q.wall_sensors_path) {
+    wall_sensors = read_wall_sensor_samples(*q.wall_sensors_path);
+    options.wall_sensors = &wall_sensors;
+  }
   PendingOutputFile csv(q.out_csv_path);  // opened now, so a wrong directory is reported before a long run
+  PendingOutputFile sensors_csv(q.sensors_out_path, "--sensors-out");
 
-  const sim::AnalysisResult result = sim::analyse(q.wall, input.motion, q.analysis);
+  const sim::AnalysisResult result = sim::analyse(q.wall, input.motion, options);
   csv.write("the time history", [&result](std::ostream& out) { write_history_csv(out, result.history); });
+  if (q.sensors_out_path) {
+    const std::vector<core::WallSensorSample> samples =
+        sim::synthesize_wall_sensors(q.wall, result, input.motion.dt_s, q.sensor_model);
+    sensors_csv.write("the sensor samples", [&](std::ostream& out) {
+      write_wall_sensor_csv(out, samples, q.sensor_model.a_noise_mps2.has_value());
+    });
+  }
 
   if (q.json) {
     if (result.free_motion_undecided) {

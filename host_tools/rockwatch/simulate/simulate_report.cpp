@@ -12,6 +12,7 @@
 #include "rockwatch/core/restitution.hpp"
 #include "rockwatch/core/wall.hpp"
 #include "rockwatch/options/alarm_options.hpp"
+#include "rockwatch/options/observer_options.hpp"
 #include "rockwatch/options/option_values.hpp"
 
 namespace rockwatch::cli {
@@ -127,6 +128,73 @@ void alarm_text(std::string& out, const SimulateRequest& q, const sim::AlarmSumm
          "turn back)\n";
 }
 
+nlohmann::ordered_json observer_json(const SimulateRequest& q, const sim::ObserverSummary& s) {
+  nlohmann::ordered_json j;
+  j["r_estimate"] = s.r_estimate;
+  j["sigma_r"] = s.sigma_r;
+  j["r_estimate_after_impacts"] = number_or_null(s.r_estimate_after_impacts);
+  j["r_after_impacts_count"] = q.analysis.observer_r_after_impacts;
+  j["bias_estimate_m"] = s.bias_estimate_m;
+  j["sigma_bias_m"] = s.sigma_bias_m;
+  j["sigma_x_m"] = s.sigma_x_m;
+  j["n_updates"] = s.n_updates;
+  j["n_accel_updates"] = s.n_accel_updates;
+  j["n_rejected"] = s.n_rejected;
+  j["x_rms_innovation_m"] = s.x_rms_innovation_m;
+  j["samples"] = s.samples_given;
+  j["samples_used"] = s.samples_pushed;
+  j["steps_sensor_lost"] = s.steps_sensor_lost;
+  j["flags_seen"] = observer_flag_list(s.flags_seen);
+  const core::ObserverCounters& c = s.counters;
+  j["counters"] = {{"samples", c.samples},
+                   {"x_updates", c.x_updates},
+                   {"a_updates", c.a_updates},
+                   {"rejected", c.rejected},
+                   {"not_finite", c.not_finite},
+                   {"out_of_range", c.out_of_range},
+                   {"stuck", c.stuck},
+                   {"motion_while_quiet", c.motion_while_quiet},
+                   {"jumps", c.jumps},
+                   {"misaligned", c.misaligned},
+                   {"stale", c.stale},
+                   {"queue_overflow", c.queue_overflow},
+                   {"reinitialised", c.reinitialised},
+                   {"sensor_flags", c.sensor_flags},
+                   {"impacts", c.impacts},
+                   {"dropouts", c.dropouts}};
+  const core::ObserverOptions& o = q.analysis.observer;
+  j["settings"] = {{"x_noise_m", o.x_noise_m},
+                   {"a_noise_mps2", o.a_noise_mps2},
+                   {"process_mps2", o.process_accel_mps2},
+                   {"gate_chi2", o.gate_chi2}};
+  return j;
+}
+
+void observer_text(std::string& out, const SimulateRequest& q, const sim::ObserverSummary& s, double nominal_r) {
+  const core::ObserverOptions& o = q.analysis.observer;
+  out += "\nWall observer (the result above is the fused state)\n";
+  line(out, "sensor file", *q.wall_sensors_path);
+  line(out, "settings", format("x noise %s m, a noise %s m/s2, process %s m/s2, gate chi2 %s",
+                               number_text(o.x_noise_m).c_str(), number_text(o.a_noise_mps2).c_str(),
+                               number_text(o.process_accel_mps2).c_str(), number_text(o.gate_chi2).c_str()));
+  line(out, "samples", format("%zu in the file, %zu used up to the end of the analysis", s.samples_given,
+                              s.samples_pushed));
+  line(out, "updates", format("%lld displacement, %lld acceleration accepted; %lld rejected by the gate",
+                              static_cast<long long>(s.n_updates), static_cast<long long>(s.n_accel_updates),
+                              static_cast<long long>(s.n_rejected)));
+  line(out, "restitution r", format("%.4f +- %.4f estimated (the model's nominal %.4f)", s.r_estimate, s.sigma_r, nominal_r));
+  line(out, "", "after " + std::to_string(q.analysis.observer_r_after_impacts) + " impacts: " +
+                    (s.r_estimate_after_impacts ? format("%.4f", *s.r_estimate_after_impacts)
+                                                : std::string("fewer impacts")));
+  line(out, "transducer offset", format("%.6f +- %.6f m", s.bias_estimate_m, s.sigma_bias_m));
+  line(out, "x innovation RMS", format("%.6f m", s.x_rms_innovation_m));
+  if (s.steps_sensor_lost > 0) {
+    line(out, "sensor lost", format("%zu steps ran on the model alone (%lld dropouts)", s.steps_sensor_lost,
+                                    static_cast<long long>(s.counters.dropouts)));
+  }
+  line(out, "flags seen", observer_flag_names(s.flags_seen));
+}
+
 }  // namespace
 
 const char* verdict_word(const sim::AnalysisResult& r) {
@@ -160,6 +228,7 @@ nlohmann::ordered_json result_json(const SimulateRequest& q, const sim::Analysis
     if (r.arithmetic == sim::Arithmetic::fixed_point) j["saturated"] = r.saturated;
   }
   if (q.analysis.evaluate_alarm) j["alarm"] = alarm_json(q, r.alarm);
+  if (q.wall_sensors_path) j["observer"] = observer_json(q, r.observer);
   add_selection_json(j, q.record);
   return j;
 }
@@ -261,6 +330,7 @@ std::string summary_text(const SimulateRequest& q, const InputMotion& in, const 
   if (r.saturated) {
     line(out, "SATURATED", "a fixed-point quantity reached its range limit: the result is unreliable");
   }
+  if (q.wall_sensors_path) observer_text(out, q, r.observer, r.r);
   if (q.analysis.evaluate_alarm) alarm_text(out, q, r.alarm);
   return out;
 }

@@ -1,5 +1,6 @@
 #include "simulate/simulate_request.hpp"
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <utility>
@@ -11,6 +12,7 @@
 #include "rockwatch/options/alarm_options.hpp"
 #include "rockwatch/options/command_line.hpp"
 #include "rockwatch/options/engine_options.hpp"
+#include "rockwatch/options/observer_options.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
 #include "rockwatch/options/wall_options.hpp"
@@ -26,9 +28,18 @@ struct RawOptions {
   WallOptionTexts wall;
   AlarmOptionTexts alarm;
   std::string scale_pga;
+  ObserverOptionTexts observer;
   std::string r = "exp", model = "linear", kappa, max_step, t_end, out;
+  std::string wall_sensors, sensors_out, sensor_noise, sensor_bias, sensor_quantum, sensor_rate, sensor_accel_noise,
+      sensor_seed;
+  std::vector<std::string> sensor_dropouts;
   bool json = false;
 };
+
+// The options that set the sensor model of --sensors-out.
+const char* const kSensorModelOptions[] = {"--sensor-noise-m",          "--sensor-bias-m", "--sensor-quantum-m",
+                                           "--sensor-rate-hz",          "--sensor-dropout",
+                                           "--sensor-accel-noise-mps2", "--sensor-seed"};
 
 const char* const kFooter =
     "Conventions (SPEC sections 1-4): per metre of wall; x is the horizontal displacement of the mid-height hinge;\n"
@@ -45,7 +56,17 @@ const char* const kFooter =
     "--json prints one object with exactly the documented keys; only with --suite also suite (dir, name, set,\n"
     "component, file, vertical_component), with --component on a --record file component, with --channel\n"
     "channel, with --vertical-channel vertical_channel, with --gain gain_counts_per_mps2, with --arith arithmetic\n"
-    "(and saturated for fixed), with --alarms alarm (settings, max_level, first times, transitions).\n"
+    "(and saturated for fixed), with --alarms alarm (settings, max_level, first times, transitions), with\n"
+    "--wall-sensors observer (r_estimate, sigma_r, bias_estimate_m, n_updates, n_rejected, x_rms_innovation_m, ...).\n"
+    "\n"
+    "Wall sensors (--wall-sensors FILE.csv): a header line naming t_s and x_mid_m and/or a_mid_mps2, then one sample per\n"
+    "row (t_s on the record's clock, 0 at its first sample; any rate; an empty field = absent). The wall observer\n"
+    "(an extended Kalman filter on x, x', sqrt(r) and the transducer's zero offset) corrects the simulated state after\n"
+    "every integration step with the samples whose time has come; the result, --out and the alarm are the fused\n"
+    "state's. --sensors-out FILE.csv writes such a file from the wall simulated here (the truth for testing): the\n"
+    "displacement x + bias + Gaussian noise (rounded to --sensor-quantum-m), with --sensor-accel-noise-mps2 also\n"
+    "a_mid = u'' + x'' - G x / h1 + noise, at --sensor-rate-hz (default the record's rate, linear between steps),\n"
+    "without rows inside each --sensor-dropout T0:T1 window.\n"
     "\n"
     "Instability alarm (--alarms), evaluated after every integration step: ROCKING while the wall moves; WARNING\n"
     "at |x| >= lambda_w x_inst; IMMINENT at |x| >= x_inst or when the energy of the linear model reaches\n"
@@ -73,8 +94,107 @@ void add_options(CLI::App& app, RawOptions& raw) {
       ->type_name("S");
   app.add_option("--out", raw.out, "Write the time history (one row per integration step) as CSV")->type_name("FILE.csv");
   add_alarm_options(app, raw.alarm);
+  app.add_option("--wall-sensors", raw.wall_sensors,
+                 "Fuse the wall's sensor samples (CSV: t_s,x_mid_m[,a_mid_mps2]) with the model: the wall observer")
+      ->type_name("FILE.csv");
+  add_observer_options(app, raw.observer, "With --wall-sensors: ");
+  const sim::SensorModel d{};
+  app.add_option("--sensors-out", raw.sensors_out,
+                 "Write sensor samples of the simulated wall (CSV for --wall-sensors): the truth for testing")
+      ->type_name("FILE.csv");
+  app.add_option("--sensor-noise-m", raw.sensor_noise,
+                 "With --sensors-out: Gaussian noise of the displacement [m] (default " + number_text(d.x_noise_m) + ")")
+      ->type_name("S");
+  app.add_option("--sensor-bias-m", raw.sensor_bias,
+                 "With --sensors-out: zero offset of the displacement [m] (default " + number_text(d.x_bias_m) + ")")
+      ->type_name("B");
+  app.add_option("--sensor-quantum-m", raw.sensor_quantum,
+                 "With --sensors-out: resolution, readings rounded to multiples of Q [m] (default 0: none)")
+      ->type_name("Q");
+  app.add_option("--sensor-rate-hz", raw.sensor_rate,
+                 "With --sensors-out: samples per second (default: the record's rate)")
+      ->type_name("F");
+  app.add_option("--sensor-dropout", raw.sensor_dropouts,
+                 "With --sensors-out: no samples from T0 to T1 [s] (repeatable)")
+      ->type_name("T0:T1");
+  app.add_option("--sensor-accel-noise-mps2", raw.sensor_accel_noise,
+                 "With --sensors-out: also write a_mid_mps2 with this Gaussian noise [m/s2] (default: no column)")
+      ->type_name("A");
+  app.add_option("--sensor-seed", raw.sensor_seed,
+                 "With --sensors-out: seed of the noise, 0 to 2^64-1 (default " + std::to_string(d.seed) + ")")
+      ->type_name("N");
   app.add_flag("--json", raw.json, "Print the result as one JSON object on stdout");
   app.footer(kFooter);
+}
+
+// T0:T1 with finite T0 < T1 [s].
+sim::SensorDropout parse_dropout(const std::string& text) {
+  const std::vector<std::string> fields = split_fields(text, ':');
+  if (fields.size() != 2) {
+    throw UsageError("--sensor-dropout must be T0:T1 in seconds (got " + quoted(text) + ")");
+  }
+  sim::SensorDropout d;
+  d.from_s = parse_finite_number("--sensor-dropout", fields[0]);
+  d.to_s = parse_finite_number("--sensor-dropout", fields[1]);
+  if (!(d.from_s < d.to_s)) {
+    throw UsageError("--sensor-dropout T0:T1 needs T0 < T1 (got " + quoted(text) + ")");
+  }
+  return d;
+}
+
+double parse_in(const char* option, const std::string& text, double low, double high, const char* unit) {
+  const double value = parse_finite_number(option, text);
+  if (!(value >= low && value <= high)) {
+    throw UsageError(std::string(option) + " must be in [" + number_text(low) + ", " + number_text(high) + "]" + unit +
+                     " (got " + number_text(value) + ")");
+  }
+  return value;
+}
+
+void parse_sensor_options(const CLI::App& app, const RawOptions& raw, SimulateRequest& q) {
+  if (given(app, "--wall-sensors")) {
+    if (raw.wall_sensors.empty()) throw UsageError("--wall-sensors needs a file name");
+    check_input_file("--wall-sensors", raw.wall_sensors, "a wall-sensor CSV file");
+    q.wall_sensors_path = raw.wall_sensors;
+    q.analysis.observer = parse_observer_options(app, raw.observer);
+  } else if (observer_option_given(app)) {
+    for (const char* name : kObserverOptionNames) {
+      if (given(app, name)) throw UsageError(std::string(name) + " sets the wall observer: give --wall-sensors too");
+    }
+  }
+  if (!given(app, "--sensors-out")) {
+    for (const char* name : kSensorModelOptions) {
+      if (given(app, name)) throw UsageError(std::string(name) + " sets the sensors written by --sensors-out: give it too");
+    }
+    return;
+  }
+  if (raw.sensors_out.empty()) throw UsageError("--sensors-out needs a file name");
+  if (q.wall_sensors_path) {
+    throw UsageError("--sensors-out writes the sensors of the simulated (true) wall, which --wall-sensors would change: "
+                     "run them separately");
+  }
+  check_output_file("--sensors-out", raw.sensors_out);
+  q.sensors_out_path = raw.sensors_out;
+  sim::SensorModel& m = q.sensor_model;
+  if (given(app, "--sensor-noise-m")) m.x_noise_m = parse_in("--sensor-noise-m", raw.sensor_noise, 0.0, 1.0, " m");
+  if (given(app, "--sensor-bias-m")) m.x_bias_m = parse_in("--sensor-bias-m", raw.sensor_bias, -1.0, 1.0, " m");
+  if (given(app, "--sensor-quantum-m")) {
+    m.x_quantum_m = parse_in("--sensor-quantum-m", raw.sensor_quantum, 0.0, 1.0, " m");
+  }
+  if (given(app, "--sensor-rate-hz")) {
+    m.rate_hz = parse_in("--sensor-rate-hz", raw.sensor_rate, 0.0, 1e5, " Hz");
+    if (!(m.rate_hz > 0.0)) throw UsageError("--sensor-rate-hz must be > 0 Hz (got 0)");
+  }
+  for (const std::string& text : raw.sensor_dropouts) m.dropouts.push_back(parse_dropout(text));
+  if (given(app, "--sensor-accel-noise-mps2")) {
+    m.a_noise_mps2 = parse_in("--sensor-accel-noise-mps2", raw.sensor_accel_noise, 0.0, 1000.0, " m/s2");
+  }
+  if (given(app, "--sensor-seed")) {
+    const std::optional<std::uint64_t> seed = whole_number(raw.sensor_seed, 0, UINT64_MAX);
+    if (!seed) throw UsageError("--sensor-seed must be a whole number from 0 to 2^64-1 (got " + quoted(raw.sensor_seed) + ")");
+    m.seed = *seed;
+  }
+  q.analysis.keep_history = true;  // the samples are taken from the history
 }
 
 }  // namespace
@@ -116,6 +236,7 @@ SimulateParse parse_simulate_arguments(int argc, const char* const* argv) {
     q.out_csv_path = raw.out;
     q.analysis.keep_history = true;
   }
+  parse_sensor_options(app, raw, q);
   q.json = raw.json;
   return SimulateParse{q, {}};
 }

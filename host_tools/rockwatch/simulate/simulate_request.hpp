@@ -9,6 +9,7 @@
 #include "common/record_selection.hpp"
 #include "rockwatch/core/wall.hpp"
 #include "rockwatch/sim/analysis.hpp"
+#include "rockwatch/sim/wall_sensor_synthesis.hpp"
 
 namespace rockwatch::cli {
 
@@ -26,6 +27,12 @@ struct SimulateRequest {
   bool arith_given = false;            // --arith was given: the JSON says which arithmetic ran
   std::optional<std::string> out_csv_path;
   bool json = false;
+  // --wall-sensors FILE: the wall observer fuses these samples (read when the command runs); its settings are
+  // analysis.observer (--observer-*).
+  std::optional<std::string> wall_sensors_path;
+  // --sensors-out FILE: samples of the simulated wall's sensors with this model (--sensor-*).
+  std::optional<std::string> sensors_out_path;
+  sim::SensorModel sensor_model;
 };
 
 // Outcome of reading the command line: either a request to run, or text to print and an exit status

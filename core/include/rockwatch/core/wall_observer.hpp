@@ -269,8 +269,8 @@ class WallObserver {
     p_(B, B) = b_sigma0_ * b_sigma0_;
     head_ = count_ = 0;
     counters_ = ObserverCounters{};
-    last_x_used_us_ = last_a_used_us_ = 0;
-    have_x_used_ = have_a_used_ = have_first_t_ = false;
+    last_x_used_us_ = last_x_accepted_us_ = last_a_used_us_ = 0;
+    have_x_used_ = have_x_accepted_ = have_a_used_ = have_first_t_ = false;
     first_t_us_ = 0;
     pending_flags_ = 0;
     lost_ = false;
@@ -365,10 +365,10 @@ class WallObserver {
       first_t_us_ = t_us;
     }
     // Sensor loss counts from the last usable displacement sample, or from the first step when there was none.
+    // A sensor that keeps sending but is always gated out is not lost (it is flagged rejected), but not active.
     const std::int64_t since_us = t_us - (have_x_used_ ? last_x_used_us_ : first_t_us_);
-    if (since_us <= dropout_us_ && have_x_used_) {
-      out.flags |= observer_flag::x_active;
-    } else if (since_us > dropout_us_) {
+    if (have_x_accepted_ && t_us - last_x_accepted_us_ <= dropout_us_) out.flags |= observer_flag::x_active;
+    if (since_us > dropout_us_) {
       if (!lost_) ++counters_.dropouts;
       lost_ = true;
     }
@@ -505,17 +505,18 @@ class WallObserver {
       out.corrected = out.corrected || stepper.moving();
       innovation_x_sq_sum_ = innovation_x_sq_sum_ + y * y;
       consecutive_rejections_ = 0;
-      last_x_used_us_ = s.utime_us;
-      have_x_used_ = true;
+      last_x_used_us_ = last_x_accepted_us_ = s.utime_us;
+      have_x_used_ = have_x_accepted_ = true;
       lost_ = false;
       return;
     }
     ++counters_.rejected;
     out.flags |= observer_flag::rejected;
     ++consecutive_rejections_;
-    // Keep the sensor "alive" for dropout purposes: it is sending, just disagreeing.
+    // The sensor is sending, just disagreeing: not lost (rejections are flagged on their own).
     last_x_used_us_ = s.utime_us;
     have_x_used_ = true;
+    lost_ = false;
     if (quiet) {
       // The ground is quiet: a wall does not start rocking by itself. A sensor fault, not a re-initialisation.
       if (!stepper.moving()) {
@@ -590,8 +591,8 @@ class WallObserver {
   ObserverCounters counters_{};
   bool have_first_t_ = false;
   std::int64_t first_t_us_ = 0;
-  bool have_x_used_ = false, have_a_used_ = false, lost_ = false;
-  std::int64_t last_x_used_us_ = 0, last_a_used_us_ = 0;
+  bool have_x_used_ = false, have_x_accepted_ = false, have_a_used_ = false, lost_ = false;
+  std::int64_t last_x_used_us_ = 0, last_x_accepted_us_ = 0, last_a_used_us_ = 0;  // sample times [µs]
   std::int32_t consecutive_rejections_ = 0, identical_run_ = 0;
   bool have_last_raw_ = false;
   double last_raw_x_ = 0.0;

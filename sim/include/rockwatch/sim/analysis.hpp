@@ -13,6 +13,7 @@
 #include "rockwatch/core/model.hpp"
 #include "rockwatch/core/restitution.hpp"
 #include "rockwatch/core/wall.hpp"
+#include "rockwatch/core/wall_observer.hpp"
 
 namespace rockwatch::sim {
 
@@ -41,6 +42,13 @@ struct AnalysisOptions {
   bool evaluate_alarm = false;          // run the instability alarm every integration step (AnalysisResult::alarm)
   core::AlarmSettings alarm{};
   std::size_t max_alarm_transitions_kept = 64;  // transitions listed in AlarmSummary::transitions
+  // The wall observer (core/wall_observer.hpp). When wall_sensors is set (not owned; utime ascending, in µs on the
+  // record's clock: t = 0 at its first sample), the observer corrects the stepper's state after every integration
+  // step with the samples whose time has come (utime ≤ the step end), so the history, the summary and the alarm are
+  // those of the fused state (AnalysisResult::observer). Null: open loop, exactly as without these fields.
+  const std::vector<core::WallSensorSample>* wall_sensors = nullptr;
+  core::ObserverOptions observer{};
+  int observer_r_after_impacts = 5;     // ObserverSummary::r_estimate_after_impacts after this many impacts
 };
 
 // One change of alarm level, at the end of the integration step where it happened.
@@ -63,6 +71,28 @@ struct AlarmSummary {
   std::optional<double> t_first_collapsed_s; // first step end at COLLAPSED [s]
   std::size_t n_transitions = 0;             // all transitions
   std::vector<AlarmTransition> transitions;  // the first max_alarm_transitions_kept
+};
+
+// What the observer did over the analysis (AnalysisOptions::wall_sensors).
+struct ObserverSummary {
+  bool evaluated = false;
+  double r_estimate = 0.0;              // r̂ = ê² at the end [-]
+  double sigma_r = 0.0;                 // its standard deviation [-]
+  double bias_estimate_m = 0.0;         // zero offset of the displacement transducer [m]
+  double sigma_bias_m = 0.0;            // [m]
+  double sigma_x_m = 0.0;               // σ of x at the end [m]
+  double x_rms_innovation_m = 0.0;      // RMS of the accepted displacement innovations [m]
+  std::int64_t n_updates = 0;           // accepted displacement updates
+  std::int64_t n_accel_updates = 0;     // accepted acceleration updates
+  std::int64_t n_rejected = 0;          // innovations gated out
+  std::uint32_t flags_seen = 0;         // core::observer_flag bits of any step
+  core::ObserverCounters counters{};    // all of the observer's counters
+  std::size_t samples_given = 0;        // samples in AnalysisOptions::wall_sensors
+  std::size_t samples_pushed = 0;       // handed to the observer (the others came after the end of the analysis)
+  std::size_t steps_sensor_lost = 0;    // steps that ended with the sensor lost (model alone)
+  std::optional<double> r_estimate_after_impacts;  // r̂ just before impact number n+1 (n = observer_r_after_impacts
+                                                   // counted impacts, |ẋ⁻| ≥ 1 mm/s), or at the end after n; none
+                                                   // with fewer impacts [-]
 };
 
 struct HistoryRow {
@@ -99,6 +129,7 @@ struct AnalysisResult {
   std::vector<ImpactEvent> impacts;     // the first max_impacts_kept impacts
   std::vector<HistoryRow> history;      // when keep_history
   AlarmSummary alarm;                   // when evaluate_alarm
+  ObserverSummary observer;             // when AnalysisOptions::wall_sensors is set
   Arithmetic arithmetic = Arithmetic::double_precision;
   bool saturated = false;               // fixed point only: a quantity reached its range limit (result unreliable)
   bool verdict_collapse() const { return collapsed || collapse_after_end; }

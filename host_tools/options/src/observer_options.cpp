@@ -1,0 +1,117 @@
+#include "rockwatch/options/observer_options.hpp"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "rockwatch/options/command_line.hpp"
+#include "rockwatch/options/option_values.hpp"
+#include "rockwatch/options/usage_error.hpp"
+
+namespace rockwatch::cli {
+
+namespace {
+
+std::string range_text(double low, double high, const char* unit) {
+  return "in [" + number_text(low) + ", " + number_text(high) + "]" + unit;
+}
+
+double parse_in_range(const CLI::App& app, const char* option, const std::string& text, double low, double high,
+                      const char* unit, double fallback) {
+  if (!given(app, option)) return fallback;
+  const double value = parse_finite_number(option, text);
+  if (!(value >= low && value <= high)) {
+    throw UsageError(std::string(option) + " must be " + range_text(low, high, unit) + " (got " + number_text(value) +
+                     ")");
+  }
+  return value;
+}
+
+}  // namespace
+
+void add_observer_options(CLI::App& app, ObserverOptionTexts& texts, const std::string& help_prefix) {
+  const core::ObserverOptions d{};
+  app.add_option("--observer-x-noise-m", texts.x_noise,
+                 help_prefix + "standard deviation of the displacement transducer [m], " +
+                     range_text(kMinObserverXNoise_m, kMaxObserverXNoise_m, "") + " (default " +
+                     number_text(d.x_noise_m) + ")")
+      ->type_name("M");
+  app.add_option("--observer-a-noise-mps2", texts.a_noise,
+                 help_prefix + "standard deviation of the mid-height accelerometer [m/s2], " +
+                     range_text(kMinObserverANoise_mps2, kMaxObserverANoise_mps2, "") + " (default " +
+                     number_text(d.a_noise_mps2) + ")")
+      ->type_name("A");
+  app.add_option("--observer-process-mps2", texts.process,
+                 help_prefix + "standard deviation of the model's acceleration error per step [m/s2], " +
+                     range_text(kMinObserverProcess_mps2, kMaxObserverProcess_mps2, "") + " (default " +
+                     number_text(d.process_accel_mps2) + ")")
+      ->type_name("A");
+  app.add_option("--observer-gate-chi2", texts.gate,
+                 help_prefix + "innovation gate, chi-square with one degree of freedom (16 = 4 sigma), " +
+                     range_text(kMinObserverGateChi2, kMaxObserverGateChi2, "") + " (default " +
+                     number_text(d.gate_chi2) + ")")
+      ->type_name("X");
+}
+
+bool observer_option_given(const CLI::App& app) {
+  for (const char* name : kObserverOptionNames) {
+    if (given(app, name)) return true;
+  }
+  return false;
+}
+
+core::ObserverOptions parse_observer_options(const CLI::App& app, const ObserverOptionTexts& texts) {
+  core::ObserverOptions o;
+  o.x_noise_m = parse_in_range(app, "--observer-x-noise-m", texts.x_noise, kMinObserverXNoise_m, kMaxObserverXNoise_m,
+                               " m", o.x_noise_m);
+  o.a_noise_mps2 = parse_in_range(app, "--observer-a-noise-mps2", texts.a_noise, kMinObserverANoise_mps2,
+                                  kMaxObserverANoise_mps2, " m/s2", o.a_noise_mps2);
+  o.process_accel_mps2 = parse_in_range(app, "--observer-process-mps2", texts.process, kMinObserverProcess_mps2,
+                                        kMaxObserverProcess_mps2, " m/s2", o.process_accel_mps2);
+  o.gate_chi2 = parse_in_range(app, "--observer-gate-chi2", texts.gate, kMinObserverGateChi2, kMaxObserverGateChi2, "",
+                               o.gate_chi2);
+  // The core's own check, in case its ranges ever become narrower than the ones above.
+  const core::ObserverError err = core::validate_observer_options(o);
+  if (err != core::ObserverError::ok) throw UsageError(core::observer_error_message(err));
+  return o;
+}
+
+std::vector<std::string> observer_flag_list(std::uint32_t flags) {
+  namespace bit = core::observer_flag;
+  const struct {
+    std::uint32_t bit;
+    const char* name;
+  } names[] = {{bit::x_active, "x_active"},
+               {bit::a_active, "a_active"},
+               {bit::sensor_lost, "sensor_lost"},
+               {bit::rejected, "rejected"},
+               {bit::not_finite, "not_finite"},
+               {bit::out_of_range, "out_of_range"},
+               {bit::stuck, "stuck"},
+               {bit::motion_while_quiet, "motion_while_quiet"},
+               {bit::misaligned, "misaligned"},
+               {bit::stale, "stale"},
+               {bit::queue_overflow, "queue_overflow"},
+               {bit::reinitialised, "reinitialised"},
+               {bit::sensor_flag, "sensor_flag"},
+               {bit::jump, "jump"}};
+  std::vector<std::string> list;
+  std::uint32_t known = 0;
+  for (const auto& n : names) {
+    known |= n.bit;
+    if ((flags & n.bit) != 0) list.emplace_back(n.name);
+  }
+  for (int b = 0; b < 32; ++b) {
+    const std::uint32_t mask = std::uint32_t{1} << b;
+    if ((flags & mask & ~known) != 0) list.push_back("bit" + std::to_string(b));  // a flag newer than this tool
+  }
+  return list;
+}
+
+std::string observer_flag_names(std::uint32_t flags) {
+  std::string text;
+  for (const std::string& name : observer_flag_list(flags)) text += (text.empty() ? "" : ", ") + name;
+  return text.empty() ? std::string("none") : text;
+}
+
+}  // namespace rockwatch::cli

@@ -1,0 +1,217 @@
+// The wall observer through `rockwatch simulate`: --sensors-out writes the sensors of the simulated (true) wall,
+// --wall-sensors fuses such a file with the nominal wall (the JSON's observer object and the alarm on the fused state,
+// checked against sim::analyse in-process on the same samples), the observer and sensor options and their rejections.
+#include <cmath>
+#include <cstddef>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_process.hpp"
+#include "cli_test_files.hpp"
+#include "common/wall_sensors.hpp"
+#include "rockwatch/core/wall.hpp"
+#include "rockwatch/records/suite_format.hpp"
+#include "rockwatch/sim/analysis.hpp"
+
+#include "cli_expect.hpp"  // brings in CppUTest, after every standard header
+
+#include <CppUTest/TestHarness.h>
+
+using rockwatch::test::describe;
+using rockwatch::test::expect_command_rejected;
+using rockwatch::test::kG;
+using rockwatch::test::ProcessResult;
+using rockwatch::test::run_rockwatch;
+using rockwatch::test::TempDir;
+namespace sim = rockwatch::sim;
+namespace cli = rockwatch::cli;
+namespace core = rockwatch::core;
+
+namespace {
+
+const std::string kSuite = ROCKWATCH_SHIPPED_SUITE_DIR;
+
+void check_ok(const ProcessResult& r) {
+  const std::string what = describe(r);
+  CHECK_EQUAL_TEXT(0, r.signal, what.c_str());
+  CHECK_EQUAL_TEXT(0, r.exit_status, what.c_str());
+}
+
+std::vector<std::string> with(std::vector<std::string> args, const std::vector<std::string>& more) {
+  args.insert(args.end(), more.begin(), more.end());
+  return args;
+}
+
+// Set 10 X of the shipped suite at 0.20 g: the paper's wall survives it with 46 impacts under r_ana.
+std::vector<std::string> set10(const std::vector<std::string>& more) {
+  return with({"--suite", kSuite, "--set", "10", "--component", "X", "--scale-pga", "0.20"}, more);
+}
+std::vector<std::string> simulate_set10(const std::vector<std::string>& more) { return with({"simulate"}, set10(more)); }
+
+sim::GroundMotion set10_motion() {
+  const rockwatch::records::SuiteRecordFile f =
+      rockwatch::records::read_suite_record(rockwatch::records::suite_set_path(kSuite, 10));
+  sim::GroundMotion m;
+  m.dt_s = f.dt_s;
+  m.ug_mps2 = f.components_mps2[0];
+  const double factor = 0.20 * kG / sim::peak_abs(m.ug_mps2);
+  for (double& u : m.ug_mps2) u *= factor;
+  return m;
+}
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+std::size_t line_count(const std::string& text) {
+  std::size_t n = 0;
+  for (const char c : text) n += c == '\n' ? 1 : 0;
+  return n;
+}
+
+}  // namespace
+
+TEST_GROUP(SimulateObserver){};
+
+TEST(SimulateObserver, LearnsTheTrueWallFromItsSensorFileAsTheEngineDoes) {
+  TempDir dir;
+  const std::string truth_csv = dir.file("truth.csv");
+  // The true wall dissipates like r_ana; its transducer has 0.5 mm noise and a 2 mm offset.
+  const ProcessResult truth = run_rockwatch(
+      simulate_set10({"--r", "ana", "--sensors-out", truth_csv, "--sensor-bias-m", "0.002", "--json"}));
+  check_ok(truth);
+  const nlohmann::json t = nlohmann::json::parse(truth.out);
+  CHECK_FALSE(t.contains("observer"));
+  const double r_true = t["r"].get<double>();
+  // The nominal wall (r_exp) fused with them.
+  const ProcessResult fused = run_rockwatch(simulate_set10({"--wall-sensors", truth_csv, "--alarms", "--json"}));
+  check_ok(fused);
+  const nlohmann::json j = nlohmann::json::parse(fused.out);
+  const nlohmann::json& o = j["observer"];
+  for (const char* key : {"r_estimate", "sigma_r", "r_estimate_after_impacts", "bias_estimate_m", "n_updates",
+                          "n_accel_updates", "n_rejected", "x_rms_innovation_m", "counters", "flags_seen", "settings"}) {
+    CHECK_TEXT(o.contains(key), key);
+  }
+  DOUBLES_EQUAL(r_true, o["r_estimate"].get<double>(), 0.02);
+  DOUBLES_EQUAL(0.002, o["bias_estimate_m"].get<double>(), 2e-4);
+  CHECK(o["n_updates"].get<long>() > 1000);
+  LONGS_EQUAL(0, o["n_accel_updates"].get<long>());
+  DOUBLES_EQUAL(5e-4, o["x_rms_innovation_m"].get<double>(), 2e-4);
+  DOUBLES_EQUAL(t["max_abs_x_m"].get<double>(), j["max_abs_x_m"].get<double>(), 2e-3);
+  CHECK(j.contains("alarm"));
+
+  // The same samples in-process: the tool adds nothing to the engine.
+  const std::vector<core::WallSensorSample> samples = cli::read_wall_sensor_samples(truth_csv);
+  sim::AnalysisOptions options;
+  options.evaluate_alarm = true;
+  options.wall_sensors = &samples;
+  const sim::AnalysisResult in_process = sim::analyse(core::paper_wall(), set10_motion(), options);
+  DOUBLES_EQUAL(in_process.observer.r_estimate, o["r_estimate"].get<double>(), 0.0);
+  DOUBLES_EQUAL(in_process.max_abs_x_m, j["max_abs_x_m"].get<double>(), 0.0);
+  LONGS_EQUAL(in_process.alarm.n_transitions, j["alarm"]["n_transitions"].get<std::size_t>());
+  LONGS_EQUAL(in_process.observer.n_updates, o["n_updates"].get<long>());
+}
+
+TEST(SimulateObserver, NoiseFreeSensorsOfTheNominalWallKeepTheOpenLoopResult) {
+  TempDir dir;
+  const std::string csv = dir.file("same.csv");
+  const ProcessResult open = run_rockwatch(simulate_set10({"--sensors-out", csv, "--sensor-noise-m", "0", "--json"}));
+  check_ok(open);
+  const ProcessResult fused = run_rockwatch(simulate_set10({"--wall-sensors", csv, "--json", "--arith", "fixed"}));
+  check_ok(fused);
+  const nlohmann::json a = nlohmann::json::parse(open.out), b = nlohmann::json::parse(fused.out);
+  CHECK_EQUAL(a["collapsed"].get<bool>(), b["collapsed"].get<bool>());
+  DOUBLES_EQUAL(a["max_abs_x_m"].get<double>(), b["max_abs_x_m"].get<double>(), 0.5e-3);
+  DOUBLES_EQUAL(0.0, b["observer"]["bias_estimate_m"].get<double>(), 1e-4);
+  STRCMP_EQUAL("fixed", b["arithmetic"].get<std::string>().c_str());
+  // The human summary says what the observer did.
+  const ProcessResult text = run_rockwatch(simulate_set10({"--wall-sensors", csv}));
+  check_ok(text);
+  CHECK(text.out.find("Wall observer (the result above is the fused state)") != std::string::npos);
+  CHECK(text.out.find("transducer offset") != std::string::npos);
+}
+
+TEST(SimulateObserver, SensorsOutFollowsTheSensorModel) {
+  TempDir dir;
+  const std::string a = dir.file("a.csv"), b = dir.file("b.csv"), c = dir.file("c.csv"), d = dir.file("d.csv");
+  check_ok(run_rockwatch(simulate_set10({"--sensors-out", a, "--sensor-seed", "5"})));
+  check_ok(run_rockwatch(simulate_set10({"--sensors-out", b, "--sensor-seed", "5"})));
+  check_ok(run_rockwatch(simulate_set10({"--sensors-out", c, "--sensor-seed", "6", "--sensor-rate-hz", "100",
+                                         "--sensor-dropout", "2:3", "--sensor-dropout", "5:5.5",
+                                         "--sensor-quantum-m", "0.001", "--sensor-accel-noise-mps2", "0.05"})));
+  const std::string ta = read_text(a), tb = read_text(b), tc = read_text(c);
+  CHECK_TRUE(ta == tb);  // the same seed, the same file
+  STRCMP_EQUAL("t_s,x_mid_m", ta.substr(0, ta.find('\n')).c_str());
+  STRCMP_EQUAL("t_s,x_mid_m,a_mid_mps2", tc.substr(0, tc.find('\n')).c_str());
+  const std::vector<core::WallSensorSample> sa = cli::read_wall_sensor_samples(a);
+  const std::vector<core::WallSensorSample> sc = cli::read_wall_sensor_samples(c);
+  // 200 Hz over the analysis (the record's rate) and 100 Hz without 1.5 s of dropouts.
+  LONGS_EQUAL(line_count(ta) - 1, sa.size());
+  const double span_s = double(sa.back().utime_us) * 1e-6;
+  LONGS_EQUAL(std::size_t(std::floor(span_s * 100.0 + 1e-9)) + 1 - 150, sc.size());
+  for (const core::WallSensorSample& s : sc) {
+    CHECK_TRUE(s.x_valid && s.a_valid);
+    CHECK(s.utime_us < 2000000 || s.utime_us >= 3000000);
+    CHECK(s.utime_us < 5000000 || s.utime_us >= 5500000);
+    DOUBLES_EQUAL(std::round(s.x_mid_m * 1e3), s.x_mid_m * 1e3, 1e-6);
+  }
+  // A file with --out beside it: the history and the sensors of the same run.
+  check_ok(run_rockwatch(simulate_set10({"--sensors-out", d, "--out", dir.file("h.csv"), "--sensor-noise-m", "0"})));
+  CHECK_TRUE(read_text(dir.file("h.csv")).rfind("t_s,ug_mps2", 0) == 0);
+}
+
+TEST(SimulateObserver, RefusesBadSensorFilesAndOptionsNamingThem) {
+  TempDir dir;
+  const std::string bad = dir.file("bad.csv");
+  {
+    std::ofstream out(bad);
+    out << "t_s,x_mid_m\n0,0.001\n0.005,abc\n";
+  }
+  expect_command_rejected("simulate", set10({"--wall-sensors", bad}),
+                          {"bad.csv:3:", "x_mid_m: expected a decimal number, found 'abc'"});
+  expect_command_rejected("simulate", set10({"--wall-sensors", dir.file("missing.csv")}),
+                          {"--wall-sensors", "missing.csv"});
+  const std::string good = dir.file("good.csv");
+  {
+    std::ofstream out(good);
+    out << "t_s,x_mid_m\n0,0\n";
+  }
+  expect_command_rejected("simulate", set10({"--observer-gate-chi2", "9"}),
+                          {"--observer-gate-chi2", "give --wall-sensors too"});
+  expect_command_rejected("simulate", set10({"--wall-sensors", good, "--observer-x-noise-m", "0"}),
+                          {"--observer-x-noise-m must be in [1e-06, 0.1] m (got 0)"});
+  expect_command_rejected("simulate", set10({"--wall-sensors", good, "--observer-gate-chi2", "nan"}),
+                          {"--observer-gate-chi2"});
+  expect_command_rejected("simulate", set10({"--wall-sensors", good, "--observer-process-mps2", "1000"}),
+                          {"--observer-process-mps2 must be in [1e-04, 100] m/s2"});
+  expect_command_rejected("simulate", set10({"--wall-sensors", good, "--observer-a-noise-mps2", "11"}),
+                          {"--observer-a-noise-mps2"});
+  expect_command_rejected("simulate", set10({"--sensor-noise-m", "0.001"}),
+                          {"--sensor-noise-m", "give it too"});
+  expect_command_rejected("simulate", set10({"--sensors-out", dir.file("x.csv"), "--wall-sensors", good}),
+                          {"--sensors-out", "run them separately"});
+  expect_command_rejected("simulate", set10({"--sensors-out", dir.file("x.csv"), "--sensor-dropout", "3:2"}),
+                          {"--sensor-dropout T0:T1 needs T0 < T1"});
+  expect_command_rejected("simulate", set10({"--sensors-out", dir.file("x.csv"), "--sensor-dropout", "3"}),
+                          {"--sensor-dropout must be T0:T1"});
+  expect_command_rejected("simulate", set10({"--sensors-out", dir.file("x.csv"), "--sensor-seed", "-1"}),
+                          {"--sensor-seed must be a whole number"});
+  expect_command_rejected("simulate", set10({"--sensors-out", dir.file("x.csv"), "--sensor-rate-hz", "0"}),
+                          {"--sensor-rate-hz must be > 0"});
+  expect_command_rejected("simulate", set10({"--sensors-out", dir.path()}), {"--sensors-out", "directory"});
+}
+
+TEST(SimulateObserver, HelpNamesTheOptionsWithTheirDefaults) {
+  const ProcessResult r = run_rockwatch({"simulate", "--help"});
+  check_ok(r);
+  for (const char* text : {"--wall-sensors", "--observer-x-noise-m", "(default 5e-04)", "--observer-gate-chi2",
+                           "(default 16)", "--sensors-out", "--sensor-dropout", "--sensor-accel-noise-mps2",
+                           "--sensor-seed"}) {
+    CHECK_TEXT(r.out.find(text) != std::string::npos, text);
+  }
+}

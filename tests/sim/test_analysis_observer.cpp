@@ -1,0 +1,355 @@
+// The wall observer inside sim::analyse (AnalysisOptions::wall_sensors) and the sensor samples of a simulated wall
+// (sim::synthesize_wall_sensors): a true wall is simulated, its sensors sampled, and the nominal wall run fused with
+// them — the same wall without noise follows the open loop, a wall whose r differs is learned, a future sample is
+// never used, dropouts fall back to the model, both arithmetics; the synthesis against the history it samples.
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rockwatch/core/restitution.hpp"
+#include "rockwatch/core/wall_observer.hpp"
+#include "rockwatch/records/suite_format.hpp"
+#include "rockwatch/sim/analysis.hpp"
+#include "rockwatch/sim/wall_sensor_synthesis.hpp"
+
+#include <CppUTest/TestHarness.h>
+
+using namespace rockwatch;
+
+namespace {
+
+// Set `set`, component X or Y, of the shipped suite scaled to pga_g.
+sim::GroundMotion suite_motion(int set, int component, double pga_g) {
+  const records::SuiteRecordFile f = records::read_suite_record(records::suite_set_path(ROCKWATCH_SUITE_DIR, set));
+  sim::GroundMotion m;
+  m.dt_s = f.dt_s;
+  m.ug_mps2 = f.components_mps2[static_cast<std::size_t>(component)];
+  const double factor = pga_g * 9.81 / sim::peak_abs(m.ug_mps2);
+  for (double& u : m.ug_mps2) u *= factor;
+  return m;
+}
+
+sim::AnalysisResult truth_of(const core::WallParameters& wall, const sim::GroundMotion& m, core::Restitution r) {
+  sim::AnalysisOptions o;
+  o.restitution = r;
+  o.keep_history = true;
+  return sim::analyse(wall, m, o);
+}
+
+core::Restitution ana() {
+  core::Restitution r;
+  r.kind = core::RestitutionKind::ana;
+  return r;
+}
+
+double max_x_difference(const sim::AnalysisResult& a, const sim::AnalysisResult& b) {
+  double worst = 0.0;
+  const std::size_t n = std::min(a.history.size(), b.history.size());
+  for (std::size_t i = 0; i < n; ++i) {
+    if (a.history[i].t_s != b.history[i].t_s) continue;
+    worst = std::fmax(worst, std::fabs(a.history[i].x_m - b.history[i].x_m));
+  }
+  return worst;
+}
+
+// The analysis of a true wall and the samples of its sensors.
+struct Truth {
+  sim::AnalysisResult result;
+  std::vector<core::WallSensorSample> samples;
+};
+
+Truth simulate_truth(const core::WallParameters& wall, const sim::GroundMotion& m, core::Restitution r,
+                     const sim::SensorModel& model) {
+  Truth t{truth_of(wall, m, r), {}};
+  t.samples = sim::synthesize_wall_sensors(wall, t.result, m.dt_s, model);
+  return t;
+}
+
+sim::AnalysisResult fused_run(const core::WallParameters& wall, const sim::GroundMotion& m,
+                              const std::vector<core::WallSensorSample>* samples,
+                              sim::Arithmetic arithmetic = sim::Arithmetic::double_precision) {
+  sim::AnalysisOptions o;
+  o.arithmetic = arithmetic;
+  o.keep_history = true;
+  o.evaluate_alarm = true;
+  o.wall_sensors = samples;
+  return sim::analyse(wall, m, o);
+}
+
+// RMS of x − x_true over the rows where either moves, on the common step grid.
+double rms_x_error(const sim::AnalysisResult& a, const sim::AnalysisResult& truth) {
+  double sum = 0.0;
+  std::size_t n = 0;
+  const std::size_t rows = std::min(a.history.size(), truth.history.size());
+  for (std::size_t i = 0; i < rows; ++i) {
+    if (a.history[i].t_s != truth.history[i].t_s) continue;
+    if (a.history[i].x_m == 0.0 && truth.history[i].x_m == 0.0) continue;
+    const double e = a.history[i].x_m - truth.history[i].x_m;
+    sum += e * e;
+    ++n;
+  }
+  return n > 0 ? std::sqrt(sum / double(n)) : 0.0;
+}
+
+sim::SensorModel noise_free() {
+  sim::SensorModel m;
+  m.x_noise_m = 0.0;
+  return m;
+}
+
+}  // namespace
+
+TEST_GROUP(AnalysisObserver){};
+
+TEST(AnalysisObserver, OffWithoutSensors) {
+  const sim::GroundMotion m = suite_motion(1, 0, 0.16);
+  const sim::AnalysisResult r = fused_run(core::paper_wall(), m, nullptr);
+  CHECK_FALSE(r.observer.evaluated);
+  LONGS_EQUAL(0, r.observer.n_updates);
+}
+
+TEST(AnalysisObserver, NoiseFreeSensorsOfTheSameWallKeepTheOpenLoopResponse) {
+  // Nominal = truth (paper wall, r_exp), sensors without noise or offset: the fused run is the open-loop run.
+  const core::WallParameters wall = core::paper_wall();
+  const sim::GroundMotion m = suite_motion(1, 0, 0.16);
+  const Truth truth = simulate_truth(wall, m, core::Restitution{}, noise_free());
+  for (const sim::Arithmetic arithmetic : {sim::Arithmetic::double_precision, sim::Arithmetic::fixed_point}) {
+    const sim::AnalysisResult open = fused_run(wall, m, nullptr, arithmetic);
+    const sim::AnalysisResult fused = fused_run(wall, m, &truth.samples, arithmetic);
+    CHECK_TRUE(fused.observer.evaluated);
+    CHECK_EQUAL(open.verdict_collapse(), fused.verdict_collapse());
+    CHECK(max_x_difference(open, fused) < 0.5e-3);
+    DOUBLES_EQUAL(open.max_abs_x_m, fused.max_abs_x_m, 0.5e-3);
+    DOUBLES_EQUAL(0.0, fused.observer.bias_estimate_m, 1e-4);
+    DOUBLES_EQUAL(open.r, fused.observer.r_estimate, 0.02);
+    LONGS_EQUAL(0, fused.observer.n_rejected);
+    LONGS_EQUAL(truth.samples.size(), fused.observer.samples_pushed);
+  }
+}
+
+TEST(AnalysisObserver, LearnsTheRestitutionOfTheRealWallAndFollowsIt) {
+  // The real wall dissipates like r_ana (0.99 for the paper's wall), the nominal assumes r_exp = 0.9 r_ana;
+  // the transducer reads with 0.5 mm noise and a 2 mm zero offset. Set 10 X at 0.20 g: the wall survives, 46 impacts.
+  const core::WallParameters wall = core::paper_wall();
+  const sim::GroundMotion m = suite_motion(10, 0, 0.20);
+  const sim::AnalysisResult open = fused_run(wall, m, nullptr);
+  for (std::uint64_t seed = 1; seed <= 4; ++seed) {
+    sim::SensorModel model;
+    model.x_bias_m = 2e-3;
+    model.seed = seed;
+    const Truth truth = simulate_truth(wall, m, ana(), model);
+    CHECK(truth.result.n_impacts >= 5);
+    const double r_ana = truth.result.r;
+    const sim::AnalysisResult fused = fused_run(wall, m, &truth.samples);
+    // After the record's impacts r̂ is within 0.02; right after the first 5 (small ones) only within 0.05.
+    DOUBLES_EQUAL(r_ana, fused.observer.r_estimate, 0.02);
+    CHECK(fused.observer.r_estimate_after_impacts.has_value());
+    DOUBLES_EQUAL(r_ana, *fused.observer.r_estimate_after_impacts, 0.05);
+    CHECK(fused.observer.sigma_r > 0.0 && fused.observer.sigma_r < 0.02);
+    DOUBLES_EQUAL(2e-3, fused.observer.bias_estimate_m, 0.1e-3);
+    const double x_inst = truth.result.x_inst_m;
+    CHECK(rms_x_error(fused, truth.result) < 0.02 * x_inst);
+    CHECK(rms_x_error(open, truth.result) > 5.0 * rms_x_error(fused, truth.result));
+    CHECK(fused.observer.x_rms_innovation_m > 0.3e-3 && fused.observer.x_rms_innovation_m < 1e-3);
+    CHECK(fused.observer.n_updates > 1000);
+    CHECK((fused.observer.flags_seen & core::observer_flag::x_active) != 0);
+  }
+}
+
+TEST(AnalysisObserver, FollowsTheRealWallToItsCollapseWhereTheOpenLoopDoesNot) {
+  // Set 1 X at 0.20 g: the real wall (r_ana) collapses at 6.14 s, the nominal one (r_exp) survives open loop.
+  const core::WallParameters wall = core::paper_wall();
+  const sim::GroundMotion m = suite_motion(1, 0, 0.20);
+  sim::SensorModel model;
+  model.x_bias_m = 2e-3;
+  const Truth truth = simulate_truth(wall, m, ana(), model);
+  CHECK_TRUE(truth.result.verdict_collapse());
+  const sim::AnalysisResult open = fused_run(wall, m, nullptr);
+  const sim::AnalysisResult fused = fused_run(wall, m, &truth.samples);
+  CHECK_FALSE(open.verdict_collapse());
+  CHECK_FALSE(open.alarm.t_first_imminent_s.has_value());
+  CHECK_TRUE(fused.verdict_collapse());
+  CHECK_TRUE(fused.alarm.t_first_imminent_s.has_value());
+  CHECK(*fused.alarm.t_first_imminent_s < *truth.result.t_collapse_s - 0.2);
+}
+
+TEST(AnalysisObserver, NeverUsesAFutureSample) {
+  const core::WallParameters wall = core::paper_wall();
+  const sim::GroundMotion m = suite_motion(1, 0, 0.16);
+  const sim::AnalysisResult open = fused_run(wall, m, nullptr);
+  // Samples after the end of the analysis: none is handed to the observer, the run is the open loop bit for bit.
+  std::vector<core::WallSensorSample> late(3);
+  for (std::size_t i = 0; i < late.size(); ++i) {
+    late[i].utime_us = static_cast<std::int64_t>(std::llround(open.t_final_s * 1e6)) + 1000 + std::int64_t(i);
+    late[i].x_mid_m = 0.05;
+    late[i].x_valid = true;
+  }
+  const sim::AnalysisResult with_late = fused_run(wall, m, &late);
+  LONGS_EQUAL(3, with_late.observer.samples_given);
+  LONGS_EQUAL(0, with_late.observer.samples_pushed);
+  LONGS_EQUAL(open.history.size(), with_late.history.size());
+  for (std::size_t i = 0; i < open.history.size(); ++i) CHECK(open.history[i].x_m == with_late.history[i].x_m);
+  // One wild sample at 8 s: the state before it is the open loop's, bit for bit.
+  std::vector<core::WallSensorSample> one(1);
+  one[0].utime_us = 8000000;
+  one[0].x_mid_m = 0.01;
+  one[0].x_valid = true;
+  const sim::AnalysisResult with_one = fused_run(wall, m, &one);
+  LONGS_EQUAL(1, with_one.observer.samples_pushed);
+  for (std::size_t i = 0; i < open.history.size() && open.history[i].t_s < 8.0 - 1e-9; ++i) {
+    CHECK(open.history[i].x_m == with_one.history[i].x_m);
+  }
+}
+
+TEST(AnalysisObserver, DropoutFallsBackToTheModelFlaggedAndRecovers) {
+  const core::WallParameters wall = core::paper_wall();
+  const sim::GroundMotion m = suite_motion(10, 0, 0.20);
+  sim::SensorModel model;
+  model.dropouts.push_back(sim::SensorDropout{6.0, 8.0});
+  const Truth truth = simulate_truth(wall, m, ana(), model);
+  const sim::AnalysisResult fused = fused_run(wall, m, &truth.samples);
+  CHECK((fused.observer.flags_seen & core::observer_flag::sensor_lost) != 0);
+  CHECK(fused.observer.counters.dropouts >= 1);
+  // 2 s without the sensor, minus the dropout time before the loss is declared: about 1.75 s of 5 ms steps.
+  CHECK(fused.observer.steps_sensor_lost > 300 && fused.observer.steps_sensor_lost < 400);
+  // Back on track after the dropout.
+  double worst_after = 0.0;
+  for (std::size_t i = 0; i < std::min(fused.history.size(), truth.result.history.size()); ++i) {
+    if (fused.history[i].t_s > 9.0 && fused.history[i].t_s < 12.0) {
+      worst_after = std::fmax(worst_after, std::fabs(fused.history[i].x_m - truth.result.history[i].x_m));
+    }
+  }
+  CHECK(worst_after < 2e-3);
+}
+
+TEST(AnalysisObserver, FixedPointFusedFollowsTheDoubleFused) {
+  const core::WallParameters wall = core::paper_wall();
+  const sim::GroundMotion m = suite_motion(10, 0, 0.20);
+  sim::SensorModel model;
+  model.x_bias_m = 2e-3;
+  const Truth truth = simulate_truth(wall, m, ana(), model);
+  const sim::AnalysisResult d = fused_run(wall, m, &truth.samples);
+  const sim::AnalysisResult f = fused_run(wall, m, &truth.samples, sim::Arithmetic::fixed_point);
+  CHECK_TRUE(f.observer.evaluated);
+  CHECK(max_x_difference(d, f) < 1e-3);
+  DOUBLES_EQUAL(d.observer.r_estimate, f.observer.r_estimate, 5e-3);
+  DOUBLES_EQUAL(d.observer.bias_estimate_m, f.observer.bias_estimate_m, 2e-5);
+}
+
+TEST(AnalysisObserver, RefusesSamplesOutOfOrderAndBadSettings) {
+  const sim::GroundMotion m = suite_motion(1, 0, 0.16);
+  std::vector<core::WallSensorSample> samples(2);
+  samples[0].utime_us = 10;
+  samples[1].utime_us = 5;
+  sim::AnalysisOptions o;
+  o.wall_sensors = &samples;
+  try {
+    sim::analyse(core::paper_wall(), m, o);
+    FAIL("accepted samples out of order");
+  } catch (const sim::AnalysisError& e) {
+    STRCMP_CONTAINS("comes before sample 0", e.what());
+  }
+  samples[1].utime_us = 20;
+  o.observer.x_noise_m = 0.0;
+  try {
+    sim::analyse(core::paper_wall(), m, o);
+    FAIL("accepted x_noise 0");
+  } catch (const sim::AnalysisError& e) {
+    STRCMP_CONTAINS("x_noise", e.what());
+  }
+}
+
+TEST_GROUP(WallSensorSynthesis){};
+
+TEST(WallSensorSynthesis, SamplesTheHistoryAtTheRecordRate) {
+  const core::WallParameters wall = core::paper_wall();
+  const sim::GroundMotion m = suite_motion(1, 0, 0.16);
+  const sim::AnalysisResult truth = truth_of(wall, m, core::Restitution{});
+  sim::SensorModel model = noise_free();
+  model.x_bias_m = 1e-3;
+  model.a_noise_mps2 = 0.0;
+  const std::vector<core::WallSensorSample> s = sim::synthesize_wall_sensors(wall, truth, m.dt_s, model);
+  LONGS_EQUAL(truth.history.size(), s.size());  // one sample per 5 ms step, the record's rate
+  for (std::size_t k = 0; k < s.size(); k += 97) {
+    const sim::HistoryRow& h = truth.history[k];
+    LONGS_EQUAL(std::llround(h.t_s * 1e6), s[k].utime_us);
+    CHECK_TRUE(s[k].x_valid && s[k].a_valid);
+    DOUBLES_EQUAL(h.x_m + 1e-3, s[k].x_mid_m, 1e-12);
+    // SPEC §8: a_mid = ü + ẍ − G·x/h1.
+    DOUBLES_EQUAL(h.ug_mps2 + h.xdd_mps2 - wall.g_mps2 * h.x_m / wall.h1_m, s[k].a_mid_mps2, 1e-9);
+  }
+}
+
+TEST(WallSensorSynthesis, RateInterpolatesNoiseIsSeededQuantumRoundsDropoutsRemove) {
+  const core::WallParameters wall = core::paper_wall();
+  const sim::GroundMotion m = suite_motion(1, 0, 0.16);
+  const sim::AnalysisResult truth = truth_of(wall, m, core::Restitution{});
+  sim::SensorModel model = noise_free();
+  model.rate_hz = 400.0;  // two samples per step: the odd ones halfway between rows
+  std::vector<core::WallSensorSample> s = sim::synthesize_wall_sensors(wall, truth, m.dt_s, model);
+  LONGS_EQUAL(2 * truth.history.size() - 1, s.size());
+  for (std::size_t k = 1; k + 1 < s.size(); k += 202) {
+    DOUBLES_EQUAL((truth.history[k / 2].x_m + truth.history[k / 2 + 1].x_m) / 2.0, s[k].x_mid_m, 1e-12);
+    CHECK_FALSE(s[k].a_valid);
+  }
+  sim::SensorModel noisy;
+  noisy.seed = 3;
+  const std::vector<core::WallSensorSample> a = sim::synthesize_wall_sensors(wall, truth, m.dt_s, noisy);
+  const std::vector<core::WallSensorSample> b = sim::synthesize_wall_sensors(wall, truth, m.dt_s, noisy);
+  noisy.seed = 4;
+  const std::vector<core::WallSensorSample> c = sim::synthesize_wall_sensors(wall, truth, m.dt_s, noisy);
+  double sq = 0.0;
+  bool all_same = true, any_differs = false;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    all_same = all_same && a[k].x_mid_m == b[k].x_mid_m;
+    any_differs = any_differs || a[k].x_mid_m != c[k].x_mid_m;
+    const double e = a[k].x_mid_m - truth.history[k].x_m;
+    sq += e * e;
+  }
+  CHECK_TRUE(all_same);
+  CHECK_TRUE(any_differs);
+  DOUBLES_EQUAL(0.5e-3, std::sqrt(sq / double(a.size())), 0.03e-3);
+  noisy.x_quantum_m = 1e-3;
+  noisy.dropouts.push_back(sim::SensorDropout{1.0, 2.0});
+  const std::vector<core::WallSensorSample> q = sim::synthesize_wall_sensors(wall, truth, m.dt_s, noisy);
+  LONGS_EQUAL(c.size() - 200, q.size());
+  for (const core::WallSensorSample& x : q) {
+    CHECK(x.utime_us < 1000000 || x.utime_us >= 2000000);
+    DOUBLES_EQUAL(std::round(x.x_mid_m * 1e3), x.x_mid_m * 1e3, 1e-9);
+  }
+  // The samples outside the dropout are those without it (rounded): a dropout does not shift the noise.
+  DOUBLES_EQUAL(std::round(c[100].x_mid_m / 1e-3) * 1e-3, q[100].x_mid_m, 1e-15);
+  DOUBLES_EQUAL(std::round(c[600].x_mid_m / 1e-3) * 1e-3, q[400].x_mid_m, 1e-15);
+}
+
+TEST(WallSensorSynthesis, RefusesABadModelOrAResultWithoutHistory) {
+  const core::WallParameters wall = core::paper_wall();
+  const sim::GroundMotion m = suite_motion(1, 0, 0.16);
+  sim::AnalysisResult truth = truth_of(wall, m, core::Restitution{});
+  sim::SensorModel model;
+  model.rate_hz = -1.0;
+  try {
+    sim::synthesize_wall_sensors(wall, truth, m.dt_s, model);
+    FAIL("accepted a negative rate");
+  } catch (const sim::SensorModelError& e) {
+    STRCMP_CONTAINS("rate", e.what());
+  }
+  model = sim::SensorModel{};
+  model.dropouts.push_back(sim::SensorDropout{2.0, 1.0});
+  try {
+    sim::synthesize_wall_sensors(wall, truth, m.dt_s, model);
+    FAIL("accepted a dropout 2:1");
+  } catch (const sim::SensorModelError& e) {
+    STRCMP_CONTAINS("dropout", e.what());
+  }
+  truth.history.clear();
+  try {
+    sim::synthesize_wall_sensors(wall, truth, m.dt_s, sim::SensorModel{});
+    FAIL("accepted a result without history");
+  } catch (const sim::AnalysisError& e) {
+    STRCMP_CONTAINS("history", e.what());
+  }
+}
