@@ -138,6 +138,9 @@ MonitorError MonitorLoop::init(const MonitorSettings& s, SampleEngine& engine, T
   estimate_seq_ = 0;
   quality_since_status_ = Status::QUALITY_MONITOR_RESTARTED;
   last_observer_ = core::ObserverSample{};
+  have_sensor_ = false;
+  last_sensor_seq_ = 0;
+  last_sensor_utime_ = 0;
   engine.start(0.0, 0.0);
   level_ = core::AlarmLevel::quiet;
   ready_ = true;
@@ -219,6 +222,14 @@ void MonitorLoop::on_wall_sensor(const std::uint8_t* data, std::size_t size, std
     quality_since_status_ |= Status::QUALITY_TIME_UNTRUSTED;
     return;
   }
+  if (have_sensor_ && m.seq == last_sensor_seq_ && m.utime == last_sensor_utime_) {
+    ++counters_.sensor_duplicates;
+    quality_since_status_ |= Status::QUALITY_DUPLICATE;
+    return;
+  }
+  have_sensor_ = true;
+  last_sensor_seq_ = m.seq;
+  last_sensor_utime_ = m.utime;
   core::WallSensorSample sample;
   sample.utime_us = m.utime;
   sample.x_mid_m = m.x_mid_m;
@@ -465,6 +476,7 @@ void MonitorLoop::publish_estimate(std::int64_t utime, std::int64_t seq, const E
   m.dropouts = c.dropouts;
   m.sensor_flags = c.sensor_flags;
   m.time_untrusted = counters_.sensor_time_untrusted;
+  m.duplicates = counters_.sensor_duplicates;
   const int size = m.getEncodedSize();
   if (size <= static_cast<int>(sizeof out_buffer_) &&
       m.encode(out_buffer_, 0, static_cast<int>(sizeof out_buffer_)) == size) {

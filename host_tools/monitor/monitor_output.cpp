@@ -73,6 +73,7 @@ json observer_json(const core::ObserverOptions& o, const core::ObserverSample& l
               {"sensor_health", last.flags},
               {"sensor_samples_received", loop.sensor_samples_received},
               {"sensor_time_untrusted", loop.sensor_time_untrusted},
+              {"sensor_duplicates", loop.sensor_duplicates},
               {"estimates_published", loop.estimates_published},
               {"counters",
                {{"samples", c.samples},

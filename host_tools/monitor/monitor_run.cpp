@@ -242,6 +242,16 @@ void human_summary(std::ostream& err, const std::string& first_line, const firmw
       << "  alarm: " << printer.events() << " transitions, highest " << level_name(printer.max_level()) << ", now "
       << level_name(static_cast<std::int64_t>(loop.alarm_level())) << "; " << c.states_published
       << " wall states, " << statuses << " status messages; worst step " << c.worst_step_ns << " ns\n";
+  if (const core::ObserverCounters* o = loop.observer_counters()) {
+    const core::ObserverSample& last = loop.last_observer();
+    err << "  observer: " << c.sensor_samples_received << " sensor samples (" << c.sensor_time_untrusted
+        << " untrusted times), " << o->x_updates << " x and " << o->a_updates << " a updates, " << o->rejected
+        << " rejected, faults " << o->not_finite << " not finite, " << o->out_of_range << " out of range, " << o->stuck
+        << " stuck, " << o->jumps << " jumps, " << o->motion_while_quiet << " motion while quiet, " << o->stale
+        << " stale, " << o->queue_overflow << " queue overflow; " << o->misaligned << " misaligned, " << o->dropouts
+        << " dropouts, " << o->reinitialised << " re-initialisations; r " << last.r_estimate << " +- " << last.sigma_r
+        << ", offset " << last.bias_m << " m; " << c.estimates_published << " estimates\n";
+  }
 }
 
 // ---------------------------------------------------------------------------------------------------------------

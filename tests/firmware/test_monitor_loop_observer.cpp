@@ -419,8 +419,15 @@ TEST(MonitorLoopObserver, SensorMessagesBadlyEncodedOrStampedFarFromTheClockAreC
   const std::int32_t q = rig.status_quality();
   CHECK_TRUE(has(q, Status::QUALITY_DECODE_ERROR));
   CHECK_TRUE(has(q, Status::QUALITY_TIME_UNTRUSTED));
-  rig.run(1);
+  // A repeated datagram: dropped, counted, not measured twice.
+  rig.sensor(utime_of(10), 0.0);
+  rig.sensor(utime_of(10), 0.0);
+  LONGS_EQUAL(1, rig.loop.counters().sensor_duplicates);
+  LONGS_EQUAL(11, rig.fixed.observer_counters().samples);
+  CHECK_TRUE(has(rig.status_quality(), Status::QUALITY_DUPLICATE));
+  rig.ground(10, 0.0);
   LONGS_EQUAL(1, rig.last_estimate().time_untrusted);
+  LONGS_EQUAL(1, rig.last_estimate().duplicates);
 }
 
 TEST(MonitorLoopObserver, AnAlarmThatCoincidesWithASensorFaultSaysSo) {

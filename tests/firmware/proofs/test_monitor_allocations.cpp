@@ -3,8 +3,10 @@
 // every input fault the loop handles — gaps bridged and too long, duplicates, out-of-order and late samples, NaN,
 // Inf, out-of-range values, lift-off, publisher restarts, batches (good and bad), wrong message types, truncated
 // bytes, foreign channels — and a wall that rocks, raises every alarm level and collapses. The messages are encoded
-// before the measured window; the transport and the listener only count. Exits 1 unless the count is 0 and the
-// stream really exercised all of that. A self-check first makes sure deliberate allocations are counted.
+// before the measured window; the transport and the listener only count. Then the same stream with the wall observer
+// on and a wall_sensor_t before every ground sample (with NaN, stale, repeated and undecodable sensor messages and a
+// 0.5 s stretch without sensors per cycle). Exits 1 unless both counts are 0 and the streams really exercised all of
+// that. A self-check first makes sure deliberate allocations are counted.
 //
 // A plain program, not a CppUTest suite (CppUTest replaces operator new), and not built with sanitizers
 // (tests/firmware/proofs/CMakeLists.txt registers it as `monitor_allocations` only in builds without -fsanitize).
@@ -38,6 +40,7 @@ constexpr std::int64_t kT0 = 1700000000000000;
 constexpr std::size_t kMeasuredCalls = 100000;
 const char* const kAccel = "ROCKWATCH_ACCEL";
 const char* const kBatch = "ROCKWATCH_ACCEL_BATCH";
+const char* const kSensor = "ROCKWATCH_WALL_SENSOR";
 
 struct Message {
   const char* channel;
@@ -75,8 +78,25 @@ ground_accel_t sample(std::int64_t k) {
   return m;
 }
 
+// The wall-sensor message of sample k: a transducer reading of a wall rocking at 2 Hz (it need not agree with the
+// model: rejections and re-initialisations are part of what is exercised), an accelerometer reading of the ground.
+Message sensor_message(std::int64_t k, std::int64_t receive) {
+  rockwatch::wall_sensor_t s{};
+  s.utime = kT0 + k * kPeriodUs;
+  s.seq = k;
+  s.schema_version = 1;
+  s.x_mid_m = 0.01 * std::sin(2.0 * kPi * 2.0 * double(k) * kDt);
+  double vg = 0.0;
+  input(k, s.a_mid_mps2, vg);
+  s.valid = 3;  // VALID_X | VALID_A
+  if (k % 89 == 0) s.x_mid_m = std::numeric_limits<double>::quiet_NaN();
+  if (k % 79 == 0) s.utime -= 20 * kPeriodUs;  // 100 ms behind the ground stream: stale
+  return encoded(kSensor, s, receive);
+}
+
 // One 12 s cycle of messages with faults; seq restarts at 0 every cycle, so each repetition is a publisher restart.
-std::vector<Message> make_cycle() {
+// with_sensors: a wall-sensor message before each ground message (none at 3–3.5 s).
+std::vector<Message> make_cycle(bool with_sensors = false) {
   std::vector<Message> out;
   const std::int64_t n = 2400;
   auto on_time = [](const ground_accel_t& m) { return m.utime + 1000; };
@@ -100,6 +120,15 @@ std::vector<Message> make_cycle() {
     if (k > 0 && k % 211 == 0) continue;  // 1 missing, sent after the next one (out of order)
     ground_accel_t m = sample(k);
     std::int64_t receive = on_time(m);
+    if (with_sensors && !(k >= 600 && k < 700)) {
+      out.push_back(sensor_message(k, receive));
+      if (k % 83 == 0) out.push_back(sensor_message(k, receive));  // repeated datagram
+      if (k % 250 == 0) {
+        Message cut = sensor_message(k + 1, receive);  // truncated
+        cut.bytes.pop_back();
+        out.push_back(cut);
+      }
+    }
     if (k % 301 == 0) m.ug_mps2 = std::numeric_limits<double>::quiet_NaN();
     if (k % 307 == 0) m.vg_mps2 = std::numeric_limits<double>::infinity();
     if (k % 401 == 0) m.ug_mps2 = 100.0;
@@ -209,6 +238,52 @@ int main() {
   }
   if (calls != 0) {
     std::fprintf(stderr, "FAIL: MonitorLoop allocated (%llu calls)\n", static_cast<unsigned long long>(calls));
+    return 1;
+  }
+  // The observer: the same stream with the wall sensors, on a fresh loop and engine.
+  const std::vector<Message> sensor_cycle = make_cycle(true);
+  fw::MonitorSettings so = s;
+  so.engine.observer_enabled = true;
+  CountingTransport observer_transport;
+  CountingListener observer_listener;
+  fw::WallEngine observer_engine;
+  fw::MonitorLoop observer_loop;
+  if (observer_loop.init(so, observer_engine, observer_transport, &observer_listener) != fw::MonitorError::ok) {
+    std::fprintf(stderr, "FAIL: MonitorLoop::init with the observer\n");
+    return 1;
+  }
+  const std::uint64_t before_observer = g_calls;
+  j = 0;
+  for (std::size_t i = 0; i < kMeasuredCalls; ++i) {
+    const Message& m = sensor_cycle[j];
+    observer_loop.on_message(m.channel, m.bytes.data(), m.bytes.size(), m.receive_utime);
+    if (i % 200 == 199) observer_loop.publish_status(m.receive_utime);
+    j = j + 1 == sensor_cycle.size() ? 0 : j + 1;
+  }
+  const std::uint64_t observer_calls = g_calls - before_observer;
+  const fw::MonitorCounters& oc = observer_loop.counters();
+  const rockwatch::core::ObserverCounters& ob = *observer_loop.observer_counters();
+  std::printf("observer: %zu on_message calls; %lld sensor samples, %lld repeated, %lld decode errors; %lld samples "
+              "processed, %lld estimates; %lld x and %lld a updates, %lld rejected, %lld not finite, %lld stale, %lld "
+              "re-initialisations, %lld dropouts; %llu alarm events\n",
+              kMeasuredCalls, static_cast<long long>(oc.sensor_samples_received),
+              static_cast<long long>(oc.sensor_duplicates), static_cast<long long>(oc.decode_errors),
+              static_cast<long long>(oc.samples_processed), static_cast<long long>(oc.estimates_published),
+              static_cast<long long>(ob.x_updates), static_cast<long long>(ob.a_updates),
+              static_cast<long long>(ob.rejected), static_cast<long long>(ob.not_finite),
+              static_cast<long long>(ob.stale), static_cast<long long>(ob.reinitialised),
+              static_cast<long long>(ob.dropouts), static_cast<unsigned long long>(observer_listener.events));
+  std::printf("allocation calls during on_message()/publish_status() with the observer: %llu\n",
+              static_cast<unsigned long long>(observer_calls));
+  if (!(oc.sensor_samples_received > 10000 && oc.sensor_duplicates > 0 && oc.decode_errors > 0 &&
+        oc.estimates_published == oc.samples_processed && ob.x_updates > 0 && ob.a_updates > 0 && ob.rejected > 0 &&
+        ob.not_finite > 0 && ob.stale > 0 && ob.dropouts > 0 && observer_listener.events > 0)) {
+    std::fprintf(stderr, "FAIL: the observer stream did not exercise the sensor faults, updates and a dropout\n");
+    return 1;
+  }
+  if (observer_calls != 0) {
+    std::fprintf(stderr, "FAIL: MonitorLoop with the observer allocated (%llu calls)\n",
+                 static_cast<unsigned long long>(observer_calls));
     return 1;
   }
   std::printf("ok\n");

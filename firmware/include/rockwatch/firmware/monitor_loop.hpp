@@ -43,7 +43,9 @@
 // dropout time) or REASON_PREDICTED (the model alone) — and REASON_SENSOR_FAULT plus QUALITY_SENSOR_FAULT mark a
 // sample at which the observer raised a sensor fault (core::observer_flag::faults). Sensor samples without ground
 // samples overflow the observer's queue (counted, QUALITY_SENSOR_FAULT in the status); ground samples without sensor
-// samples run the model alone (SENSOR_LOST, dropouts, REASON_PREDICTED). Observer off: the wall-sensor channel is not
+// samples run the model alone (SENSOR_LOST, dropouts, REASON_PREDICTED). A wall_sensor_t with the seq and utime of the
+// previous one pushed is a repeated datagram: counted (sensor_duplicates), QUALITY_DUPLICATE, dropped (applied twice
+// it would count as two measurements and towards a stuck transducer). Observer off: the wall-sensor channel is not
 // an input (its messages count as messages_ignored) and every output is what it was without the observer.
 // Outputs: one wall_state_t per processed sample (received or bridged); an alarm_event_t per alarm level change,
 // including the change to QUIET when a reset (long gap, publisher restart) restarts the alarm from a higher level;
@@ -136,9 +138,9 @@ struct MonitorCounters {
   std::int64_t datagrams_rejected = 0, datagrams_from_other_sources = 0;
   std::int64_t worst_step_ns = 0;
   std::int64_t alarm_events = 0, states_published = 0;
-  // With the observer: wall_sensor_t samples decoded, those dropped for an untrusted time (also in time_untrusted),
-  // and wall_estimate_t messages the transport accepted.
-  std::int64_t sensor_samples_received = 0, sensor_time_untrusted = 0, estimates_published = 0;
+  // With the observer: wall_sensor_t samples decoded, those dropped for an untrusted time (also in time_untrusted) or
+  // as a repeat of the previous message, and wall_estimate_t messages the transport accepted.
+  std::int64_t sensor_samples_received = 0, sensor_time_untrusted = 0, sensor_duplicates = 0, estimates_published = 0;
 };
 
 class MonitorLoop {
@@ -222,6 +224,8 @@ class MonitorLoop {
   std::int64_t state_seq_ = 0, alarm_seq_ = 0, status_seq_ = 0, estimate_seq_ = 0;
   std::int32_t quality_since_status_ = 0;
   core::ObserverSample last_observer_{};
+  bool have_sensor_ = false;  // the last wall_sensor_t pushed (repeats of it are dropped)
+  std::int64_t last_sensor_seq_ = 0, last_sensor_utime_ = 0;
   // Encode buffers, sized for the largest message (ground_accel_batch_t is the largest type).
   std::uint8_t out_buffer_[1024]{};
 };
