@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -19,6 +20,7 @@
 #include "rockwatch/options/usage_error.hpp"
 #include "rockwatch/sim/study/batch_study.hpp"
 #include "study/study_files.hpp"
+#include "study/study_observer.hpp"
 #include "study/study_plan.hpp"
 #include "study/study_plot.hpp"
 #include "study/study_progress.hpp"
@@ -86,7 +88,12 @@ int run(const StudyRequest& q) {
                      std::to_string(kMaxStudyRuns) + " a study may take: use fewer records (--sets) or levels (--pga)");
   }
   const StaticCapacities capacities = static_capacities(plan.wall);
-  const nlohmann::ordered_json plan_description = plan_json(plan);
+  nlohmann::ordered_json plan_description = plan_json(plan);
+  std::optional<study::ObserverEvaluationPlan> evaluation;
+  if (q.observer) {
+    evaluation = observer_evaluation_plan(plan, q.observer_options);
+    plan_description["observer"] = observer_plan_json(*evaluation);
+  }
 
   prepare_study_directory(q);
   std::vector<study::RunResult> results(total);
@@ -109,9 +116,29 @@ int run(const StudyRequest& q) {
     }
   }
 
+  // --observer: the evaluation after the study (not checkpointed: --resume runs it again).
+  std::optional<ObserverOutcome> observed;
+  if (evaluation) {
+    std::vector<study::ObserverRunResult> observer_results;
+    const std::size_t runs = study::observer_run_count(plan, *evaluation);
+    std::cerr << "study: wall observer evaluation: " << runs << " runs of 3 analyses ("
+              << evaluation->cases.size() << " mismatch cases)\n";
+    const SignalInterrupt interrupt;
+    StudyProgress progress(std::cerr, stderr_is_terminal(), 0, runs, interrupt.flag());
+    study::run_observer_evaluation(
+        plan, *evaluation, observer_results, q.jobs,
+        [&progress](std::size_t done, std::size_t in_call) { progress.report(done, in_call); }, interrupt.flag());
+    progress.finish();
+    std::size_t done = 0;
+    for (const study::ObserverRunResult& r : observer_results) done += r.done ? 1 : 0;
+    if (done < runs) return interrupted(q, plan, plan_description, results, interrupt.signal_number());
+    observed = observer_outcome(plan, *evaluation, observer_results);
+  }
+
   const StudyOutcome outcome = summarise_study(plan, results, capacities);
   write_runs(q, plan, results);
-  const nlohmann::ordered_json summary = summary_json(plan, records, results, outcome);
+  nlohmann::ordered_json summary = summary_json(plan, records, results, outcome);
+  if (observed) summary["observer"] = observer_summary_json(*evaluation, *observed);
   write_study_file(study_file(q, kSummaryJsonName), [&](std::ostream& out) { out << summary.dump(2) << '\n'; });
   write_study_file(study_file(q, kTable3Name),
                    [&](std::ostream& out) { out << table3_markdown(plan, records, outcome); });
@@ -131,7 +158,8 @@ int run(const StudyRequest& q) {
   // The state last: a study.json that says complete means every file above is this study's.
   write_study_state(q, plan_description, StudyState::complete, total, total);
 
-  std::cout << study_summary_text(q, plan, records, outcome, files);
+  std::cout << study_summary_text(q, plan, records, outcome, files,
+                                  observed ? observer_summary_text(*evaluation, *observed) : std::string());
   if (!plot_failure.empty()) {
     std::cout.flush();
     status = fail(kErrors, "plots not written: " + plot_failure, kExitInternalError);

@@ -18,6 +18,7 @@
 #include "rockwatch/options/alarm_options.hpp"
 #include "rockwatch/options/command_line.hpp"
 #include "rockwatch/options/engine_options.hpp"
+#include "rockwatch/options/observer_options.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
 #include "study/study_files.hpp"
@@ -37,6 +38,8 @@ struct RawOptions {
   std::string suite, records, sets;
   WallOptionTexts wall;
   AlarmOptionTexts alarm;
+  ObserverOptionTexts observer;
+  bool observer_evaluation = false;
   std::string pga = kDefaultStudyPga, r = "ana,exp", vertical = "without,with";
   std::string model = "linear", kappa, max_step;
   std::string units, dt, channel, vertical_channel, gain;
@@ -92,6 +95,16 @@ const char* const kFooter =
     "flagged IMMINENT, over the survivors), lead_time_s_median and lead_time_s_p05 (t_collapse - first IMMINENT\n"
     "over the collapsed runs flagged in time; percentiles by linear interpolation between order statistics,\n"
     "Hyndman-Fan type 7), with the counts and the settings.\n"
+    "--alarms --observer also evaluates the wall observer (see rockwatch simulate --help, --wall-sensors) on walls\n"
+    "that differ from the nominal one: for every record x PGA level x vertical setting of the plan and each mismatch\n"
+    "case (true r = r_ana; true b = 0.9 b; 1.1 b; h1 : h2 = 1.5 : 2.0, same h) the true wall is simulated (double\n"
+    "engine: the verdict of record) and its transducer sampled in memory (the record's rate, 0.5 mm noise, 2 mm zero\n"
+    "offset); the nominal wall (r_exp) runs open loop and fused with those samples, both with the alarm.\n"
+    "summary.json's observer: open_loop and fused {recall, false_alarm_rate, lead_time_s_median, lead_time_s_p05}\n"
+    "against the TRUE wall's verdict (the definitions of --alarms), estimation {x_rms_over_x_inst (RMS of\n"
+    "x - x_true over the steps where a wall moves, over the true x_inst), r_error_after_impacts (|r_hat - r_true|\n"
+    "after 5 impacts), r_error_final}, per_case, settings. Not checkpointed: an interrupted evaluation is run again\n"
+    "by --resume.\n"
     "\n"
     "Progress goes to stderr (a bar on a terminal, else a line every 10 %). Ctrl-C (SIGINT) or SIGTERM lets the\n"
     "analyses in flight finish, writes runs.csv and study.json and exits with status 130; run the same command with\n"
@@ -131,6 +144,9 @@ void add_options(CLI::App& app, RawOptions& raw) {
                  "Longest integration step; larger record steps are sub-stepped [s] (default 0.005)")
       ->type_name("S");
   add_alarm_options(app, raw.alarm);
+  app.add_flag("--observer", raw.observer_evaluation,
+               "With --alarms: evaluate the wall observer on true walls that differ from the nominal one (r, b, h1/h2)");
+  add_observer_options(app, raw.observer, "With --observer: ");
   app.add_option("--units", raw.units, "Acceleration units of --records files: g|mps2|cmps2|mmps2 (overrides the file)")
       ->type_name("U");
   app.add_option("--dt", raw.dt, "Sample interval of one-column plain --records files [s]")->type_name("S");
@@ -251,6 +267,17 @@ void parse_analysis(const CLI::App& app, const RawOptions& raw, StudyRequest& q)
     }
   }
   parse_alarm_options(app, raw.alarm, q.analysis);
+  if (raw.observer_evaluation) {
+    if (!q.analysis.evaluate_alarm) {
+      throw UsageError("--observer scores the alarm of the open-loop and the fused wall: give --alarms too");
+    }
+    q.observer = true;
+    q.observer_options = parse_observer_options(app, raw.observer);
+  } else if (observer_option_given(app)) {
+    for (const char* name : kObserverOptionNames) {
+      if (given(app, name)) throw UsageError(std::string(name) + " sets the wall observer: give --observer too");
+    }
+  }
   q.restitutions = parse_restitution_list(raw.r);
   for (const sim::study::RestitutionCase& c : q.restitutions) {
     sim::AnalysisOptions options = q.analysis;

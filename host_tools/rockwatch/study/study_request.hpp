@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "rockwatch/core/wall_observer.hpp"
 #include "rockwatch/options/wall_options.hpp"
 #include "rockwatch/records/record.hpp"
 #include "rockwatch/sim/analysis.hpp"
@@ -41,6 +42,8 @@ struct StudyRequest {
 
   std::size_t jobs = 0;                     // 0: every hardware thread
   bool dt_check = false;
+  bool observer = false;                    // --observer: the wall observer's evaluation (with --alarms)
+  core::ObserverOptions observer_options;   // --observer-*
   bool plots = false;
   bool resume = false;
   bool force = false;

@@ -354,7 +354,8 @@ nlohmann::ordered_json summary_json(const study::StudyPlan& plan, const StudyRec
 }
 
 std::string study_summary_text(const StudyRequest& q, const study::StudyPlan& plan, const StudyRecords& records,
-                               const StudyOutcome& o, const std::vector<std::string>& files) {
+                               const StudyOutcome& o, const std::vector<std::string>& files,
+                               const std::string& before_files) {
   std::string out = "rockwatch study: collapse probability of a two-block URM wall (SPEC 6, the design paper's "
                     "Table 3)\n\n";
   line(out, "records", records_text(records));
@@ -428,6 +429,7 @@ std::string study_summary_text(const StudyRequest& q, const study::StudyPlan& pl
     if (f.runs_saturated > 0) text += format("; %zu runs saturated", f.runs_saturated);
     line(out, "fixed vs double", text);
   }
+  out += before_files;
   std::string file_list;
   for (const std::string& f : files) file_list += (file_list.empty() ? "" : ", ") + f;
   line(out, "files", file_list);

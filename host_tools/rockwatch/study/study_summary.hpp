@@ -82,10 +82,11 @@ StudyOutcome summarise_study(const sim::study::StudyPlan& plan, const std::vecto
 nlohmann::ordered_json summary_json(const sim::study::StudyPlan& plan, const StudyRecords& records,
                                     const std::vector<sim::study::RunResult>& results, const StudyOutcome& outcome);
 
-// The human summary, ending with a newline; `files` lists what was written.
+// The human summary, ending with a newline; `files` lists what was written, after `before_files` (more lines, e.g.
+// the observer evaluation's).
 std::string study_summary_text(const StudyRequest& request, const sim::study::StudyPlan& plan,
                                const StudyRecords& records, const StudyOutcome& outcome,
-                               const std::vector<std::string>& files);
+                               const std::vector<std::string>& files, const std::string& before_files = {});
 
 // "0.221 g" style texts shared with table3.md: a probability with three decimals, or "-" when undetermined.
 std::string probability_text(const std::optional<double>& p);
