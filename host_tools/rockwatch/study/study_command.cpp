@@ -118,8 +118,8 @@ int run(const StudyRequest& q) {
 
   // --observer: the evaluation after the study (not checkpointed: --resume runs it again).
   std::optional<ObserverOutcome> observed;
+  std::vector<study::ObserverRunResult> observer_results;
   if (evaluation) {
-    std::vector<study::ObserverRunResult> observer_results;
     const std::size_t runs = study::observer_run_count(plan, *evaluation);
     std::cerr << "study: wall observer evaluation: " << runs << " runs of 3 analyses ("
               << evaluation->cases.size() << " mismatch cases)\n";
@@ -145,6 +145,12 @@ int run(const StudyRequest& q) {
 
   std::vector<std::string> files{study_file(q, kRunsCsvName), study_file(q, kSummaryJsonName),
                                  study_file(q, kTable3Name), study_file(q, kStudyStateName)};
+  if (evaluation) {
+    write_study_file(study_file(q, kObserverRunsCsvName), [&](std::ostream& out) {
+      write_observer_runs_csv(out, plan, *evaluation, observer_results);
+    });
+    files.push_back(study_file(q, kObserverRunsCsvName));
+  }
   int status = kExitOk;
   std::string plot_failure;
   if (q.plots) {

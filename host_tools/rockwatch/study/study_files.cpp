@@ -56,7 +56,7 @@ void prepare_study_directory(const StudyRequest& q) {
   if (!holds_study) return;
   // --force: the old study goes first, state file first, so an interrupted removal leaves no study.json that
   // describes files of a study that is gone.
-  for (const char* name : {kStudyStateName, kRunsCsvName, kSummaryJsonName, kTable3Name}) {
+  for (const char* name : {kStudyStateName, kRunsCsvName, kSummaryJsonName, kTable3Name, kObserverRunsCsvName}) {
     remove_file(study_file(q, name));
   }
   remove_study_figures(q);

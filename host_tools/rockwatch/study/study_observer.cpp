@@ -129,6 +129,21 @@ nlohmann::ordered_json restitution_kind_json(const core::Restitution& r) {
   return nullptr;
 }
 
+std::string csv_number(double v) { return number_text(v); }
+std::string csv_optional(const std::optional<double>& v) { return v ? number_text(*v) : std::string(); }
+const char* csv_bool(bool b) { return b ? "true" : "false"; }
+
+// A CSV field: quoted when it holds a separator, a quote or a line break.
+std::string csv_text(const std::string& text) {
+  if (text.find_first_of(",\"\n\r") == std::string::npos) return text;
+  std::string quoted_text = "\"";
+  for (const char c : text) {
+    if (c == '"') quoted_text += '"';
+    quoted_text += (c == '\n' || c == '\r') ? ' ' : c;
+  }
+  return quoted_text + "\"";
+}
+
 std::string opt3(const std::optional<double>& v) { return v ? format("%.3f", *v) : std::string("-"); }
 std::string opt4(const std::optional<double>& v) { return v ? format("%.4f", *v) : std::string("-"); }
 
@@ -221,6 +236,39 @@ nlohmann::ordered_json observer_summary_json(const study::ObserverEvaluationPlan
       {"r_error_final", "the same runs: |r_hat - r_true| at the end of the analysis"},
       {"percentile", "linear interpolation between order statistics (Hyndman-Fan type 7)"}};
   return j;
+}
+
+void write_observer_runs_csv(std::ostream& out, const study::StudyPlan& plan,
+                             const study::ObserverEvaluationPlan& evaluation,
+                             const std::vector<study::ObserverRunResult>& results) {
+  out << "case,record,component,vertical,pga_g,true_collapsed,true_t_collapse_s,true_r,true_x_inst_m,true_max_abs_x_m,"
+         "true_impacts,open_collapsed,open_t_first_imminent_s,fused_collapsed,fused_t_first_imminent_s,"
+         "open_x_rms_error_m,fused_x_rms_error_m,r_estimate,r_estimate_after_impacts,fused_impacts,bias_estimate_m,"
+         "n_updates,n_rejected,n_reinitialised,steps_sensor_lost,run,error\n";
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    const study::ObserverRunResult& r = results[i];
+    if (!r.done) continue;
+    const study::ObserverRunKey key = study::observer_run_key(plan, evaluation, i);
+    const study::StudyRecord& rec = plan.records[key.record_index];
+    std::string row = csv_text(evaluation.cases[key.case_index].name) + ',' + csv_text(rec.name) + ',' +
+                      csv_text(rec.component) + ',' + (plan.vertical[key.vertical_index] ? "with" : "without") + ',' +
+                      csv_number(plan.pga_g[key.pga_index]) + ',';
+    if (r.error.empty()) {
+      row += std::string(csv_bool(r.true_collapsed)) + ',' + csv_optional(r.true_t_collapse_s) + ',' +
+             csv_number(r.true_r) + ',' + csv_number(r.true_x_inst_m) + ',' + csv_number(r.true_max_abs_x_m) + ',' +
+             std::to_string(r.true_impacts) + ',' + csv_bool(r.open_collapsed) + ',' +
+             csv_optional(r.open_t_first_imminent_s) + ',' + csv_bool(r.fused_collapsed) + ',' +
+             csv_optional(r.fused_t_first_imminent_s) + ',' + csv_optional(r.open_x_rms_error_m) + ',' +
+             csv_optional(r.fused_x_rms_error_m) + ',' + csv_number(r.r_estimate) + ',' +
+             csv_optional(r.r_estimate_after_impacts) + ',' + std::to_string(r.fused_impacts) + ',' +
+             csv_number(r.bias_estimate_m) + ',' + std::to_string(r.n_updates) + ',' + std::to_string(r.n_rejected) +
+             ',' + std::to_string(r.n_reinitialised) + ',' + std::to_string(r.steps_sensor_lost) + ',' +
+             std::to_string(i) + ",\n";
+    } else {
+      row += std::string(20, ',') + std::to_string(i) + ',' + csv_text(r.error) + '\n';
+    }
+    out << row;
+  }
 }
 
 std::string observer_summary_text(const study::ObserverEvaluationPlan& evaluation, const ObserverOutcome& outcome) {

@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <optional>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -59,6 +60,15 @@ ObserverOutcome observer_outcome(const sim::study::StudyPlan& plan,
 // r_error_after_impacts, r_error_final}, per_case [...].
 nlohmann::ordered_json observer_summary_json(const sim::study::ObserverEvaluationPlan& evaluation,
                                              const ObserverOutcome& outcome);
+
+// observer_runs.csv: one row per evaluation run: case, record, component, vertical, pga_g, true_collapsed,
+// true_t_collapse_s, true_r, true_x_inst_m, true_max_abs_x_m, true_impacts, open_collapsed,
+// open_t_first_imminent_s, fused_collapsed, fused_t_first_imminent_s, open_x_rms_error_m, fused_x_rms_error_m,
+// r_estimate, r_estimate_after_impacts, fused_impacts, bias_estimate_m, n_updates, n_rejected, n_reinitialised,
+// steps_sensor_lost, run, error (empty fields where a value did not happen).
+void write_observer_runs_csv(std::ostream& out, const sim::study::StudyPlan& plan,
+                             const sim::study::ObserverEvaluationPlan& evaluation,
+                             const std::vector<sim::study::ObserverRunResult>& results);
 
 // The lines of the text report.
 std::string observer_summary_text(const sim::study::ObserverEvaluationPlan& evaluation, const ObserverOutcome& outcome);
