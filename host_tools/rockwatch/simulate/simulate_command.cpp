@@ -46,6 +46,17 @@ void check_work_size(const SimulateRequest& q, const InputMotion& in) {
                      (q.analysis.keep_history ? " a run with --out may take" : " a run may take") +
                      ": raise --max-step or lower --t-end");
   }
+  if (q.sensors_out_path) {
+    const double rate_hz = q.sensor_model.rate_hz > 0.0 ? q.sensor_model.rate_hz : 1.0 / dt_s;
+    const double worst_samples = rate_hz * (t_end_s + q.analysis.free_motion_limit_s);
+    if (worst_samples > kMaxHistoryRows) {
+      throw UsageError("--sensor-rate-hz " + number_text(rate_hz) + " over t_end = " + number_text(t_end_s) +
+                       " s (plus up to " + number_text(q.analysis.free_motion_limit_s) +
+                       " s of free rocking) means up to " + number_text(std::round(worst_samples)) +
+                       " sensor samples, more than the " + number_text(kMaxHistoryRows) +
+                       " --sensors-out may write: lower the rate or --t-end");
+    }
+  }
 }
 
 void check_out_path(const char* option, const std::optional<std::string>& out, const SimulateRequest& q) {

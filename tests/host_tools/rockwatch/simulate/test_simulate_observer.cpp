@@ -204,6 +204,8 @@ TEST(SimulateObserver, RefusesBadSensorFilesAndOptionsNamingThem) {
   expect_command_rejected("simulate", set10({"--sensors-out", dir.file("x.csv"), "--sensor-rate-hz", "0"}),
                           {"--sensor-rate-hz must be > 0"});
   expect_command_rejected("simulate", set10({"--sensors-out", dir.path()}), {"--sensors-out", "directory"});
+  expect_command_rejected("simulate", set10({"--sensors-out", dir.file("x.csv"), "--sensor-rate-hz", "100000"}),
+                          {"--sensor-rate-hz 1e+05", "6.2e+07 sensor samples", "lower the rate"});
 }
 
 TEST(SimulateObserver, HelpNamesTheOptionsWithTheirDefaults) {
