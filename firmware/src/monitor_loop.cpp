@@ -213,9 +213,13 @@ void MonitorLoop::on_wall_sensor(const std::uint8_t* data, std::size_t size, std
     return decode_error();
   }
   ++counters_.sensor_samples_received;
-  // The sample's time is all that places it against the ground stream: a time the monitor does not trust would
-  // apply the reading to the wrong step (or hold it in the queue for ever), so the sample is dropped, not used.
-  const std::int64_t delay_us = sat_sub(receive_utime, m.utime);
+  // The sample's time is all that places it against the ground stream, so it is judged against that stream's clock
+  // (the last ground sample's time; the receive time before the first one): a sample far from it would apply the
+  // reading to the wrong step or, stamped ahead, hold the queue for ever — dropped, not used. Against the ground
+  // stream rather than the monitor's clock: a replay faster than real time runs both streams ahead of the monitor's
+  // clock together, and they stay aligned.
+  const std::int64_t reference_utime = have_last_ ? last_utime_ : receive_utime;
+  const std::int64_t delay_us = sat_sub(reference_utime, m.utime);
   if (!(delay_us >= -kClockTolerance_us && delay_us <= kClockTolerance_us)) {
     ++counters_.time_untrusted;
     ++counters_.sensor_time_untrusted;

@@ -20,6 +20,7 @@
 #include "rockwatch/ground_accel_batch_t.hpp"
 #include "rockwatch/ground_accel_t.hpp"
 #include "rockwatch/options/usage_error.hpp"
+#include "rockwatch/wall_sensor_t.hpp"
 
 namespace rockwatch::cli {
 
@@ -129,25 +130,23 @@ ReplayOutcome publish_stream(const ReplayStream& s, const PublishPlan& plan, lcm
   std::int64_t last_ns = start_ns;
   std::int64_t next_progress_ns = start_ns + kProgressPeriodNs;
 
-  // Sends the encoded message whose last sample is seq `last`.
-  const auto send = [&](std::size_t last) {
-    std::int64_t deadline_ns = 0;
-    if (out.paced) {
-      deadline_ns = deadline_of(last);
-      sleep_until(deadline_ns, cancel);
-      if (cancel != nullptr && cancel->load()) return false;
-    }
-    ++out.messages;
+  // Publishes and/or logs one encoded message; false when the very first message could not be published.
+  std::size_t emitted = 0;  // messages of either kind
+  // Lateness is measured on the ground messages only (the wall-sensor ones go out just before them).
+  const auto emit = [&](const std::string& channel, const Encoder& message, std::int64_t utime,
+                        std::int64_t deadline_ns, bool ground) {
+    ++emitted;
+    if (ground) ++out.messages;
     if (lcm != nullptr) {
       errno = 0;
-      const int rc = lcm->publish(plan.channel, encoder.data(), encoder.size());
+      const int rc = lcm->publish(channel, message.data(), message.size());
       const int code = errno;
       last_ns = monotonic_ns();
-      if (out.paced) lateness_ns.push_back(last_ns - deadline_ns);
+      if (out.paced && ground) lateness_ns.push_back(last_ns - deadline_ns);
       if (rc != 0) {
         ++out.publish_failures;
         if (out.first_failure.empty()) out.first_failure = code != 0 ? std::strerror(code) : "LCM publish failed";
-        if (out.messages == 1) {
+        if (emitted == 1) {
           out.aborted = true;
           return false;
         }
@@ -155,16 +154,52 @@ ReplayOutcome publish_stream(const ReplayStream& s, const PublishPlan& plan, lcm
     }
     if (log != nullptr) {
       lcm::LogEvent event{};
-      event.timestamp = utime_of(last);
-      event.channel = plan.channel;
-      event.datalen = static_cast<std::int32_t>(encoder.size());
-      event.data = const_cast<std::uint8_t*>(encoder.data());  // LogFile::writeEvent only reads it
+      event.timestamp = utime;
+      event.channel = channel;
+      event.datalen = static_cast<std::int32_t>(message.size());
+      event.data = const_cast<std::uint8_t*>(message.data());  // LogFile::writeEvent only reads it
       if (log->writeEvent(&event) != 0) {
         throw UsageError(plan.log_name + ": writing the log failed" +
                          (errno != 0 ? std::string(": ") + std::strerror(errno) : std::string()));
       }
     }
     return true;
+  };
+
+  // The wall-sensor samples due by the ground sample `last` (time ≤ its time), each as one wall_sensor_t.
+  Encoder sensor_encoder;
+  rockwatch::wall_sensor_t sensor{};
+  sensor.schema_version = rockwatch::wall_sensor_t::SCHEMA_VERSION;
+  std::size_t next_sensor = 0;
+  const auto emit_due_sensors = [&](std::size_t last, std::int64_t deadline_ns) {
+    if (plan.wall_sensors == nullptr) return true;
+    const std::vector<core::WallSensorSample>& w = *plan.wall_sensors;
+    const std::int64_t due_utime = utime_of(last);
+    for (; next_sensor < w.size() && out.start_utime + w[next_sensor].utime_us <= due_utime; ++next_sensor) {
+      const core::WallSensorSample& x = w[next_sensor];
+      sensor.utime = out.start_utime + x.utime_us;
+      sensor.seq = static_cast<std::int64_t>(next_sensor);
+      sensor.x_mid_m = x.x_valid ? x.x_mid_m : 0.0;
+      sensor.a_mid_mps2 = x.a_valid ? x.a_mid_mps2 : 0.0;
+      sensor.valid = (x.x_valid ? rockwatch::wall_sensor_t::VALID_X : 0) | (x.a_valid ? rockwatch::wall_sensor_t::VALID_A : 0);
+      sensor.sensor_status = x.sensor_status;
+      sensor_encoder.encode(sensor);
+      if (!emit(plan.wall_sensor_channel, sensor_encoder, sensor.utime, deadline_ns, false)) return false;
+      ++out.wall_sensor_samples_sent;
+    }
+    return true;
+  };
+
+  // Sends the encoded message whose last sample is seq `last`, after the wall-sensor samples due by then.
+  const auto send = [&](std::size_t last) {
+    std::int64_t deadline_ns = 0;
+    if (out.paced) {
+      deadline_ns = deadline_of(last);
+      sleep_until(deadline_ns, cancel);
+      if (cancel != nullptr && cancel->load()) return false;
+    }
+    if (!emit_due_sensors(last, deadline_ns)) return false;
+    return emit(plan.channel, encoder, utime_of(last), deadline_ns, true);
   };
 
   std::size_t done = 0;  // seqs handled: sent (their message went out) or dropped

@@ -10,11 +10,13 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include <lcm/lcm-cpp.hpp>
 
 #include "common/replay_lateness.hpp"
 #include "common/replay_stream.hpp"
+#include "rockwatch/core/wall_observer.hpp"
 
 namespace rockwatch::cli {
 
@@ -23,6 +25,11 @@ struct PublishPlan {
   int batch = 0;         // 0: one ground_accel_t per sample; N: ground_accel_batch_t of up to N samples
   double speed = 1.0;    // deadlines at (i/rate)/speed after the start; 0 = none (as fast as possible)
   std::string log_name;  // for messages about the log: "--log FILE"
+  // Wall-sensor samples (times relative to the record's start) sent as wall_sensor_t on wall_sensor_channel
+  // alongside the ground stream: each one just before the ground message that reaches its time, so a monitor applies
+  // it in the same step as `rockwatch simulate --wall-sensors` does. Null: none.
+  const std::vector<core::WallSensorSample>* wall_sensors = nullptr;
+  std::string wall_sensor_channel = "ROCKWATCH_WALL_SENSOR";
 };
 
 struct ReplayOutcome {
@@ -30,7 +37,8 @@ struct ReplayOutcome {
   std::size_t samples_done = 0;  // seqs handled, sent or dropped (all of them unless interrupted or aborted)
   std::size_t samples_sent = 0;
   std::size_t samples_dropped = 0;
-  std::size_t messages = 0;          // messages encoded (published and/or logged)
+  std::size_t messages = 0;          // ground messages encoded (published and/or logged)
+  std::size_t wall_sensor_samples_sent = 0;  // wall_sensor_t messages sent (or logged)
   std::size_t publish_failures = 0;  // lcm publish returned an error
   std::string first_failure;         // its reason (errno text)
   bool aborted = false;              // the very first message could not be published: nothing else was tried

@@ -30,6 +30,20 @@ std::int64_t sample_of_time(double t_s, double rate_hz) {
   return static_cast<std::int64_t>(std::ceil(t_s * rate_hz - 1e-6));
 }
 
+// The run's transitions on the sample grid: those up to the last sample, and the count of those after it.
+void split_transitions(OfflineRun& run, const sim::GroundMotion& motion) {
+  const double rate_hz = 1.0 / motion.dt_s;
+  const auto last = static_cast<std::int64_t>(motion.ug_mps2.size()) - 1;
+  for (const sim::AlarmTransition& t : run.result.alarm.transitions) {
+    const std::int64_t sample = sample_of_time(t.t_s, rate_hz);
+    if (sample > last) {
+      ++run.after_record;
+      continue;
+    }
+    run.transitions.push_back({sample, t.t_s, core::alarm_level_name(t.level)});
+  }
+}
+
 }  // namespace
 
 MonitorOutput parse_monitor_output(const std::string& text, std::int64_t start_utime, double rate_hz) {
@@ -72,16 +86,22 @@ OfflineRun run_offline(const core::WallParameters& wall, const sim::GroundMotion
   o.t_end_s = motion.duration_s();
   o.max_alarm_transitions_kept = 100000;
   run.result = sim::analyse(wall, motion, o);
-  const double rate_hz = 1.0 / motion.dt_s;
-  const auto last = static_cast<std::int64_t>(motion.ug_mps2.size()) - 1;
-  for (const sim::AlarmTransition& t : run.result.alarm.transitions) {
-    const std::int64_t sample = sample_of_time(t.t_s, rate_hz);
-    if (sample > last) {
-      ++run.after_record;
-      continue;
-    }
-    run.transitions.push_back({sample, t.t_s, core::alarm_level_name(t.level)});
-  }
+  split_transitions(run, motion);
+  return run;
+}
+
+OfflineRun run_truth(const core::WallParameters& wall, const sim::GroundMotion& motion, const core::Restitution& r) {
+  OfflineRun run;
+  sim::AnalysisOptions o;
+  o.arithmetic = sim::Arithmetic::double_precision;
+  o.restitution = r;
+  o.evaluate_alarm = true;
+  o.keep_history = true;
+  o.max_step_s = motion.dt_s;
+  o.t_end_s = motion.duration_s();
+  o.max_alarm_transitions_kept = 100000;
+  run.result = sim::analyse(wall, motion, o);
+  split_transitions(run, motion);
   return run;
 }
 
@@ -156,6 +176,38 @@ std::string side_by_side(const std::vector<TimelineEntry>& monitor, const std::v
     text += indent + line;
   }
   if (n == 0) text += indent + "   (no transitions on either side: the wall never moved)\n";
+  return text;
+}
+
+std::string columns_text(const std::vector<TimelineColumn>& columns, const std::string& indent) {
+  constexpr int kWidth = 24;
+  std::string text = indent + "  #  ";
+  std::size_t rows = 0;
+  for (const TimelineColumn& c : columns) {
+    std::string title = c.title.substr(0, kWidth - 2);
+    title.resize(kWidth, ' ');
+    text += title;
+    rows = std::max(rows, c.entries.size());
+  }
+  while (!text.empty() && text.back() == ' ') text.pop_back();
+  text += "\n";
+  char cell[64];
+  for (std::size_t k = 0; k < rows; ++k) {
+    std::snprintf(cell, sizeof cell, "%3zu  ", k + 1);
+    text += indent + cell;
+    for (const TimelineColumn& c : columns) {
+      std::string value = "-";
+      if (k < c.entries.size()) {
+        std::snprintf(cell, sizeof cell, "%7.3f s  %s", c.entries[k].t_s, c.entries[k].level.c_str());
+        value = cell;
+      }
+      value.resize(kWidth, ' ');
+      text += value;
+    }
+    while (!text.empty() && text.back() == ' ') text.pop_back();
+    text += "\n";
+  }
+  if (rows == 0) text += indent + "   (no transitions: the wall never moved)\n";
   return text;
 }
 

@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "rockwatch/core/restitution.hpp"
 #include "rockwatch/core/wall.hpp"
 #include "rockwatch/sim/analysis.hpp"
 
@@ -42,6 +43,10 @@ struct OfflineRun {
 OfflineRun run_offline(const core::WallParameters& wall, const sim::GroundMotion& motion,
                        const sim::AnalysisOptions& base);
 
+// The true wall of the instrumented case: the verified double engine (one step per sample, the alarm after every
+// step, the history kept for the wall's simulated sensors) with restitution `r`.
+OfflineRun run_truth(const core::WallParameters& wall, const sim::GroundMotion& motion, const core::Restitution& r);
+
 struct TimelineComparison {
   bool match = false;
   std::size_t same_sample = 0;  // pairs in the same sample
@@ -56,5 +61,13 @@ TimelineComparison compare_timelines(const std::vector<TimelineEntry>& monitor,
 // The two timelines side by side, one transition a row, each line starting with `indent`.
 std::string side_by_side(const std::vector<TimelineEntry>& monitor, const std::vector<TimelineEntry>& offline,
                          const std::string& indent);
+
+// Several timelines in columns (the instrumented case: the true wall, the monitor's nominal wall open loop, the
+// monitor fused with the wall's sensors), one transition a row: time [s] and level.
+struct TimelineColumn {
+  std::string title;
+  std::vector<TimelineEntry> entries;
+};
+std::string columns_text(const std::vector<TimelineColumn>& columns, const std::string& indent);
 
 }  // namespace rockwatch::cli

@@ -17,6 +17,7 @@
 #include "common/lcm_multicast.hpp"
 #include "common/progress_line.hpp"
 #include "common/replay_publisher.hpp"
+#include "common/wall_sensors.hpp"
 #include "common/replay_stream.hpp"
 #include "common/signal_interrupt.hpp"
 #include "replay/replay_report.hpp"
@@ -82,6 +83,10 @@ int run(const ReplayRequest& q) {
               << (1.0 / stream.source_dt_s > q.rate_hz ? ", without an anti-alias filter" : "") << '\n';
   }
 
+  // The wall's sensors, read (and checked: exit 2 naming file and line) before anything is opened or sent.
+  std::vector<core::WallSensorSample> wall_sensors;
+  if (q.wall_sensors_path) wall_sensors = read_wall_sensor_samples(*q.wall_sensors_path);
+
   RunOutput samples_out("--samples-out", q.samples_out_path);
   RunOutput log_out("--log", q.log_path);
   check_writable(samples_out);
@@ -107,6 +112,10 @@ int run(const ReplayRequest& q) {
   plan.batch = q.batch;
   plan.speed = q.speed;
   plan.log_name = log_out.name();
+  if (q.wall_sensors_path) {
+    plan.wall_sensors = &wall_sensors;
+    plan.wall_sensor_channel = q.wall_sensor_channel;
+  }
   ReplayOutcome outcome;
   {
     const SignalInterrupt interrupt;  // Ctrl-C: stop between messages, report what was sent
@@ -142,7 +151,7 @@ int run(const ReplayRequest& q) {
   if (outcome.interrupted) return kExitInterrupted;
   if (outcome.publish_failures > 0) {
     return fail(kErrors,
-                std::to_string(outcome.publish_failures) + " of " + std::to_string(outcome.messages) +
+                std::to_string(outcome.publish_failures) + " of " + std::to_string(outcome.messages + outcome.wall_sensor_samples_sent) +
                     " messages could not be published (" + outcome.first_failure + ")",
                 kExitInternalError);
   }

@@ -72,6 +72,10 @@ std::string replay_summary_text(const ReplayReport& r) {
   if (q.publish) {
     t += "  published: " + what + " to " + q.lcm_url + "; " + std::to_string(o.samples_sent) + " samples sent, " +
          std::to_string(o.samples_dropped) + " dropped\n";
+    if (q.wall_sensors_path) {
+      t += "  wall sensors: " + std::to_string(o.wall_sensor_samples_sent) + " wall_sensor_t on " +
+           q.wall_sensor_channel + " from " + *q.wall_sensors_path + "\n";
+    }
     if (o.paced) {
       t += "  pacing: " + (q.speed == 1.0 ? std::string("real time") : "speed " + number_text(q.speed)) +
            ", absolute deadlines on CLOCK_MONOTONIC; " + decimals(o.elapsed_s, 3) + " s\n";
@@ -119,6 +123,11 @@ nlohmann::ordered_json replay_summary_json(const ReplayReport& r) {
   j["samples_sent"] = o.samples_sent;
   j["samples_dropped"] = o.samples_dropped;
   j["messages"] = o.messages;
+  if (q.wall_sensors_path) {
+    j["wall_sensors"] = {{"file", *q.wall_sensors_path},
+                         {"channel", q.wall_sensor_channel},
+                         {"samples_sent", o.wall_sensor_samples_sent}};
+  }
   j["message_type"] = message_type_name(q.batch);
   j["channel"] = q.channel;
   j["lcm_url"] = q.publish ? ordered_json(q.lcm_url) : ordered_json(nullptr);

@@ -27,6 +27,7 @@ struct RawOptions {
   RecordOptionTexts record;
   std::string scale_pga, rate, speed, lcm_url, channel, batch;
   std::string noise, seed, bias, quantum, dropout, log, samples_out;
+  std::string wall_sensors, wall_sensor_channel;
   bool json = false;
 };
 
@@ -91,6 +92,13 @@ void add_options(CLI::App& app, RawOptions& raw) {
       ->type_name("FILE");
   app.add_option("--samples-out", raw.samples_out, "Write the samples as sent: CSV t_s, ug_mps2, vg_mps2")
       ->type_name("FILE.csv");
+  app.add_option("--wall-sensors", raw.wall_sensors,
+                 "Also send the wall's sensors (wall_sensor_t): CSV t_s,x_mid_m[,a_mid_mps2] on the record's clock, "
+                 "as `rockwatch simulate --sensors-out` writes it")
+      ->type_name("FILE");
+  app.add_option("--wall-sensor-channel", raw.wall_sensor_channel,
+                 "Channel of the wall's sensors (default ROCKWATCH_WALL_SENSOR)")
+      ->type_name("NAME");
   app.add_flag("--json", raw.json, "Print the summary as one JSON object on stdout");
   app.footer(kFooter);
 }
@@ -216,6 +224,22 @@ ReplayParse parse_replay_arguments(int argc, const char* const* argv) {
     q.lcm_url = raw.lcm_url;
   }
   parse_sensor(app, raw, q.sensor);
+  if (given(app, "--wall-sensors")) {
+    if (raw.wall_sensors.empty()) throw UsageError("--wall-sensors needs a file name");
+    q.wall_sensors_path = raw.wall_sensors;
+  }
+  if (given(app, "--wall-sensor-channel")) {
+    if (!q.wall_sensors_path) throw UsageError("--wall-sensor-channel needs --wall-sensors");
+    if (raw.wall_sensor_channel.empty() || raw.wall_sensor_channel.size() > 63) {
+      throw UsageError("--wall-sensor-channel needs a channel name of 1 to 63 characters (got " +
+                       cli::quoted(raw.wall_sensor_channel) + ")");
+    }
+    if (raw.wall_sensor_channel == q.channel) {
+      throw UsageError("--wall-sensor-channel " + cli::quoted(raw.wall_sensor_channel) +
+                       " is the ground channel: give the wall's sensors their own");
+    }
+    q.wall_sensor_channel = raw.wall_sensor_channel;
+  }
   if (given(app, "--log")) q.log_path = file_option("--log", raw.log);
   if (given(app, "--samples-out")) q.samples_out_path = file_option("--samples-out", raw.samples_out);
   check_output_paths(q);

@@ -25,6 +25,8 @@ struct ReplayRequest {
   SensorModel sensor;
   std::optional<std::string> log_path;          // --log FILE: a standard LCM log of the messages
   std::optional<std::string> samples_out_path;  // --samples-out FILE: the samples as sent, CSV
+  std::optional<std::string> wall_sensors_path;  // --wall-sensors FILE: wall_sensor_t alongside the ground stream
+  std::string wall_sensor_channel = "ROCKWATCH_WALL_SENSOR";  // --wall-sensor-channel
   bool json = false;
 };
 

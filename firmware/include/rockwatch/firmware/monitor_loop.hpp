@@ -35,8 +35,9 @@
 //   decode_errors, QUALITY_DECODE_ERROR in the status; ignored. Messages on other channels: messages_ignored.
 // Wall sensors (settings.engine.observer_enabled; core::WallObserver in the engine): a wall_sensor_t is decoded and
 // checked like a ground message (decode errors and schema_version != 1 counted as decode_errors), a sample stamped more
-// than kClockTolerance_us from its receive time is counted (time_untrusted, sensor_time_untrusted) and dropped (its
-// time is what aligns it with the ground stream), the others are pushed into the engine, which queues them until a
+// than kClockTolerance_us from the ground stream's time (the last ground sample's utime; before the first one, the
+// receive time) is counted (time_untrusted, sensor_time_untrusted) and dropped (its time is what aligns it with the
+// ground stream), the others are pushed into the engine, which queues them until a
 // ground step reaches their utime. Each ground step ends at the ground sample's utime (a step whose ground sample's
 // time is not trusted ends one period after the previous step). Every processed sample then also publishes a
 // wall_estimate_t; the alarm reasons say which state the alarm saw — REASON_MEASURED (a sensor corrected it within the

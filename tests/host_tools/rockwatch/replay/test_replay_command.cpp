@@ -196,6 +196,23 @@ TEST(ReplayRejections, OutputFilesAreCheckedBeforeAnythingIsSent) {
   CHECK_FALSE(std::ifstream(dir.file("x.lcmlog")).good());
 }
 
+TEST(ReplayRejections, WallSensorFilesAndChannelsAreChecked) {
+  const TempDir dir;
+  const std::vector<std::string> rec = suite_record("1", "X");
+  const std::string bad = dir.file("bad.csv");
+  std::ofstream(bad) << "t_s,x_mid_m\n0,0.001\n0.005,abc\n";
+  // A malformed file: exit 2 naming the file and the line, before anything is sent or written.
+  expect_command_rejected("replay", concat(rec, {"--wall-sensors", bad, "--log", dir.file("x.lcmlog")}),
+                          {"bad.csv:3", "x_mid_m", "abc"});
+  CHECK_FALSE(std::ifstream(dir.file("x.lcmlog")).good());
+  expect_command_rejected("replay", concat(rec, {"--wall-sensors", dir.file("missing.csv")}), {"missing.csv"});
+  expect_command_rejected("replay", concat(rec, {"--wall-sensor-channel", "W"}), {"--wall-sensor-channel", "--wall-sensors"});
+  const std::string good = dir.file("good.csv");
+  std::ofstream(good) << "t_s,x_mid_m\n0,0.001\n";
+  expect_command_rejected("replay", concat(rec, {"--wall-sensors", good, "--wall-sensor-channel", "ROCKWATCH_ACCEL"}),
+                          {"--wall-sensor-channel", "ground channel"});
+}
+
 TEST_GROUP(ReplayLog){};
 
 TEST(ReplayLog, LogHasOneEventPerSampleWithTheValuesOfSamplesOut) {
