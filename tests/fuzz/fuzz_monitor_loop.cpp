@@ -1,6 +1,7 @@
 // The monitor's message path: firmware::MonitorLoop::on_message on ROCKWATCH_ACCEL / ROCKWATCH_ACCEL_BATCH bytes
 // (lcm decode, schema and batch checks, sequence accounting, gap bridging, restarts, value checks, the fixed-point
-// engine and alarm, encoding of wall_state_t / alarm_event_t / monitor_status_t), several messages per input
+// engine and alarm, encoding of wall_state_t / alarm_event_t / monitor_status_t), and with the wall observer on
+// ROCKWATCH_WALL_SENSOR bytes (wall_estimate_t out), several messages per input
 // (layout: monitor_fuzz_input.hpp). After every message the loop's bookkeeping is checked against what it published;
 // a violated invariant is a crash. Seeds: tests/fuzz/corpus/monitor_loop (make_monitor_seeds.cpp).
 #include <cmath>
@@ -53,6 +54,26 @@ class CheckingTransport : public fw::Transport {
       ROCKWATCH_FUZZ_CHECK(m.level != m.previous_level);
       ROCKWATCH_FUZZ_CHECK(m.level >= 0 && m.level < kLevels && m.previous_level >= 0 && m.previous_level < kLevels);
       ++alarms;
+    } else if (std::strcmp(channel, "ROCKWATCH_WALL_ESTIMATE") == 0) {
+      wall_estimate_t m;
+      ROCKWATCH_FUZZ_CHECK(decodes(m, data, size));
+      ROCKWATCH_FUZZ_CHECK(m.schema_version == 1);
+      ROCKWATCH_FUZZ_CHECK(m.seq > last_estimate_seq);
+      last_estimate_seq = m.seq;
+      for (const double v : {m.x_m, m.xd_mps, m.sigma_x_m, m.sigma_xd_mps, m.r_estimate, m.sigma_r, m.bias_m,
+                             m.innovation_x_m, m.innovation_a_mps2}) {
+        ROCKWATCH_FUZZ_CHECK(std::isfinite(v));
+      }
+      ROCKWATCH_FUZZ_CHECK(m.sigma_x_m >= 0.0 && m.sigma_xd_mps >= 0.0 && m.sigma_r >= 0.0);
+      ROCKWATCH_FUZZ_CHECK(m.r_estimate >= 0.0 && m.r_estimate <= 1.0);
+      for (const std::int64_t c : {m.sensor_samples, m.x_updates, m.a_updates, m.rejected, m.not_finite,
+                                   m.out_of_range, m.stuck, m.motion_while_quiet, m.jumps, m.misaligned, m.stale,
+                                   m.queue_overflow, m.reinitialised, m.dropouts, m.sensor_flags, m.time_untrusted,
+                                   m.duplicates}) {
+        ROCKWATCH_FUZZ_CHECK(c >= 0);
+      }
+      ROCKWATCH_FUZZ_CHECK(m.x_updates + m.a_updates + m.stale + m.queue_overflow <= 2 * m.sensor_samples);
+      ++estimates;
     } else if (std::strcmp(channel, "ROCKWATCH_STATUS") == 0) {
       monitor_status_t m;
       ROCKWATCH_FUZZ_CHECK(decodes(m, data, size));
@@ -72,8 +93,8 @@ class CheckingTransport : public fw::Transport {
   }
 
   bool fail = false;
-  std::int64_t last_state_seq = -1;
-  std::int64_t states = 0, alarms = 0, statuses = 0;
+  std::int64_t last_state_seq = -1, last_estimate_seq = -1;
+  std::int64_t states = 0, alarms = 0, statuses = 0, estimates = 0;
 };
 
 // The alarm events form a chain: each starts from the level the previous one reached.
@@ -100,6 +121,7 @@ fw::MonitorSettings settings_from(std::uint8_t byte) {
     r.kind = core::RestitutionKind::value;
     r.value = 1.0;
     s.sensor_range_mps2 = 5.0;
+    s.engine.observer_enabled = true;
   }
   s.engine.r_energy = core::restitution_energy_ratio(s.engine.wall, r);
   if ((byte & 0x80) != 0) {
@@ -113,7 +135,7 @@ fw::MonitorSettings settings_from(std::uint8_t byte) {
 }
 
 void check_counters(const fw::MonitorCounters& c, const CheckingTransport& transport, const ChainListener& listener,
-                    std::int64_t ignored_sent) {
+                    std::int64_t ignored_sent, bool observer) {
   for (const std::int64_t v :
        {c.samples_received, c.samples_processed, c.samples_bridged, c.gaps, c.state_resets, c.duplicates,
         c.out_of_order, c.late, c.rejected_not_finite, c.rejected_out_of_range, c.lift_off, c.publisher_restarts,
@@ -134,6 +156,11 @@ void check_counters(const fw::MonitorCounters& c, const CheckingTransport& trans
   ROCKWATCH_FUZZ_CHECK(c.states_published == transport.states);
   ROCKWATCH_FUZZ_CHECK(c.alarm_events == listener.events);
   ROCKWATCH_FUZZ_CHECK(c.messages_ignored == ignored_sent);
+  // With the observer, one estimate per published state (the same transport verdict); none without it.
+  ROCKWATCH_FUZZ_CHECK(c.estimates_published == transport.estimates);
+  ROCKWATCH_FUZZ_CHECK(c.estimates_published == (observer ? c.states_published : 0));
+  ROCKWATCH_FUZZ_CHECK(c.sensor_time_untrusted <= c.time_untrusted);
+  ROCKWATCH_FUZZ_CHECK(observer || c.sensor_samples_received == 0);
 }
 
 }  // namespace
@@ -166,12 +193,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     transport.fail = (selector & in::kPublishFails) != 0;
     if ((selector & in::kStatusBefore) != 0) loop->publish_status(receive_utime);
     const char* channel = (selector & in::kBatch) != 0 ? "ROCKWATCH_ACCEL_BATCH" : "ROCKWATCH_ACCEL";
-    if ((selector & in::kOtherChannel) != 0) {
+    const bool observer = settings.engine.observer_enabled;
+    if ((selector & in::kWallSensor) == in::kWallSensor) {
+      channel = "ROCKWATCH_WALL_SENSOR";
+      if (!observer) ++ignored_sent;
+    } else if ((selector & in::kOtherChannel) != 0) {
       channel = "ROCKWATCH_OTHER";
       ++ignored_sent;
     }
     loop->on_message(channel, payload, length, receive_utime);
-    check_counters(loop->counters(), transport, listener, ignored_sent);
+    check_counters(loop->counters(), transport, listener, ignored_sent, observer);
     ROCKWATCH_FUZZ_CHECK(static_cast<std::int8_t>(loop->alarm_level()) == listener.level);
   }
   transport.fail = false;

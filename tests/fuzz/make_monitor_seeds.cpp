@@ -1,7 +1,8 @@
 // Writes the seed corpus of fuzz_monitor_loop (tests/fuzz/corpus/monitor_loop) in its input layout
 // (monitor_fuzz_input.hpp): valid ground_accel_t / ground_accel_batch_t messages taken from the golden replay log
 // tests/data/monitor/set01_X_0.40g_200Hz.lcmlog (a real stream in which the paper wall collapses), and short
-// synthetic streams with one input fault of each kind the loop handles. Deterministic.
+// synthetic streams with one input fault of each kind the loop handles, and one with the wall observer on: ground and
+// wall_sensor_t messages with each wall-sensor fault. Deterministic.
 //
 //   make_monitor_seeds tests/data/monitor/set01_X_0.40g_200Hz.lcmlog tests/fuzz/corpus/monitor_loop
 #include <cmath>
@@ -18,6 +19,7 @@
 #include "monitor_fuzz_input.hpp"
 #include "rockwatch/ground_accel_batch_t.hpp"
 #include "rockwatch/ground_accel_t.hpp"
+#include "rockwatch/wall_sensor_t.hpp"
 
 using rockwatch::ground_accel_batch_t;
 using rockwatch::ground_accel_t;
@@ -205,6 +207,58 @@ int main(int argc, char** argv) {
     send(extreme);
     send(batch_of(samples, 300, 50));                     // far below: publisher restart
     write(dir, "faults_batch", input);
+  }
+
+  // The wall observer (settings bit 6): rocking ground samples, each preceded by a wall-sensor sample of its time,
+  // then each wall-sensor fault once.
+  {
+    Bytes input{0x40};
+    std::size_t i = 0;
+    auto sensor = [&](std::int64_t seq, double x, std::int32_t valid = 3, double a = 0.0) {
+      rockwatch::wall_sensor_t s{};
+      s.utime = kT0 + (seq - 1) * kPeriodUs;
+      s.seq = seq;
+      s.schema_version = rockwatch::wall_sensor_t::SCHEMA_VERSION;
+      s.x_mid_m = x;
+      s.a_mid_mps2 = a;
+      s.valid = valid;
+      s.sensor_status = 0;
+      return s;
+    };
+    auto send_sensor = [&](const rockwatch::wall_sensor_t& s) {
+      in::append_message(input, static_cast<std::uint8_t>(in::kWallSensor), encode(s));
+    };
+    auto send = [&](const ground_accel_t& m) { in::append_message(input, paced(i++), encode(m)); };
+    std::int64_t seq = 1;
+    for (; seq <= 60; ++seq) {
+      send_sensor(sensor(seq, 0.002 * std::sin(0.2 * static_cast<double>(seq)), 3, rocking_ug(seq)));
+      send(sample(seq, rocking_ug(seq)));
+    }
+    send_sensor(sensor(seq, std::numeric_limits<double>::quiet_NaN()));  // not finite
+    send_sensor(sensor(seq, 0.0, 2, std::numeric_limits<double>::infinity()));
+    send_sensor(sensor(seq, 5.0));                                        // out of range
+    auto stale = sensor(seq, 0.0);
+    stale.utime -= 200000;                                                // stale
+    send_sensor(stale);
+    auto flagged = sensor(seq, 0.0);
+    flagged.sensor_status = rockwatch::wall_sensor_t::SENSOR_CLIPPED;     // sensor status
+    send_sensor(flagged);
+    send_sensor(flagged);                                                 // repeated datagram
+    auto future = sensor(seq + 400, 0.0);                                 // ahead of the ground stream
+    send_sensor(future);
+    auto far = sensor(seq, 0.0);
+    far.utime += 3600000000LL;                                            // untrusted time
+    send_sensor(far);
+    auto schema = sensor(seq, 0.0);
+    schema.schema_version = 2;                                            // decode error
+    send_sensor(schema);
+    send(sample(seq, rocking_ug(seq)));
+    for (std::int64_t k = 0; k < 20; ++k) send_sensor(sensor(seq + k, 0.05));  // sensors without ground: overflow
+    for (++seq; seq <= 140; ++seq) {
+      if (seq % 3 == 0) send_sensor(sensor(seq, 0.01));                   // stuck, slower than the ground
+      send(sample(seq, rocking_ug(seq)));
+    }
+    write(dir, "wall_sensors", input);
   }
 
   // The same short stream under other settings (bridge, restart window, rate, sensor range, restitution).

@@ -5,10 +5,11 @@
 //
 // settings-byte: bits 0-1 max_bridge_samples {10, 0, 1, 1000}; bits 2-3 restart_window {1000, 1, 64, 10^9};
 //   bits 4-5 sample_rate_hz {200, 1000, 50, 10000}; bit 6 {sensor_range_mps2 80 and restitution exp (the defaults),
-//   sensor_range_mps2 5 and energy ratio 1 (no loss at impact)}; bit 7 engine {fixed point (linear model), double
-//   precision with the full model}.
+//   sensor_range_mps2 5, energy ratio 1 (no loss at impact) and the wall observer on}; bit 7 engine {fixed point
+//   (linear model), double precision with the full model}.
 // selector-byte: bit 0 channel {ROCKWATCH_ACCEL, ROCKWATCH_ACCEL_BATCH}; bit 1 publish_status() before the message;
-//   bit 2 the transport refuses every publish of this message; bit 3 the message arrives on another channel (ignored);
+//   bit 2 the transport refuses every publish of this message; bit 3 the message arrives on another channel
+//   (ignored), with bit 0 too on ROCKWATCH_WALL_SENSOR (an input with the observer, ignored without);
 //   bits 4-7 receive clock advance before the message, in 2 ms steps (0 … 30 ms).
 #pragma once
 
@@ -25,6 +26,7 @@ inline constexpr std::uint8_t kBatch = 0x01;
 inline constexpr std::uint8_t kStatusBefore = 0x02;
 inline constexpr std::uint8_t kPublishFails = 0x04;
 inline constexpr std::uint8_t kOtherChannel = 0x08;
+inline constexpr std::uint8_t kWallSensor = kBatch | kOtherChannel;
 inline constexpr std::uint8_t advance(int steps_of_2ms) { return static_cast<std::uint8_t>((steps_of_2ms & 0xF) << 4); }
 
 inline void append_message(std::vector<std::uint8_t>& input, std::uint8_t selector,
