@@ -50,7 +50,7 @@ using ObserverQ10_53 = Fixed64<10, 53>;
 struct ObserverOptions {
   double x_noise_m = 0.5e-3;            // σ of the displacement transducer [m]
   double a_noise_mps2 = 0.05;           // σ of the mid-height accelerometer [m/s²]
-  double process_accel_mps2 = 0.5;      // σ of the model's acceleration error per step [m/s²]
+  double process_accel_mps2 = 0.2;      // σ of the model's acceleration error per step [m/s²] (docs/BENCHMARKS.md: the choice)
   double r_sigma0 = 0.1;                // initial σ of √r [-]
   double r_walk = 1e-5;                 // random walk of √r per step [-]
   double bias_sigma0_m = 5e-3;          // initial σ of the transducer's zero offset [m]
@@ -422,12 +422,15 @@ class WallObserver {
       if (report.impacts_total > 0) {
         // Saltation through the first impact of the step (the side after it is the current one).
         ++counters_.impacts;
-        Scalar v = Traits::v_before(report);
-        if (abs(v) < v_min_) v = v < Scalar(0) ? -v_min_ : v_min_;
+        // ẋ⁻ informs e in proportion to itself (a grazing impact says nothing about r); only the timing term
+        // divides by it, so that one uses ẋ⁻ floored at v_min.
+        const Scalar v = Traits::v_before(report);
+        Scalar v_floored = v;
+        if (abs(v) < v_min_) v_floored = v < Scalar(0) ? -v_min_ : v_min_;
         const Scalar a_after = f0_[i], a_before = f0_[1 - i];
         Mat j = Mat::Identity();
         j(X, X) = e_;
-        j(V, X) = (a_after - e_ * a_before) / v;
+        j(V, X) = (a_after - e_ * a_before) / v_floored;
         j(V, V) = e_;
         j(V, E) = v;
         p_ = (j * p_ * j.transpose()).eval();
