@@ -1,24 +1,13 @@
 #include "common/wall_sensors.hpp"
 
-#include <charconv>
 #include <ostream>
 #include <string>
-#include <system_error>
 #include <vector>
 
+#include "rockwatch/options/option_values.hpp"
 #include "rockwatch/records/wall_sensor_csv.hpp"
 
 namespace rockwatch::cli {
-
-namespace {
-
-void append_number(std::string& row, double value) {
-  char buffer[32];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-  if (result.ec == std::errc{}) row.append(buffer, result.ptr);
-}
-
-}  // namespace
 
 std::vector<core::WallSensorSample> read_wall_sensor_samples(const std::string& path) {
   const records::WallSensorFile file = records::read_wall_sensor_csv(path);
@@ -44,12 +33,12 @@ void write_wall_sensor_csv(std::ostream& out, const std::vector<core::WallSensor
   for (const core::WallSensorSample& s : samples) {
     row.clear();
     // utime / 1e6 reads back to the same utime: llround(t_s * 1e6) of the shortest text of utime * 1e-6.
-    append_number(row, double(s.utime_us) / 1e6);
+    row += number_text(double(s.utime_us) / 1e6);
     row += ',';
-    if (s.x_valid) append_number(row, s.x_mid_m);
+    if (s.x_valid) row += number_text(s.x_mid_m);
     if (with_accel) {
       row += ',';
-      if (s.a_valid) append_number(row, s.a_mid_mps2);
+      if (s.a_valid) row += number_text(s.a_mid_mps2);
     }
     row += '\n';
     out << row;
