@@ -2,17 +2,34 @@
 # Builds and runs every test suite twice: the release build, then the debug build under
 # AddressSanitizer + UndefinedBehaviorSanitizer; then the fuzzing smoke run (clang build of the libFuzzer targets,
 # the kept regression inputs, about a minute of fuzzing: scripts/fuzz.sh, docs/RELIABILITY.md).
-# Exits non-zero on any failure.
+# Prints how long each stage took at the end (docs/BENCHMARKS.md, "The test loop"). Exits non-zero on any failure.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+stage_times=()
+stage_start=$SECONDS
+stage() {  # stage NAME: starts NAME's clock; stage_done records it
+  echo "== $1 ($(date +%T))"
+  stage_start=$SECONDS
+  stage_name=$1
+}
+stage_done() { stage_times+=("$(printf '%-14s %4d s' "$stage_name" $((SECONDS - stage_start)))"); }
 for preset in release debug; do
-  echo "== $preset: build"
+  stage "$preset: build"
   ./scripts/build.sh "$preset"
+  stage_done
   # The end-to-end tests run LCM over real UDP multicast on loopback (they skip, saying why, when it is unavailable);
   # after the build, which installs iproute2.
   source scripts/multicast-route.sh
-  echo "== $preset: test"
+  stage "$preset: test"
   ctest --preset "$preset" -j "$(nproc)"
+  stage_done
 done
-echo "== fuzz: smoke"
-./scripts/fuzz.sh smoke
+stage "fuzz: build"
+./scripts/build.sh fuzz
+stage_done
+stage "fuzz: smoke"
+./scripts/fuzz.sh smoke  # (its build step finds everything up to date)
+stage_done
+echo "== stage times"
+printf '%s\n' "${stage_times[@]}"
+echo "total          $SECONDS s"
