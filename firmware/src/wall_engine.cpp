@@ -129,19 +129,7 @@ EngineSample WallEngine::sample() const {
   e.input_invalid = out_.step.input_invalid;
   e.saturated = out_.step.saturated;
   e.alarm = out_.alarm;
-  if (observer_enabled_) {
-    core::ObserverSample& o = e.observer;
-    o.enabled = true;
-    o.flags = observer_report_.flags;
-    o.corrected = observer_report_.corrected;
-    o.sigma_x_m = observer_.sigma_x_m();
-    o.sigma_xd_mps = observer_.sigma_xd_mps();
-    o.r_estimate = observer_.r_estimate();
-    o.sigma_r = observer_.sigma_r();
-    o.bias_m = observer_.bias_m();
-    o.innovation_x_m = observer_.last_innovation_x_m();
-    o.innovation_a_mps2 = observer_.last_innovation_a_mps2();
-  }
+  if (observer_enabled_) e.observer = core::observer_sample(observer_, observer_report_);
   return e;
 }
 

@@ -93,6 +93,24 @@ struct EngineSample {
   ObserverSample observer{};
 };
 
+// The published observer block of an engine that runs `observer` (either arithmetic): its estimates in double and
+// what it did in the last step. Both engines fill EngineSample::observer with it.
+template <typename Observer>
+ObserverSample observer_sample(const Observer& observer, const ObserverStepReport& last_step) {
+  ObserverSample o;
+  o.enabled = true;
+  o.flags = last_step.flags;
+  o.corrected = last_step.corrected;
+  o.sigma_x_m = observer.sigma_x_m();
+  o.sigma_xd_mps = observer.sigma_xd_mps();
+  o.r_estimate = observer.r_estimate();
+  o.sigma_r = observer.sigma_r();
+  o.bias_m = observer.bias_m();
+  o.innovation_x_m = observer.last_innovation_x_m();
+  o.innovation_a_mps2 = observer.last_innovation_a_mps2();
+  return o;
+}
+
 class SampleEngine {
  public:
   virtual MonitorArithmetic arithmetic() const = 0;
