@@ -151,6 +151,13 @@ struct ObserverCounters {
   std::int64_t dropouts = 0;         // transitions into sensor_lost
 };
 
+// a − b for sample times [µs], saturated: times come from the network and may be anything (no undefined overflow).
+inline std::int64_t time_difference_us(std::int64_t a, std::int64_t b) {
+  std::int64_t d = 0;
+  if (__builtin_sub_overflow(a, b, &d)) return b < 0 ? INT64_MAX : INT64_MIN;
+  return d;
+}
+
 // How the observer reads and corrects a stepper. Specialised for the two steppers.
 template <typename Stepper>
 struct ObserverStepperTraits;
@@ -345,7 +352,7 @@ class WallObserver {
       const WallSensorSample s = queue_[head_];
       head_ = (head_ + 1) % kQueueCapacity;
       --count_;
-      const std::int64_t age_us = t_us - s.utime_us;
+      const std::int64_t age_us = time_difference_us(t_us, s.utime_us);
       if (age_us > max_age_us_) {
         ++counters_.stale;
         out.flags |= observer_flag::stale;
@@ -366,8 +373,10 @@ class WallObserver {
     }
     // Sensor loss counts from the last usable displacement sample, or from the first step when there was none.
     // A sensor that keeps sending but is always gated out is not lost (it is flagged rejected), but not active.
-    const std::int64_t since_us = t_us - (have_x_used_ ? last_x_used_us_ : first_t_us_);
-    if (have_x_accepted_ && t_us - last_x_accepted_us_ <= dropout_us_) out.flags |= observer_flag::x_active;
+    const std::int64_t since_us = time_difference_us(t_us, have_x_used_ ? last_x_used_us_ : first_t_us_);
+    if (have_x_accepted_ && time_difference_us(t_us, last_x_accepted_us_) <= dropout_us_) {
+      out.flags |= observer_flag::x_active;
+    }
     if (since_us > dropout_us_) {
       if (!lost_) ++counters_.dropouts;
       lost_ = true;
@@ -404,7 +413,9 @@ class WallObserver {
   }
   static Scalar abs(Scalar v) { return v < Scalar(0) ? -v : v; }
 
-  bool a_used_recent(std::int64_t t_us) const { return have_a_used_ && t_us - last_a_used_us_ <= dropout_us_; }
+  bool a_used_recent(std::int64_t t_us) const {
+    return have_a_used_ && time_difference_us(t_us, last_a_used_us_) <= dropout_us_;
+  }
 
   void zero_motion_covariance() {
     for (int j = 0; j < 4; ++j) {
