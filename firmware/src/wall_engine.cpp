@@ -15,6 +15,8 @@ const char* wall_engine_error_message(WallEngineError e) {
     case WallEngineError::indicator_constants: return "x_inst must be in (0.008, 1.9) m for the alarm's formats";
     case WallEngineError::model_not_supported: return "the fixed-point engine runs the linear model only";
     case WallEngineError::observer_invalid: return "wall observer options invalid (see the observer error)";
+    case WallEngineError::max_step_invalid:
+      return "max_step_s must be > 0 s and give at most 64 sub-steps per sample (dt / max_step <= 64)";
   }
   return "?";
 }
@@ -26,12 +28,14 @@ WallEngineError WallEngine::init(const WallEngineConfig& c) {
   const WallEngineError common = validate_wall_engine_config(c);
   if (common != WallEngineError::ok) return common;
   if (c.model != core::ModelKind::linear) return WallEngineError::model_not_supported;
+  const int substeps = core::substeps_per_sample(c.dt_s, c.max_step_s);
   core::StepperOptions so;
-  so.dt_s = c.dt_s;
+  so.dt_s = c.dt_s / double(substeps);
   so.kappa = c.kappa;
   const core::StepperSetup<double> setup = core::make_stepper_setup(c.wall, core::ModelKind::linear, c.r_energy, so);
-  switch (chain_.init(setup, c.alarm, c.dt_s)) {
+  switch (chain_.init(setup, c.alarm, c.dt_s, substeps)) {
     case core::AlarmChainError::ok: break;
+    case core::AlarmChainError::substeps_out_of_range: return WallEngineError::max_step_invalid;
     case core::AlarmChainError::stepper_setup: return WallEngineError::fixed_point_setup;
     case core::AlarmChainError::indicator_constants: return WallEngineError::indicator_constants;
   }

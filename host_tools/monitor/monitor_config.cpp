@@ -42,7 +42,7 @@ namespace {
 // Command line
 
 struct RawOptions {
-  std::string config, lcm_url, arith = "fixed", rate, offline_in, offline_out, log, receive_path = "own";
+  std::string config, lcm_url, arith = "fixed", rate, max_step, offline_in, offline_out, log, receive_path = "own";
   std::vector<std::string> accept_from;
   cli::WallOptionTexts wall;
   std::string r = "exp", model = "linear", kappa;
@@ -63,7 +63,7 @@ const char* const kFooter =
     "  wall {b, h1, h2, rho, fp, a, a_prime, g}   fields replacing the paper wall's (as --b ... --g)\n"
     "  r \"ana\"|\"exp\"|\"impulse\"|number   model \"linear\"   kappa K\n"
     "  alarm {lambda_w, hold_s, energy_margin}   (as --lambda-w, --alarm-hold, --energy-margin)\n"
-    "  sample_rate_hz (--rate, 200)   max_bridge_samples (10)   sensor_range_mps2 (80)   late_limit_s (0.05)\n"
+    "  sample_rate_hz (--rate, 200)   max_step_s (--max-step, 0.001)   max_bridge_samples (10)   sensor_range_mps2 (80)   late_limit_s (0.05)\n"
     "  channels {accel, accel_batch, wall_state, alarm, status, wall_sensor, wall_estimate}   (ROCKWATCH_ACCEL, ...)\n"
     "  observer {enabled, x_noise_m, a_noise_mps2, process_accel_mps2, gate_chi2, dropout_s, max_age_s}\n"
     "    the wall observer (--observer: enabled with the defaults): fuses wall_sensor_t samples (channel\n"
@@ -101,8 +101,13 @@ void add_options(CLI::App& app, RawOptions& raw) {
       ->type_name("linear|full");
   cli::add_kappa_option(app, raw.kappa);
   cli::add_alarm_setting_options(app, raw.alarm, "");
-  app.add_option("--rate", raw.rate, "Expected input sample rate [Hz] (default 200); the engine steps once per sample")
+  app.add_option("--rate", raw.rate, "Expected input sample rate [Hz] (default 200); the alarm runs once per sample")
       ->type_name("HZ");
+  app.add_option("--max-step", raw.max_step,
+                 "Longest integration step [s] (default 0.001): each sample is integrated in ceil(1 / (rate * max-step)) "
+                 "sub-steps, the input linear between samples (no added latency); 1/rate gives one step per sample "
+                 "(the paper's 5 ms at 200 Hz)")
+      ->type_name("S");
   app.add_option("--offline-in", raw.offline_in, "Offline mode: read this LCM log instead of listening")
       ->type_name("LOG");
   app.add_option("--offline-out", raw.offline_out, "Offline mode: write the published messages to this LCM log")
@@ -165,7 +170,8 @@ struct FileValues {
   std::optional<core::Restitution> r;
   std::optional<core::ModelKind> model;
   std::optional<firmware::MonitorArithmetic> arith;
-  std::optional<double> kappa, lambda_w, hold_s, energy_margin, sample_rate_hz, sensor_range_mps2, late_limit_s;
+  std::optional<double> kappa, lambda_w, hold_s, energy_margin, sample_rate_hz, max_step_s, sensor_range_mps2,
+      late_limit_s;
   std::optional<std::int32_t> max_bridge_samples;
   std::optional<std::string> channels[7];
   std::optional<std::string> lcm_url;
@@ -236,7 +242,8 @@ class ConfigReader {
   FileValues read() {
     const json root = parse();
     if (!root.is_object()) fail("the top level", "expected a JSON object {...}, got " + json_type(root));
-    check_keys(root, "", {"arith", "wall", "r", "model", "kappa", "alarm", "sample_rate_hz", "max_bridge_samples",
+    check_keys(root, "", {"arith", "wall", "r", "model", "kappa", "alarm", "sample_rate_hz", "max_step_s",
+                          "max_bridge_samples",
                           "sensor_range_mps2", "late_limit_s", "channels", "lcm_url", "accept_from", "observer"});
     FileValues v;
     if (root.contains("wall")) read_wall(root.at("wall"), v);
@@ -253,6 +260,7 @@ class ConfigReader {
       if (a.contains("energy_margin")) v.energy_margin = number(a.at("energy_margin"), "alarm.energy_margin", "");
     }
     if (root.contains("sample_rate_hz")) v.sample_rate_hz = number(root.at("sample_rate_hz"), "sample_rate_hz", " [Hz]");
+    if (root.contains("max_step_s")) v.max_step_s = number(root.at("max_step_s"), "max_step_s", " [s]");
     if (root.contains("max_bridge_samples")) v.max_bridge_samples = bridge(root.at("max_bridge_samples"));
     if (root.contains("sensor_range_mps2")) {
       v.sensor_range_mps2 = number(root.at("sensor_range_mps2"), "sensor_range_mps2", " [m/s2]");
@@ -586,6 +594,8 @@ json normalised_settings(const MonitorConfig& config) {
        {{"lambda_w", s.engine.alarm.lambda_warning}, {"hold_s", s.engine.alarm.hold_s},
         {"energy_margin", s.engine.alarm.energy_margin}}},
       {"sample_rate_hz", s.sample_rate_hz},
+      {"max_step_s", s.engine.max_step_s},
+      {"substeps", core::substeps_per_sample(1.0 / s.sample_rate_hz, s.engine.max_step_s)},
       {"max_bridge_samples", s.max_bridge_samples},
       {"sensor_range_mps2", s.sensor_range_mps2},
       {"late_limit_s", s.late_limit_s},
@@ -702,6 +712,17 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
               "in (0, 10000] Hz with 1/rate <= 0.03 s, the engine's largest step (so at least 33.34 Hz)", rate.value);
   s.sample_rate_hz = rate.value;
   config.rate_origin = name_of(rate.origin, "sample_rate_hz");
+  Sourced<double> max_step = pick(engine.max_step_s, file.max_step_s, file_label("max_step_s"));
+  if (cli::given(app, "--max-step")) {
+    max_step = {cli::parse_positive_number("--max-step", raw.max_step, " s"), "--max-step"};
+  }
+  check_range(max_step.value > 0.0 && max_step.value <= 0.03 &&
+                  1.0 / (rate.value * max_step.value) <= double(core::kMaxSubsteps) + 1e-9,
+              name_of(max_step.origin, "max_step_s"),
+              "in (0, 0.03] s and at least 1/(64 * rate) (at most 64 sub-steps per sample; " +
+                  std::string(config.rate_origin) + " gives the rate)",
+              max_step.value);
+  engine.max_step_s = max_step.value;
   if (file.max_bridge_samples) s.max_bridge_samples = *file.max_bridge_samples;
   if (file.sensor_range_mps2) {
     check_range(*file.sensor_range_mps2 > 0.0 && *file.sensor_range_mps2 <= 80.0, file_label("sensor_range_mps2"),

@@ -48,6 +48,12 @@ void check_options(const core::WallParameters& wall, const GroundMotion& motion,
   if (!core::restitution_valid(o.restitution)) throw AnalysisError("restitution r must be in [0, 1]");
   if (!(std::isfinite(o.kappa) && o.kappa >= 1.0)) throw AnalysisError("kappa must be a finite number >= 1");
   if (!(std::isfinite(o.max_step_s) && o.max_step_s > 0.0)) throw AnalysisError("max step must be > 0 s");
+  if (std::isfinite(motion.dt_s) && motion.dt_s / o.max_step_s > double(core::kMaxSubsteps) + 1e-9) {
+    throw AnalysisError("max step " + number_text(o.max_step_s) + " s would need more than " +
+                        std::to_string(core::kMaxSubsteps) + " sub-steps per record sample (dt " +
+                        number_text(motion.dt_s) + " s): choose max step >= dt / " +
+                        std::to_string(core::kMaxSubsteps));
+  }
   if (o.t_end_s && !(std::isfinite(*o.t_end_s) && *o.t_end_s >= 0.0)) throw AnalysisError("t_end must be >= 0 s");
   if (!(std::isfinite(motion.dt_s) && motion.dt_s > 0.0)) throw AnalysisError("record dt must be > 0 s");
   if (motion.ug_mps2.size() < 2) throw AnalysisError("record must hold at least two samples");
@@ -146,20 +152,24 @@ class ObservedSteps {
   using Observer = core::WallObserver<typename Engine::Stepper>;
 
   ObservedSteps(const core::WallParameters& wall, const core::StepperSetup<double>& setup, const AnalysisOptions& o,
-                double h_s)
+                double dt_s)
       : samples_(*o.wall_sensors), r_after_impacts_(o.observer_r_after_impacts),
-        step_us_(static_cast<std::int64_t>(std::llround(h_s * 1e6))) {
+        step_us_(static_cast<std::int64_t>(std::llround(dt_s * 1e6))) {
     const core::ObserverError err = observer_.init(o.observer, setup, wall);
     if (err != core::ObserverError::ok) throw AnalysisError(core::observer_error_message(err));
   }
 
-  // The step from t0_s to t0_s + h_s (its end, in whole µs, is the observer's clock).
-  void step(Engine& engine, typename Engine::Input ug, typename Engine::Input vg, double t0_s, double h_s) {
-    const std::int64_t t_us = static_cast<std::int64_t>(std::llround((t0_s + h_s) * 1e6));
+  // The sample interval from t0_s to t0_s + dt_s (its end, in whole µs, is the observer's clock): the samples due
+  // by its end are queued (the observer applies each only once a sub-step reaches its time), then the chain's
+  // sub-steps run through the observer; on_substep as StepperAlarmChain::step_observed.
+  template <typename OnSubstep>
+  void step(Engine& engine, typename Engine::Input ug, typename Engine::Input vg, double t0_s, double dt_s,
+            OnSubstep&& on_substep) {
+    const std::int64_t t_us = static_cast<std::int64_t>(std::llround((t0_s + dt_s) * 1e6));
     while (next_ < samples_.size() && samples_[next_].utime_us <= t_us) observer_.push(samples_[next_++]);
     r_before_step_ = observer_.r_estimate();
     const core::ObserverStepReport outcome =
-        engine.chain().step_observed(ug, vg, observer_, t_us, step_us_, engine.out());
+        engine.chain().step_observed(ug, vg, observer_, t_us, step_us_, engine.out(), on_substep);
     flags_ |= outcome.flags;
     if (outcome.flags & core::observer_flag::sensor_lost) ++steps_lost_;
   }
@@ -202,27 +212,32 @@ class ObservedSteps {
   std::optional<double> r_after_;
 };
 
-// One step of the engine at the input (ug, vg); then the events, the row and (when evaluated) the alarm update at
-// the time the state stands at. The indicators run when the alarm is evaluated or the engine's verdict needs them.
-// With an observer the step goes through it (the indicators then always run).
+// One input sample of the engine: the chain's sub-steps to the input (ug, vg), each followed by its events and row
+// (at the time the state stands at: the sub-step's end or the collapse point); then, when evaluated, the alarm
+// update once per sample, at the time the state stands at after its last sub-step. The indicators run when the alarm
+// is evaluated or the engine's verdict needs them. With an observer the sub-steps go through it (the indicators then
+// always run).
 template <typename Engine>
-void analysis_step(Engine& engine, typename Engine::Input ug, typename Engine::Input vg, double t0_s, double h_s,
-                   const AnalysisOptions& o, ResponseRecorder& recorder, AnalysisResult& result,
-                   ObservedSteps<Engine>* observed) {
+void analysis_sample(Engine& engine, typename Engine::Input ug, typename Engine::Input vg, double t0_s, double dt_s,
+                     double h_s, const AnalysisOptions& o, ResponseRecorder& recorder, AnalysisResult& result,
+                     ObservedSteps<Engine>* observed) {
   using detail::to_double;
+  using Input = typename Engine::Input;
   auto& out = engine.out();
-  const int impacts_before = result.n_impacts;
+  double t_s = t0_s + dt_s;
+  const auto on_substep = [&](int j, const auto& sub, Input ug_j, Input vg_j) {
+    const int impacts_before = result.n_impacts;
+    if (Engine::saturated(sub)) result.saturated = true;
+    t_s = recorder.events(t0_s + double(j - 1) * h_s, h_s, sub);
+    if (observed) observed->impacts(impacts_before, result.n_impacts);
+    recorder.row(t_s, to_double(ug_j), to_double(vg_j), engine);
+  };
   if (observed) {
-    observed->step(engine, ug, vg, t0_s, h_s);
-  } else if (o.evaluate_alarm || Engine::kVerdictNeedsIndicators) {
-    engine.chain().step(ug, vg, out);
+    observed->step(engine, ug, vg, t0_s, dt_s, on_substep);
   } else {
-    engine.chain().step_motion(ug, vg, out);
+    engine.chain().step_motion(ug, vg, out, on_substep);
+    if (o.evaluate_alarm || Engine::kVerdictNeedsIndicators) engine.chain().evaluate(out);
   }
-  if (Engine::saturated(out.step)) result.saturated = true;
-  const double t_s = recorder.events(t0_s, h_s, out.step);
-  if (observed) observed->impacts(impacts_before, result.n_impacts);
-  recorder.row(t_s, to_double(ug), to_double(vg), engine);
   if (!o.evaluate_alarm) return;
   detail::AlarmSample sample;
   sample.x_m = engine.x_m();
@@ -232,8 +247,12 @@ void analysis_step(Engine& engine, typename Engine::Input ug, typename Engine::I
   detail::record_alarm_update(result.alarm, o.max_alarm_transitions_kept, t_s, out.alarm, sample);
 }
 
+// The record's sample i, zero past its end.
+inline double sample_or_zero(const std::vector<double>& v, std::size_t i) { return i < v.size() ? v[i] : 0.0; }
+
 // The one analysis loop, for either engine: forced motion over the record (to t_end), then free motion until the
-// engine's verdict says safe, or collapse, or the free-motion limit (SPEC §4.3).
+// engine's verdict says safe, or collapse, or the free-motion limit (SPEC §4.3). Input sample by sample, each
+// integrated in start.n_sub sub-steps (the input linear between samples, zero samples after the record).
 template <typename Engine>
 AnalysisResult run_analysis(const core::WallParameters& wall, const GroundMotion& motion, const AnalysisOptions& o) {
   using detail::to_double;
@@ -241,37 +260,39 @@ AnalysisResult run_analysis(const core::WallParameters& wall, const GroundMotion
   AnalysisResult result;
   result.arithmetic = Engine::kArithmetic;
   const detail::AnalysisStart start = detail::start_analysis(wall, motion, o, result);
-  const double h = start.h_s;
-  Engine engine(wall, start.setup, o, h);
+  const double h = start.h_s, dt = motion.dt_s;
+  Engine engine(wall, start.setup, o, dt, start.n_sub);
   if (o.evaluate_alarm) result.alarm.evaluated = true;
   std::optional<ObservedSteps<Engine>> observed;
-  if (o.wall_sensors) observed.emplace(wall, start.setup, o, h);
+  if (o.wall_sensors) observed.emplace(wall, start.setup, o, dt);
   ObservedSteps<Engine>* const observer = observed ? &*observed : nullptr;
 
-  const detail::GridInput input{motion, start.n_sub};
-  const typename Engine::Input ug0 = Engine::input(input.ug(0)), vg0 = Engine::input(input.vg(0));
+  const typename Engine::Input ug0 = Engine::input(sample_or_zero(motion.ug_mps2, 0));
+  const typename Engine::Input vg0 = Engine::input(sample_or_zero(motion.vg_mps2, 0));
   engine.chain().reset(ug0, vg0);
   ResponseRecorder recorder(wall, o, result);
   recorder.row(0.0, to_double(ug0), to_double(vg0), engine);
 
-  const auto forced_steps = static_cast<std::size_t>(std::llround(result.t_end_s / h));
+  const auto forced_samples = static_cast<std::size_t>(std::llround(result.t_end_s / dt));
   std::size_t k = 0;
-  for (; k < forced_steps && !engine.stepper().collapsed(); ++k) {
-    analysis_step(engine, Engine::input(input.ug(k + 1)), Engine::input(input.vg(k + 1)), double(k) * h, h, o,
-                  recorder, result, observer);
+  for (; k < forced_samples && !engine.stepper().collapsed(); ++k) {
+    analysis_sample(engine, Engine::input(sample_or_zero(motion.ug_mps2, k + 1)),
+                    Engine::input(sample_or_zero(motion.vg_mps2, k + 1)), double(k) * dt, dt, h, o, recorder, result,
+                    observer);
   }
   result.collapsed = engine.stepper().collapsed();
 
   // After the record: free motion until the verdict says safe, or collapse.
-  const auto free_steps = static_cast<std::size_t>(std::llround(o.free_motion_limit_s / h));
+  const auto free_samples = static_cast<std::size_t>(std::llround(o.free_motion_limit_s / dt));
   const typename Engine::Input zero = Engine::input(0.0);
   std::size_t free = 0;
-  for (; !engine.stepper().collapsed() && !engine.safe() && free < free_steps; ++free, ++k) {
-    analysis_step(engine, zero, zero, double(k) * h, h, o, recorder, result, observer);
+  for (; !engine.stepper().collapsed() && !engine.safe() && free < free_samples; ++free, ++k) {
+    analysis_sample(engine, zero, zero, double(k) * dt, dt, h, o, recorder, result, observer);
   }
-  result.t_final_s = double(k) * h;
+  result.t_final_s = double(k) * dt;
   if (!result.collapsed && engine.stepper().collapsed()) result.collapse_after_end = true;
-  result.free_motion_undecided = !engine.stepper().collapsed() && free == free_steps && free_steps > 0 && !engine.safe();
+  result.free_motion_undecided =
+      !engine.stepper().collapsed() && free == free_samples && free_samples > 0 && !engine.safe();
   if (result.t_collapse_s) result.t_max_abs_x_s = *result.t_collapse_s;  // the maximum is the collapse point
   if (observer) observer->summarise(result.observer, result.n_impacts);
   return result;
@@ -284,7 +305,7 @@ namespace detail {
 AnalysisStart start_analysis(const core::WallParameters& wall, const GroundMotion& motion, const AnalysisOptions& o,
                              AnalysisResult& result) {
   AnalysisStart start;
-  start.n_sub = static_cast<std::size_t>(std::max(1.0, std::ceil(motion.dt_s / o.max_step_s - 1e-9)));
+  start.n_sub = static_cast<std::size_t>(core::substeps_per_sample(motion.dt_s, o.max_step_s));
   start.h_s = motion.dt_s / double(start.n_sub);
   result.dt_s = start.h_s;
   result.duration_s = motion.duration_s();
@@ -302,8 +323,8 @@ AnalysisStart start_analysis(const core::WallParameters& wall, const GroundMotio
 }
 
 DoubleAnalysisEngine::DoubleAnalysisEngine(const core::WallParameters& wall, const core::StepperSetup<double>& setup,
-                                           const AnalysisOptions& o, double h_s) {
-  chain_.init(setup, chain_alarm_settings(o), h_s);
+                                           const AnalysisOptions& o, double dt_s, std::size_t n_sub) {
+  chain_.init(setup, chain_alarm_settings(o), dt_s, static_cast<int>(n_sub));
   for (int i = 0; i < 2; ++i) {
     const Side side = i == 0 ? Side::negative : Side::positive;
     free_k_[i] = core::evaluate(setup.model, side, 0.0, wall.g_mps2);

@@ -22,21 +22,6 @@
 
 namespace rockwatch::sim::detail {
 
-// Input on the integration grid: sample k of n_sub sub-steps per record interval, zero after the record.
-struct GridInput {
-  const GroundMotion& motion;
-  std::size_t n_sub;
-
-  double at(const std::vector<double>& v, std::size_t k) const {
-    if (v.empty()) return 0.0;
-    const std::size_t i = k / n_sub, j = k % n_sub;
-    if (i + 1 >= v.size()) return i + 1 == v.size() && j == 0 ? v.back() : 0.0;
-    return v[i] + (v[i + 1] - v[i]) * double(j) / double(n_sub);
-  }
-  double ug(std::size_t k) const { return at(motion.ug_mps2, k); }
-  double vg(std::size_t k) const { return at(motion.vg_mps2, k); }
-};
-
 // What both arithmetics prepare the same way: the step, the stepper setup in double and the result's header fields
 // (dt, duration, t_end, PGA, r, x_inst, threshold). Defined in analysis.cpp.
 struct AnalysisStart {
@@ -79,7 +64,7 @@ class DoubleAnalysisEngine {
 
   static void check_motion(const GroundMotion&) {}
   DoubleAnalysisEngine(const core::WallParameters& wall, const core::StepperSetup<double>& setup,
-                       const AnalysisOptions& o, double h_s);
+                       const AnalysisOptions& o, double dt_s, std::size_t n_sub);
   static Input input(double v) { return v; }
 
   Chain& chain() { return chain_; }
@@ -122,7 +107,7 @@ class FixedAnalysisEngine {
   static void check_motion(const GroundMotion& motion);
   // Throws AnalysisError when the wall, step or x_inst do not fit the formats.
   FixedAnalysisEngine(const core::WallParameters& wall, const core::StepperSetup<double>& setup,
-                      const AnalysisOptions& o, double h_s);
+                      const AnalysisOptions& o, double dt_s, std::size_t n_sub);
   // The record's doubles converted to the engine's input format once per step.
   static Input input(double v) { return Input(v); }
 

@@ -24,9 +24,11 @@ void FixedAnalysisEngine::check_motion(const GroundMotion& motion) {
 }
 
 FixedAnalysisEngine::FixedAnalysisEngine(const core::WallParameters&, const core::StepperSetup<double>& setup,
-                                         const AnalysisOptions& o, double h_s) {
-  switch (chain_.init(setup, chain_alarm_settings(o), h_s)) {
+                                         const AnalysisOptions& o, double dt_s, std::size_t n_sub) {
+  switch (chain_.init(setup, chain_alarm_settings(o), dt_s, static_cast<int>(n_sub))) {
     case core::AlarmChainError::ok: break;
+    case core::AlarmChainError::substeps_out_of_range:
+      throw AnalysisError("the record step needs more than 64 sub-steps of max_step: choose a larger max step");
     case core::AlarmChainError::stepper_setup:
       throw AnalysisError(core::fixed_setup_error_message(chain_.setup_error()));
     case core::AlarmChainError::indicator_constants:

@@ -11,12 +11,14 @@ WallEngineError DoubleWallEngine::init(const core::WallEngineConfig& c) {
   if (c.observer_enabled) observer_error_ = core::validate_observer_options(c.observer);
   const WallEngineError common = core::validate_wall_engine_config(c);
   if (common != WallEngineError::ok) return common;
+  const int substeps = core::substeps_per_sample(c.dt_s, c.max_step_s);
   core::StepperOptions so;
-  so.dt_s = c.dt_s;
+  so.dt_s = c.dt_s / double(substeps);
   so.kappa = c.kappa;
   const core::StepperSetup<double> setup = core::make_stepper_setup(c.wall, c.model, c.r_energy, so);
-  // The same hold in steps as sim::analyse for this step. The double chain cannot refuse a valid configuration.
-  chain_.init(setup, c.alarm, c.dt_s);
+  // The same sub-steps and hold in samples as sim::analyse for this sample interval. The double chain cannot refuse
+  // a valid configuration.
+  chain_.init(setup, c.alarm, c.dt_s, substeps);
   if (c.observer_enabled) {
     observer_error_ = observer_.init(c.observer, setup, c.wall);
     if (observer_error_ != core::ObserverError::ok) return WallEngineError::observer_invalid;

@@ -560,6 +560,21 @@ TEST(MonitorLoop, InfinityIsReplacedByTheLastGoodInput) {
   LONGS_EQUAL(Status::QUALITY_NOT_FINITE, status_quality(rig));
 }
 
+TEST(MonitorLoop, LiftOffWithSubStepsMovesUntilTheCrossing) {
+  Rig rig;  // the default: 5 sub-steps of 1 ms per 5 ms sample
+  LONGS_EQUAL(5, rig.ref.substeps());
+  rig.stream(0, 150);
+  CHECK_TRUE(rig.ref.stepper().moving());
+  const wall_state_t before = rig.last_state();
+  rig.send(accel(151, rocking_ug(151), -10.0));  // G falls linearly from 9.81 to −0.19: valid for 4 sub-steps of 5
+  rig.ref.process_wall(q(rocking_ug(151)), q(-10.0));
+  rig.check_matches_reference();
+  const wall_state_t s = rig.last_state();
+  CHECK_TRUE(s.x_m != before.x_m);
+  LONGS_EQUAL(Status::QUALITY_LIFT_OFF, s.data_quality);
+  CHECK_TRUE((s.alarm_reasons & alarm_event_t::REASON_INPUT_INVALID) != 0);
+}
+
 TEST(MonitorLoop, ValuesBeyondTheSensorRangeAreReplaced) {
   fw::MonitorSettings s = paper_settings();
   s.sensor_range_mps2 = 5.0;
@@ -583,8 +598,19 @@ TEST(MonitorLoop, ValuesBeyondTheSensorRangeAreReplaced) {
   LONGS_EQUAL(Status::QUALITY_OUT_OF_RANGE, status_quality(rig));
 }
 
+// One integration step per sample here: with sub-steps the lift-off sample's ramp continues into the next sample
+// interval, whose engine step then also reports invalid input (LiftOffHoldsTheStateAndIsFlagged says more).
+fw::MonitorSettings one_step_per_sample() {
+  fw::MonitorSettings s = paper_settings();
+  s.engine.max_step_s = 1.0 / s.sample_rate_hz;
+  return s;
+}
+
+// With one step per sample the whole step is outside the model: the state is held. With sub-steps (the default)
+// the input is linear between samples, so the wall moves until G = g + v̈ reaches zero inside the interval and is held
+// from there (LiftOffWithSubStepsMovesUntilTheCrossing).
 TEST(MonitorLoop, LiftOffHoldsTheStateAndIsFlagged) {
-  Rig rig;
+  Rig rig(one_step_per_sample());
   rig.stream(0, 150);
   CHECK_TRUE(rig.ref.stepper().moving());
   const wall_state_t before = rig.last_state();
@@ -868,7 +894,7 @@ TEST(MonitorLoop, SensorFlagsAreCountedAndFlagged) {
 }
 
 TEST(MonitorLoop, StatusCarriesTheCountersAndTheQualitySinceTheLastStatus) {
-  Rig rig;
+  Rig rig(one_step_per_sample());
   rig.loop.publish_status(kT0);  // before any sample
   rig.stream(0, 150);
   rig.send(accel(150, 0.0));                                           // duplicate

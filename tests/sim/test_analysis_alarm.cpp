@@ -140,19 +140,21 @@ TEST(AnalysisAlarm, TransitionsKeptAreBoundedButAllAreCounted) {
   CHECK_TRUE(sim::analyse(core::paper_wall(), pulse("G1"), o).alarm.transitions.empty());
 }
 
-TEST(AnalysisAlarm, HoldIsCountedInIntegrationSteps) {
-  // G3 sampled at 0.01 s runs at 0.005 s. It lifts the wall just past λ_w·x_inst: WARNING, then below it again. With
-  // no hold the level falls at the first step end below; with a hold of 0.1 s it falls exactly 0.1 s later (20
-  // integration steps; counted in record samples it would be 0.05 s).
+TEST(AnalysisAlarm, HoldIsCountedInSamples) {
+  // G3 sampled at 0.01 s runs in 10 sub-steps of 1 ms (the default max step), the alarm once per record sample, as
+  // the monitor runs it. It lifts the wall just past λ_w·x_inst: WARNING, then below it again. With no hold the
+  // level falls at the first sample end below; with a hold of 0.1 s it falls exactly 0.1 s (10 samples) later.
   const sim::GroundMotion coarse = sim::sample_motion([](double t) { return pulse_mps2("G3", t); }, 0.01, 5.0);
   auto fall_from_warning = [&](double hold_s) {
     sim::AnalysisOptions o = alarm_options();
     o.alarm.hold_s = hold_s;
     const sim::AnalysisResult r = sim::analyse(core::paper_wall(), coarse, o);
-    DOUBLES_EQUAL(0.005, r.dt_s, 0.0);
+    DOUBLES_EQUAL(0.001, r.dt_s, 1e-15);
     check_summary_follows_transitions(r.alarm);
     CHECK_TRUE(r.alarm.max_level == core::AlarmLevel::warning);
     for (const sim::AlarmTransition& t : r.alarm.transitions) {
+      // Transitions are at record sample ends (multiples of 0.01 s).
+      DOUBLES_EQUAL(std::round(t.t_s / 0.01) * 0.01, t.t_s, 1e-9);
       if (t.previous == core::AlarmLevel::warning) return t.t_s;
     }
     FAIL("never fell from WARNING");
@@ -242,6 +244,8 @@ TEST(StudyAlarmRuns, EachRunKeepsItsFirstImminentAndFixedRunsTheirDoubleReferenc
     if (d.collapsed) CHECK_TRUE(*d.t_first_imminent_s < *d.t_collapse_s);
   }
   CHECK_TRUE(some_imminent);
+  DOUBLES_EQUAL(0.001, sim::study::integration_step_s(plan, plan.records[0]), 1e-18);  // the default: 5 sub-steps
+  plan.analysis.max_step_s = 0.005;
   DOUBLES_EQUAL(0.005, sim::study::integration_step_s(plan, plan.records[0]), 0.0);
   plan.analysis.max_step_s = 0.002;
   DOUBLES_EQUAL(0.005 / 3.0, sim::study::integration_step_s(plan, plan.records[0]), 1e-18);

@@ -32,10 +32,13 @@ sim::GroundMotion suite_motion(int set, int component, double pga_g) {
   return m;
 }
 
-sim::AnalysisResult truth_of(const core::WallParameters& wall, const sim::GroundMotion& m, core::Restitution r) {
+// max_step_s = m.dt_s: one history row per record sample (the synthesis tests index rows by sample).
+sim::AnalysisResult truth_of(const core::WallParameters& wall, const sim::GroundMotion& m, core::Restitution r,
+                             double max_step_s = core::kDefaultMaxStep_s) {
   sim::AnalysisOptions o;
   o.restitution = r;
   o.keep_history = true;
+  o.max_step_s = max_step_s;
   return sim::analyse(wall, m, o);
 }
 
@@ -267,7 +270,7 @@ TEST_GROUP(WallSensorSynthesis){};
 TEST(WallSensorSynthesis, SamplesTheHistoryAtTheRecordRate) {
   const core::WallParameters wall = core::paper_wall();
   const sim::GroundMotion m = suite_motion(1, 0, 0.16);
-  const sim::AnalysisResult truth = truth_of(wall, m, core::Restitution{});
+  const sim::AnalysisResult truth = truth_of(wall, m, core::Restitution{}, m.dt_s);
   sim::SensorModel model = noise_free();
   model.x_bias_m = 1e-3;
   model.a_noise_mps2 = 0.0;
@@ -286,7 +289,7 @@ TEST(WallSensorSynthesis, SamplesTheHistoryAtTheRecordRate) {
 TEST(WallSensorSynthesis, RateInterpolatesNoiseIsSeededQuantumRoundsDropoutsRemove) {
   const core::WallParameters wall = core::paper_wall();
   const sim::GroundMotion m = suite_motion(1, 0, 0.16);
-  const sim::AnalysisResult truth = truth_of(wall, m, core::Restitution{});
+  const sim::AnalysisResult truth = truth_of(wall, m, core::Restitution{}, m.dt_s);
   sim::SensorModel model = noise_free();
   model.rate_hz = 400.0;  // two samples per step: the odd ones halfway between rows
   std::vector<core::WallSensorSample> s = sim::synthesize_wall_sensors(wall, truth, m.dt_s, model);

@@ -220,6 +220,7 @@ TEST(AnalysisReference, SubSteppingEqualsAPreInterpolatedRecord) {
   }
   fine.ug_mps2.push_back(coarse.ug_mps2.back());
   sim::AnalysisOptions o;
+  o.max_step_s = 0.005;
   const sim::AnalysisResult a = sim::analyse(core::paper_wall(), coarse, o);
   const sim::AnalysisResult b = sim::analyse(core::paper_wall(), fine, o);
   DOUBLES_EQUAL(0.005, a.dt_s, 1e-15);
@@ -231,6 +232,7 @@ TEST(AnalysisReference, SubSteppingEqualsAPreInterpolatedRecord) {
 TEST(AnalysisReference, HistoryRowsCarryRotationsAndSide) {
   sim::AnalysisOptions o;
   o.keep_history = true;
+  o.max_step_s = 0.005;
   const sim::AnalysisResult r =
       sim::analyse(core::paper_wall(), sim::sample_motion([](double t) { return pulse_mps2("G2", t); }, 0.005, 2.0), o);
   LONGS_EQUAL(401, r.history.size());

@@ -82,7 +82,6 @@ OfflineRun run_offline(const core::WallParameters& wall, const sim::GroundMotion
   o.arithmetic = sim::Arithmetic::fixed_point;
   o.model = core::ModelKind::linear;
   o.evaluate_alarm = true;
-  o.max_step_s = motion.dt_s;
   o.t_end_s = motion.duration_s();
   o.max_alarm_transitions_kept = 100000;
   run.result = sim::analyse(wall, motion, o);
@@ -97,7 +96,6 @@ OfflineRun run_truth(const core::WallParameters& wall, const sim::GroundMotion& 
   o.restitution = r;
   o.evaluate_alarm = true;
   o.keep_history = true;
-  o.max_step_s = motion.dt_s;
   o.t_end_s = motion.duration_s();
   o.max_alarm_transitions_kept = 100000;
   run.result = sim::analyse(wall, motion, o);

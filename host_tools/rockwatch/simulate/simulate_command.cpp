@@ -14,6 +14,7 @@
 #include "common/input_motion.hpp"
 #include "common/output_file.hpp"
 #include "common/wall_sensors.hpp"
+#include "rockwatch/core/stepper_alarm_chain.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
 #include "rockwatch/sim/analysis.hpp"
@@ -34,7 +35,12 @@ constexpr double kMaxHistoryRows = 2e7;  // --out keeps every step in memory bef
 
 void check_work_size(const SimulateRequest& q, const InputMotion& in) {
   const double dt_s = in.motion.dt_s;
-  const double n_sub = std::fmax(1.0, std::ceil(dt_s / q.analysis.max_step_s - 1e-9));  // as sim::analyse does
+  if (dt_s / q.analysis.max_step_s > double(core::kMaxSubsteps) + 1e-9) {
+    throw UsageError("--max-step " + number_text(q.analysis.max_step_s) + " s would need more than " +
+                     std::to_string(core::kMaxSubsteps) + " sub-steps per record sample (the record's dt is " +
+                     number_text(dt_s) + " s): give --max-step >= dt / " + std::to_string(core::kMaxSubsteps));
+  }
+  const double n_sub = std::fmax(1.0, double(core::substeps_per_sample(dt_s, q.analysis.max_step_s)));
   const double h_s = dt_s / n_sub;
   const double t_end_s = q.analysis.t_end_s ? *q.analysis.t_end_s : in.motion.duration_s();
   const double worst_steps = (t_end_s + q.analysis.free_motion_limit_s) / h_s;

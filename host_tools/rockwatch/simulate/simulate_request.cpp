@@ -88,8 +88,7 @@ void add_options(CLI::App& app, RawOptions& raw) {
   app.add_option("--model", raw.model, "Equation of motion: linear (default, the paper's) | full")
       ->type_name("linear|full");
   add_kappa_option(app, raw.kappa);
-  app.add_option("--max-step", raw.max_step, "Longest integration step; larger record steps are sub-stepped [s] (default 0.005)")
-      ->type_name("S");
+  add_max_step_option(app, raw.max_step);
   app.add_option("--t-end", raw.t_end, "End of the forced phase [s] (default: record duration; zero input after it)")
       ->type_name("S");
   app.add_option("--out", raw.out, "Write the time history (one row per integration step) as CSV")->type_name("FILE.csv");

@@ -142,9 +142,7 @@ void add_options(CLI::App& app, RawOptions& raw) {
   app.add_option("--model", raw.model, "Equation of motion: linear (default, the paper's) | full")
       ->type_name("linear|full");
   add_kappa_option(app, raw.kappa);
-  app.add_option("--max-step", raw.max_step,
-                 "Longest integration step; larger record steps are sub-stepped [s] (default 0.005)")
-      ->type_name("S");
+  add_max_step_option(app, raw.max_step);
   add_alarm_options(app, raw.alarm);
   app.add_flag("--observer", raw.observer_evaluation,
                "With --alarms: evaluate the wall observer on true walls that differ from the nominal one (r, b, h1/h2)");

@@ -267,8 +267,9 @@ FixedComparison fixed_comparison(const study::StudyPlan& plan, const std::vector
       if (diff <= 5e-4) ++f.survivors_within_half_mm;
     }
     if (r.t_first_imminent_s && d.t_first_imminent_s) {
-      const double h = study::integration_step_s(plan, plan.records[study::run_key(plan, index).record_index]);
-      // Both times are step ends (a collapse point only when IMMINENT comes with the collapse): a whole number of steps.
+      // The alarm runs once per record sample: both times are sample ends (a collapse point only when IMMINENT comes
+      // with the collapse), a whole number of samples apart.
+      const double h = plan.records[study::run_key(plan, index).record_index].dt_s;
       const auto steps =
           static_cast<std::size_t>(std::llround(std::fabs(*r.t_first_imminent_s - *d.t_first_imminent_s) / h));
       f.first_imminent_diff_samples_max = std::max(f.first_imminent_diff_samples_max.value_or(0), steps);

@@ -8,6 +8,8 @@
 #include <thread>
 #include <utility>
 
+#include "rockwatch/core/stepper_alarm_chain.hpp"
+
 namespace rockwatch::sim::study {
 
 namespace {
@@ -95,7 +97,7 @@ class Worker {
 }  // namespace
 
 double integration_step_s(const StudyPlan& plan, const StudyRecord& record) {
-  const double n_sub = std::max(1.0, std::ceil(record.dt_s / plan.analysis.max_step_s - 1e-9));  // as analyse()
+  const double n_sub = std::max(1, core::substeps_per_sample(record.dt_s, plan.analysis.max_step_s));
   return record.dt_s / n_sub;
 }
 
@@ -175,6 +177,11 @@ void validate_plan(const StudyPlan& plan) {
     const StudyRecord& r = plan.records[i];
     if (!(std::isfinite(r.dt_s) && r.dt_s > 0.0)) reject(record_text(plan, i) + ": sample interval must be > 0 s");
     if (r.ug_mps2.size() < 2) reject(record_text(plan, i) + ": no samples (at least two are needed)");
+    if (r.dt_s / plan.analysis.max_step_s > double(core::kMaxSubsteps) + 1e-9) {
+      reject(record_text(plan, i) + ": max step " + number_text(plan.analysis.max_step_s) + " s would need more than " +
+             std::to_string(core::kMaxSubsteps) + " sub-steps per sample (dt " + number_text(r.dt_s) +
+             " s): choose max step >= dt / " + std::to_string(core::kMaxSubsteps));
+    }
     if (!(std::isfinite(r.peak_ug_mps2) && r.peak_ug_mps2 > 0.0)) {
       reject(record_text(plan, i) + ": no peak (peak |u''| must be > 0 to scale it to a PGA level)");
     }

@@ -16,6 +16,7 @@
 #include "rockwatch/core/alarm.hpp"
 #include "rockwatch/core/model.hpp"
 #include "rockwatch/core/sensor_axes.hpp"
+#include "rockwatch/core/stepper_alarm_chain.hpp"
 #include "rockwatch/core/wall.hpp"
 #include "rockwatch/core/wall_observer.hpp"
 
@@ -27,7 +28,8 @@ struct WallEngineConfig {
   double r_energy = 0.0;           // restitution energy ratio r in [0, 1] [-]
   double kappa = 2.0;              // collapse at κ·x_inst [-]
   ModelKind model = ModelKind::linear;  // the fixed-point engine: linear only; the double engine: either
-  double dt_s = 0.005;             // sample interval = integration step [s]
+  double dt_s = 0.005;             // sample interval [s]
+  double max_step_s = kDefaultMaxStep_s;  // longest integration step: ceil(dt / max_step) sub-steps per sample [s]
   AlarmSettings alarm{};
   SensorAxes<double> axes = default_sensor_axes();
   // The wall observer (core/wall_observer.hpp) between the stepper and the alarm: off, the engine is the open-loop
@@ -48,6 +50,7 @@ enum class WallEngineError : std::uint8_t {
   indicator_constants = 7,       // x_inst or ω outside the indicator formats
   model_not_supported = 8,       // the fixed-point engine runs the linear model only
   observer_invalid = 9,          // the observer refused its options or the step (see observer_error())
+  max_step_invalid = 10,         // max_step_s must be > 0 and give at most kMaxSubsteps sub-steps per sample
 };
 
 
@@ -58,6 +61,9 @@ inline WallEngineError validate_wall_engine_config(const WallEngineConfig& c) {
   if (!(c.kappa >= 1.0 && c.kappa < 100.0)) return WallEngineError::kappa_out_of_range;
   if (!alarm_settings_valid(c.alarm)) return WallEngineError::alarm_settings_invalid;
   if (!sensor_axes_valid(c.axes)) return WallEngineError::sensor_axes_invalid;
+  if (substeps_per_sample(c.dt_s, c.max_step_s) < 1 || c.dt_s / c.max_step_s > double(kMaxSubsteps) + 1e-9) {
+    return WallEngineError::max_step_invalid;
+  }
   if (c.observer_enabled && validate_observer_options(c.observer) != ObserverError::ok) {
     return WallEngineError::observer_invalid;
   }

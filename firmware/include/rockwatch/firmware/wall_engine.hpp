@@ -68,6 +68,7 @@ class WallEngine final : public SampleEngine {
   const core::ObserverStepReport& last_observer_report() const { return observer_report_; }
 
   const core::FixedRockingStepper& stepper() const { return chain_.stepper(); }
+  int substeps() const { return chain_.substeps(); }  // integration sub-steps per sample
   const WallEngineOutput& last() const { return out_; }
   core::FixedSetupError fixed_setup_error() const { return chain_.setup_error(); }
 

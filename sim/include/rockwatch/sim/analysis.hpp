@@ -1,5 +1,6 @@
 // Double-precision response analysis of a wall to a ground motion: the verified engine every tool uses.
-// Runs core::RockingStepper over a record (sub-stepped to max_step), then decides the outcome after the
+// Runs core::StepperAlarmChain over a record sample by sample (each sample interval in ceil(dt / max_step)
+// sub-steps, the input linear between samples; the alarm once per sample, as the monitor does), then decides the outcome after the
 // record by energy (SPEC §4.3), and summarises the response.
 #pragma once
 
@@ -12,6 +13,7 @@
 #include "rockwatch/core/alarm.hpp"
 #include "rockwatch/core/model.hpp"
 #include "rockwatch/core/restitution.hpp"
+#include "rockwatch/core/stepper_alarm_chain.hpp"
 #include "rockwatch/core/wall.hpp"
 #include "rockwatch/core/wall_observer.hpp"
 
@@ -34,7 +36,8 @@ struct AnalysisOptions {
   core::ModelKind model = core::ModelKind::linear;
   core::Restitution restitution{};      // default r_exp
   double kappa = 2.0;                   // collapse at κ·x_inst [-], ≥ 1
-  double max_step_s = 0.005;            // records with a larger dt are sub-stepped [s]
+  double max_step_s = core::kDefaultMaxStep_s;  // longest integration step: ceil(dt / max_step) sub-steps per
+                                        // record sample (at most core::kMaxSubsteps) [s]
   std::optional<double> t_end_s;        // integrate the input to this time (zero input past the record) [s]
   double free_motion_limit_s = 600.0;   // longest free motion after t_end before giving up [s]
   bool keep_history = false;            // fill AnalysisResult::history (one row per integration step)

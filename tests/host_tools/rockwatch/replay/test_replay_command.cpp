@@ -329,7 +329,8 @@ TEST(ReplayLog, SimulateReadsSamplesOutSampleForSample) {
                                            "--speed", "0", "--lcm-url", "memq://", "--samples-out", csv_path}));
   const SamplesCsv csv = read_samples(csv_path);
   const ProcessResult r =
-      run_rockwatch({"simulate", "--record", csv_path, "--arith", "fixed", "--dt", "0.005", "--out", history});
+      run_rockwatch({"simulate", "--record", csv_path, "--arith", "fixed", "--dt", "0.005", "--max-step", "0.005",
+                     "--out", history});
   CHECK_EQUAL_TEXT(0, r.exit_status, describe(r).c_str());
   const rockwatch::test::Csv h = rockwatch::test::read_csv(history);
   CHECK(h.rows.size() >= csv.ug.size());

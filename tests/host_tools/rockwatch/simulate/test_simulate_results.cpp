@@ -106,7 +106,8 @@ sim::GroundMotion el_centro_scaled(double pga_g, bool with_vertical, double* fac
 TEST_GROUP(SimulateElCentro){};
 
 TEST(SimulateElCentro, JsonHasExactlyTheDocumentedKeysAndValues) {
-  const nlohmann::json j = run_json({"simulate", "--record", record_path(kElCentro180), "--scale-pga", "0.25", "--json"});
+  const nlohmann::json j = run_json(
+      {"simulate", "--record", record_path(kElCentro180), "--scale-pga", "0.25", "--max-step", "0.005", "--json"});
   CHECK_TRUE(j.is_object());
   std::set<std::string> keys;
   for (const auto& item : j.items()) keys.insert(item.key());
@@ -174,7 +175,7 @@ TEST(SimulateElCentro, VerticalIsScaledByTheHorizontalFactor) {
   const TempDir dir;
   const std::string csv_path = dir.file("history.csv");
   const ProcessResult r = run_rockwatch({"simulate", "--record", record_path(kElCentro180), "--vertical",
-                                         record_path(kElCentroUp), "--scale-pga", "0.1", "--out", csv_path});
+                                         record_path(kElCentroUp), "--scale-pga", "0.1", "--max-step", "0.005", "--out", csv_path});
   CHECK_EQUAL_TEXT(0, r.exit_status, describe(r).c_str());
   double factor = 0.0;
   const sim::GroundMotion expected = el_centro_scaled(0.1, true, &factor);
@@ -191,7 +192,8 @@ TEST(SimulateElCentro, VerticalIsScaledByTheHorizontalFactor) {
 }
 
 TEST(SimulateElCentro, HumanReadableSummary) {
-  const ProcessResult collapsed = run_rockwatch({"simulate", "--record", record_path(kElCentro180), "--scale-pga", "0.25"});
+  const ProcessResult collapsed =
+      run_rockwatch({"simulate", "--record", record_path(kElCentro180), "--scale-pga", "0.25", "--max-step", "0.005"});
   CHECK_EQUAL_TEXT(0, collapsed.exit_status, describe(collapsed).c_str());
   STRCMP_CONTAINS("VERDICT                  COLLAPSED at t = ", collapsed.out.c_str());
   STRCMP_CONTAINS("per metre of wall", collapsed.out.c_str());
@@ -199,7 +201,8 @@ TEST(SimulateElCentro, HumanReadableSummary) {
   STRCMP_CONTAINS("r = 0.894142 (exp", collapsed.out.c_str());
   STRCMP_CONTAINS("0.2500 g = 2.4525 m/s2", collapsed.out.c_str());
 
-  const ProcessResult survived = run_rockwatch({"simulate", "--record", record_path(kElCentro180), "--scale-pga", "0.13"});
+  const ProcessResult survived =
+      run_rockwatch({"simulate", "--record", record_path(kElCentro180), "--scale-pga", "0.13", "--max-step", "0.005"});
   CHECK_EQUAL_TEXT(0, survived.exit_status, describe(survived).c_str());
   STRCMP_CONTAINS("VERDICT                  SURVIVED", survived.out.c_str());
   CHECK_TRUE(survived.err.empty());
@@ -226,9 +229,10 @@ TEST_GROUP(SimulateG7) {
   void teardown() override { dir.reset(); }
 };
 
-// The project's verified reference (tests/data/reference, responses/G7 newmark_paper_linear_substep_dt0.005).
+// The project's verified reference (tests/data/reference, responses/G7 newmark_paper_linear_substep_dt0.005), at its
+// step (one step per 5 ms sample).
 TEST(SimulateG7, CollapsesAtTheReferenceTime) {
-  const nlohmann::json j = run_json({"simulate", "--record", record, "--json"});
+  const nlohmann::json j = run_json({"simulate", "--record", record, "--max-step", "0.005", "--json"});
   CHECK_TRUE(j["collapsed"].get<bool>());
   CHECK_FALSE(j["collapse_after_end"].get<bool>());
   DOUBLES_EQUAL(0.951268486137, j["t_collapse_s"].get<double>(), 1e-9);
@@ -242,7 +246,7 @@ TEST(SimulateG7, CollapsesAtTheReferenceTime) {
 
 TEST(SimulateG7, OutWritesTheTimeHistory) {
   const std::string csv_path = dir->file("g7.csv");
-  const ProcessResult r = run_rockwatch({"simulate", "--record", record, "--out", csv_path, "--json"});
+  const ProcessResult r = run_rockwatch({"simulate", "--record", record, "--max-step", "0.005", "--out", csv_path, "--json"});
   CHECK_EQUAL_TEXT(0, r.exit_status, describe(r).c_str());
   const nlohmann::json j = nlohmann::json::parse(r.out);
   const rockwatch::test::Csv csv = rockwatch::test::read_csv(csv_path);

@@ -285,7 +285,7 @@ TEST_GROUP(StudyAlarmArithmetic) {
     study::StudyRecord r;
     r.name = "rec";
     r.component = "X";
-    r.dt_s = 0.01;  // two integration steps of 0.005 s per sample
+    r.dt_s = 0.01;  // ten integration steps of 1 ms per sample (the default max step)
     r.ug_mps2 = {0.0, 1.0, 0.0};
     r.peak_ug_mps2 = 1.0;
     plan.records.push_back(r);
@@ -353,10 +353,11 @@ TEST(StudyAlarmArithmetic, FixedAgainstDouble) {
   plan.dt_check = true;
   std::vector<study::RunResult> results(6);
   for (study::RunResult& r : results) r.done = true;
-  // 0: both survive, max |x| 0.010 vs 0.012; IMMINENT 3 steps apart (0.015 s at 0.005 s).
+  // 0: both survive, max |x| 0.010 vs 0.012; IMMINENT 3 record samples apart (0.03 s at 0.01 s; the alarm runs once
+  // per sample).
   results[0].max_abs_x_m = 0.010;
   results[0].t_first_imminent_s = 1.000;
-  results[0].reference = study::DoubleReference{false, std::nullopt, 0.012, 1.015};
+  results[0].reference = study::DoubleReference{false, std::nullopt, 0.012, 1.030};
   results[0].collapsed_half_step = false;
   // 1: both collapse.
   results[1].collapsed = true;

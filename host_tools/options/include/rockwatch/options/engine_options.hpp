@@ -17,4 +17,8 @@ void add_restitution_option(CLI::App& app, std::string& text);
 // Registers --kappa (parse_kappa reads it); the help states default_kappa().
 void add_kappa_option(CLI::App& app, std::string& text);
 
+// Registers --max-step, the longest integration step (core::kDefaultMaxStep_s when not given): each input sample is
+// integrated in ceil(dt / max_step) sub-steps with the input linear between samples. `extra` ends the help.
+void add_max_step_option(CLI::App& app, std::string& text, const std::string& extra = "");
+
 }  // namespace rockwatch::cli
