@@ -55,13 +55,7 @@ inline firmware::WallEngineConfig fixed_engine_config() {
 }
 
 // The input type of FixedRockingStepper::step (its own wide format), whatever the engine's formats are.
-template <typename F>
-struct StepArgument;
-template <typename C, typename R, typename A, typename B>
-struct StepArgument<R (C::*)(A, B)> {
-  using type = A;
-};
-using FixedStepInput = StepArgument<decltype(&core::FixedRockingStepper::step)>::type;
+using FixedStepInput = core::AlarmChainTraits<core::FixedRockingStepper>::Input;
 
 inline std::vector<FixedStepInput> to_fixed_step_inputs(const std::vector<double>& ug) {
   std::vector<FixedStepInput> out;
