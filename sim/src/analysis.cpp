@@ -249,6 +249,11 @@ AnalysisResult run_analysis(const core::WallParameters& wall, const GroundMotion
   ObservedSteps<Engine>* const observer = observed ? &*observed : nullptr;
 
   const detail::GridInput input{motion, start.n_sub};
+  // Every input the engine is given, in double, when asked (AnalysisOptions::engine_inputs_out).
+  const auto note_input = [&o](double ug, double vg) {
+    if (o.engine_inputs_out) o.engine_inputs_out->push_back({ug, vg});
+  };
+  note_input(input.ug(0), input.vg(0));
   const typename Engine::Input ug0 = Engine::input(input.ug(0)), vg0 = Engine::input(input.vg(0));
   engine.chain().reset(ug0, vg0);
   ResponseRecorder recorder(wall, o, result);
@@ -257,6 +262,7 @@ AnalysisResult run_analysis(const core::WallParameters& wall, const GroundMotion
   const auto forced_steps = static_cast<std::size_t>(std::llround(result.t_end_s / h));
   std::size_t k = 0;
   for (; k < forced_steps && !engine.stepper().collapsed(); ++k) {
+    note_input(input.ug(k + 1), input.vg(k + 1));
     analysis_step(engine, Engine::input(input.ug(k + 1)), Engine::input(input.vg(k + 1)), double(k) * h, h, o,
                   recorder, result, observer);
   }
@@ -267,6 +273,7 @@ AnalysisResult run_analysis(const core::WallParameters& wall, const GroundMotion
   const typename Engine::Input zero = Engine::input(0.0);
   std::size_t free = 0;
   for (; !engine.stepper().collapsed() && !engine.safe() && free < free_steps; ++free, ++k) {
+    note_input(0.0, 0.0);
     analysis_step(engine, zero, zero, double(k) * h, h, o, recorder, result, observer);
   }
   result.t_final_s = double(k) * h;

@@ -3,6 +3,7 @@
 // record by energy (SPEC §4.3), and summarises the response.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <stdexcept>
@@ -49,6 +50,11 @@ struct AnalysisOptions {
   const std::vector<core::WallSensorSample>* wall_sensors = nullptr;
   core::ObserverOptions observer{};
   int observer_r_after_impacts = 5;     // ObserverSummary::r_estimate_after_impacts after this many impacts
+  // When set (not owned), receives the engine's input of every step as run, in double before any conversion: the
+  // input the engine was reset with, then one {ü, v̈} [m/s²] per step (sub-stepped inputs, then the zeros of the free
+  // motion after the record), up to where the analysis stopped. `rockwatch simulate --engine-input-out` writes it for
+  // the Cortex-M4 replay (scripts/m4-replay.sh), which must run exactly the steps the host ran.
+  std::vector<std::array<double, 2>>* engine_inputs_out = nullptr;
 };
 
 // One change of alarm level, at the end of the integration step where it happened.
