@@ -111,6 +111,10 @@ if [[ -z $image ]]; then
   fi
 fi
 [[ -f $image ]] || { echo "m4-replay: image $image not found" >&2; exit 1; }
+if [[ $(head -c 4 "$image" | od -An -tx1 | tr -d ' \n') != 7f454c46 ]]; then
+  echo "m4-replay: $image is not an ELF image (build it with scripts/embedded-build.sh --m4-replay)" >&2
+  exit 1
+fi
 image=$(cd "$(dirname "$image")" && pwd)/$(basename "$image")
 
 # 3. The emulation, bounded in time. The image reads input.bin and writes output.txt in QEMU's working directory.
