@@ -37,7 +37,7 @@ constexpr int kOverheadRuns = 64;
 // Buffered reads of the input file.
 class InputFile {
  public:
-  explicit InputFile(std::int32_t handle) : handle_(handle) {}
+  void attach(std::int32_t handle) { handle_ = handle; }
   // Exactly `size` bytes, or false (end of file or error).
   bool read(void* data, std::size_t size) {
     auto* out = static_cast<unsigned char*>(data);
@@ -60,7 +60,7 @@ class InputFile {
   bool read_double(double& v) { return read(&v, sizeof v); }
 
  private:
-  std::int32_t handle_;
+  std::int32_t handle_ = -1;
   unsigned char buffer_[4096];
   std::size_t pos_ = 0, end_ = 0;
 };
@@ -68,7 +68,7 @@ class InputFile {
 // Buffered text output.
 class OutputFile {
  public:
-  explicit OutputFile(std::int32_t handle) : handle_(handle) {}
+  void attach(std::int32_t handle) { handle_ = handle; }
   void text(const char* s) {
     while (*s != '\0') put(*s++);
   }
@@ -101,13 +101,15 @@ class OutputFile {
     if (used_ == sizeof buffer_) flush();
     buffer_[used_++] = c;
   }
-  std::int32_t handle_;
+  std::int32_t handle_ = -1;
   char buffer_[4096];
   std::size_t used_ = 0;
   bool ok_ = true;
 };
 
-// Static storage: no heap, no large stack frames.
+// Static storage: no heap, no large stack frames (the stack measured is the engine's and the replay loop's).
+InputFile g_in;
+OutputFile g_out;
 firmware::WallEngine g_seam;    // through step(): what the monitor loop calls
 firmware::WallEngine g_direct;  // through process_wall(): the engine alone
 char g_command_line[512];
@@ -156,7 +158,8 @@ std::uint32_t run_replay(std::uint32_t (*stack_used_bytes)()) {
   }
   const std::int32_t in_handle = host_open(input_path, std::strlen(input_path), kOpenReadBinary);
   if (in_handle < 0) return fail(replay_status::input_open, "cannot open the input file");
-  InputFile in(in_handle);
+  InputFile& in = g_in;
+  in.attach(in_handle);
 
   char magic[sizeof firmware::kEngineInputMagic];
   if (!in.read(magic, sizeof magic) || std::memcmp(magic, firmware::kEngineInputMagic, sizeof magic) != 0) {
@@ -191,7 +194,8 @@ std::uint32_t run_replay(std::uint32_t (*stack_used_bytes)()) {
 
   const std::int32_t out_handle = host_open(output_path, std::strlen(output_path), kOpenWriteBinary);
   if (out_handle < 0) return fail(replay_status::output, "cannot open the output file");
-  OutputFile out(out_handle);
+  OutputFile& out = g_out;
+  out.attach(out_handle);
   out.text("rockwatch-m4-replay 1\n");
 
   // The constant cost of a measurement window: an empty call of the same shape between the two reads.
