@@ -9,7 +9,8 @@
 # instruction 1024 ns of virtual time, and the board's 25 MHz timer, read before and after each step, gives the
 # instructions in between exactly (firmware/embedded/m4_replay/instruction_clock.hpp; docs/BENCHMARKS.md).
 #
-#   scripts/m4-replay.sh [--m4-image ELF] [--m4-trace FILE.csv] [--m4-timeout S] SIMULATE_OPTIONS...
+#   scripts/m4-replay.sh [--m4-image ELF] [--m4-trace FILE.csv] [--m4-timeout S] [--m4-profile SAMPLE]
+#                        SIMULATE_OPTIONS...
 #     SIMULATE_OPTIONS  `rockwatch simulate`'s own: --record/--suite ..., --units, --dt, --scale-pga, --vertical,
 #                       the wall (--b --h1 --h2 ...), --r, --kappa, --max-step, --t-end, the alarm settings, ...
 #                       (--arith fixed and --alarms are added; --arith double, --wall-sensors and --engine-input-out
@@ -18,6 +19,8 @@
 #                       source is newer)
 #     --m4-trace FILE   also write every sample as CSV: sample,insn_step,insn_engine,level,x_m,xd_mps
 #     --m4-timeout S    give up on QEMU after S seconds (default 600)
+#     --m4-profile N    also profile the step of input sample N (a second run: SysTick samples the program counter
+#                       every 97.66 instructions) and add "profile": the functions' shares of that step
 #   Environment: ROCKWATCH (the rockwatch binary; default build/release/host_tools/rockwatch, else on PATH),
 #                QEMU_SYSTEM_ARM (default qemu-system-arm), ARM_GXX (see embedded-build.sh).
 # Output keys: machine, samples (input samples including sample 0, which starts the engine), insn_per_sample
@@ -33,13 +36,16 @@ python=/usr/bin/python3
 
 usage() { sed -n '2,30p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
 
-image="" trace="" timeout_s=600
+image="" trace="" timeout_s=600 profile_sample=""
 sim_args=()
 arith_given=0
 while [[ $# -gt 0 ]]; do
   case $1 in
     --m4-image) [[ $# -ge 2 ]] || usage; image=$2; shift 2 ;;
     --m4-trace) [[ $# -ge 2 ]] || usage; trace=$2; shift 2 ;;
+    --m4-profile)
+      [[ $# -ge 2 && $2 =~ ^[1-9][0-9]{0,9}$ ]] || { echo "m4-replay: --m4-profile needs an input sample index >= 1" >&2; exit 2; }
+      profile_sample=$2; shift 2 ;;
     --m4-timeout)
       [[ $# -ge 2 && $2 =~ ^[1-9][0-9]*$ ]] || { echo "m4-replay: --m4-timeout needs whole seconds > 0" >&2; exit 2; }
       timeout_s=$2; shift 2 ;;
@@ -119,11 +125,18 @@ image=$(cd "$(dirname "$image")" && pwd)/$(basename "$image")
 
 # 3. The emulation, bounded in time. The image reads input.bin and writes output.txt in QEMU's working directory.
 shift_icount=10
+run_qemu() {  # OUTPUT_NAME [profile SAMPLE]
+  (cd "$work" && timeout --kill-after=10 "$timeout_s" "$qemu" -M mps2-an386 -cpu cortex-m4 -nographic -monitor none \
+     -serial none -semihosting-config enable=on,target=native -icount shift=$shift_icount \
+     -kernel "$image" -append "input.bin $*") >"$work/qemu.log" 2>&1
+}
 set +e
-(cd "$work" && timeout --kill-after=10 "$timeout_s" "$qemu" -M mps2-an386 -cpu cortex-m4 -nographic -monitor none \
-   -serial none -semihosting-config enable=on,target=native -icount shift=$shift_icount \
-   -kernel "$image" -append "input.bin output.txt") >"$work/qemu.log" 2>&1
+run_qemu output.txt
 status=$?
+if [[ $status -eq 0 && -n $profile_sample ]]; then
+  run_qemu profile.txt profile "$profile_sample"
+  status=$?
+fi
 set -e
 if [[ $status -ne 0 ]]; then
   cat "$work/qemu.log" >&2
@@ -140,11 +153,17 @@ if [[ $status -ne 0 ]]; then
 fi
 
 qemu_version=$("$qemu" --version | sed -n '1s/^QEMU emulator version \([0-9][0-9.]*\).*/\1/p')
+symbols=""
+if [[ -n $profile_sample ]]; then
+  symbols=$work/symbols.txt
+  "${ARM_NM:-arm-none-eabi-nm}" -C -S --defined-only "$image" >"$symbols" 2>/dev/null || : >"$symbols"
+fi
 # 4. Ticks to instructions, statistics and the JSON.
-"$python" - "$work/output.txt" "$shift_icount" "${qemu_version:-?}" "$trace" <<'EOF'
+"$python" - "$work/output.txt" "$shift_icount" "${qemu_version:-?}" "$trace" "$profile_sample" "$symbols" <<'EOF'
 import json, math, struct, sys
 
 path, shift, qemu_version, trace = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4]
+profile_sample, symbols = sys.argv[5], sys.argv[6]
 LEVELS = ["QUIET", "ROCKING", "WARNING", "IMMINENT", "COLLAPSED"]
 NS_PER_TICK = 40.0                      # the board's 25 MHz timer clock
 ticks_per_insn = (1 << shift) / NS_PER_TICK
@@ -214,7 +233,7 @@ if trace:
         for i, st in enumerate(steps, start=1):
             t.write("%d,%d,%d,%s,%r,%r\n" % (i, step_insn[i - 1], engine_insn[i - 1], LEVELS[st[2]], st[3], st[4]))
 
-print(json.dumps({
+result = {
     "machine": "mps2-an386 (Cortex-M4F, qemu-system-arm %s, -icount shift=%d)" % (qemu_version, shift),
     "samples": len(steps) + 1,
     "insn_per_sample": stats(step_insn),
@@ -223,5 +242,49 @@ print(json.dumps({
     "overhead_insn": overhead,
     "stack_bytes": end[1],
     "transitions": transitions,
-}, indent=2))
+}
+
+if profile_sample:
+    k = int(profile_sample)
+    if k >= len(steps) + 1:
+        fail("--m4-profile %d: the replay has samples 0 to %d" % (k, len(steps)))
+    interval = None
+    addresses = []
+    for line in open(path.replace("output.txt", "profile.txt")).read().splitlines():
+        f = line.split()
+        if f[0] == "profile":
+            interval, dropped = int(f[1]), int(f[3])
+            if dropped:
+                fail("the profiler dropped %d addresses" % dropped)
+        elif f[0] == "p":
+            addresses.append(int(f[1], 16) & ~1)
+    if interval is None:
+        fail("the profiling run wrote no profile")
+    functions = []  # (start, end, name): functions of the image, from nm
+    for line in open(symbols):
+        f = line.split(None, 3)
+        if len(f) == 4 and f[2] in "TtWw":
+            start_addr, size = int(f[0], 16), int(f[1], 16)
+            name = f[3].strip()
+            functions.append((start_addr, start_addr + size, name.split("(")[0] if "(" in name else name))
+    functions.sort()
+    counts = {}
+    for a in addresses:
+        name = "0x%x" % a
+        for lo, hi, n in functions:
+            if lo <= a < hi:
+                name = n
+                break
+        counts[name] = counts.get(name, 0) + 1
+    total = max(1, len(addresses))
+    result["profile"] = {
+        "sample": k,
+        "insn": step_insn[k - 1],
+        "interval_insn": round(interval / ticks_per_insn, 2),
+        "addresses": len(addresses),
+        "functions": [{"function": n, "share": round(c / total, 4)}
+                      for n, c in sorted(counts.items(), key=lambda kv: -kv[1])[:15]],
+    }
+
+print(json.dumps(result, indent=2))
 EOF

@@ -1,4 +1,5 @@
-// The replay on the Cortex-M4: command line "IMAGE INPUT OUTPUT" (QEMU: -kernel IMAGE -append "INPUT OUTPUT").
+// The replay on the Cortex-M4: command line "IMAGE INPUT OUTPUT [profile SAMPLE]" (QEMU: -kernel IMAGE -append
+// "INPUT OUTPUT ..."); with "profile SAMPLE" the step of that sample is also profiled (profiler.hpp).
 // Reads the engine configuration from INPUT (rockwatch/firmware/engine_input_format.hpp), initialises
 // firmware::WallEngine with it on the target (init in double: newlib's libm and libgcc's soft double), then replays
 // every input sample as the host's `rockwatch simulate --arith fixed` does: sample 0 starts the engine (start()),
@@ -12,6 +13,8 @@
 //   start <ticks> <level>                sample 0: start() (the engine at rest)
 //   s <ticks_step> <ticks_engine> <level> <x> <xd>   samples 1 …: step() through the seam, process_wall() alone, the
 //                                        level after it, and the published x_m, xd_mps (EngineSample)
+//   profile <interval_ticks> <n> <dropped>   with "profile SAMPLE": the profiler's settings and addresses recorded,
+//   p <address>                          then one line per recorded address (hexadecimal)
 //   end <samples> <stack_bytes>          the number of samples and the deepest stack use [bytes]
 // ticks are of the instruction clock (instruction_clock.hpp); level is core::AlarmLevel as a number; x and xd are
 // the bits of the doubles in hexadecimal (16 digits), so that the host compares the trajectory exactly.
@@ -20,6 +23,7 @@
 #include <cstring>
 
 #include "instruction_clock.hpp"
+#include "profiler.hpp"
 #include "replay.hpp"
 #include "rockwatch/firmware/engine_input_format.hpp"
 #include "rockwatch/firmware/wall_engine.hpp"
@@ -33,6 +37,7 @@ namespace core = rockwatch::core;
 namespace firmware = rockwatch::firmware;
 
 constexpr int kOverheadRuns = 64;
+constexpr std::uint32_t kProfileIntervalTicks = 2500;  // 97.66 instructions at -icount shift=10: no loop aliases it
 
 // Buffered reads of the input file.
 class InputFile {
@@ -130,18 +135,30 @@ std::uint32_t fail(std::uint32_t status, const char* what) {
   return status;
 }
 
-// The two file names after the image's own name; false unless there are exactly three words.
-bool split_command_line(char* line, const char*& input, const char*& output) {
-  const char* words[4] = {};
+// The two file names after the image's own name, and the sample to profile after "profile" (none: UINT64_MAX);
+// false unless the words are exactly those.
+bool split_command_line(char* line, const char*& input, const char*& output, std::uint64_t& profile_sample) {
+  const char* words[6] = {};
   int n = 0;
   for (char* p = line; *p != '\0';) {
     while (*p == ' ') *p++ = '\0';
     if (*p == '\0') break;
-    if (n == 4) return false;
+    if (n == 6) return false;
     words[n++] = p;
     while (*p != '\0' && *p != ' ') ++p;
   }
-  if (n != 3) return false;
+  profile_sample = UINT64_MAX;
+  if (n == 5) {
+    if (std::strcmp(words[3], "profile") != 0 || *words[4] == '\0') return false;
+    std::uint64_t v = 0;
+    for (const char* c = words[4]; *c != '\0'; ++c) {
+      if (*c < '0' || *c > '9' || v > UINT64_MAX / 20) return false;
+      v = v * 10 + static_cast<std::uint64_t>(*c - '0');
+    }
+    profile_sample = v;
+  } else if (n != 3) {
+    return false;
+  }
   input = words[1];
   output = words[2];
   return true;
@@ -152,9 +169,11 @@ bool split_command_line(char* line, const char*& input, const char*& output) {
 std::uint32_t run_replay(std::uint32_t (*stack_used_bytes)()) {
   const char* input_path = nullptr;
   const char* output_path = nullptr;
+  std::uint64_t profile_sample = UINT64_MAX;
   if (!host_command_line(g_command_line, sizeof g_command_line) ||
-      !split_command_line(g_command_line, input_path, output_path)) {
-    return fail(replay_status::usage, "expected the command line IMAGE INPUT OUTPUT (qemu -append \"INPUT OUTPUT\")");
+      !split_command_line(g_command_line, input_path, output_path, profile_sample)) {
+    return fail(replay_status::usage,
+                "expected the command line IMAGE INPUT OUTPUT [profile SAMPLE] (qemu -append \"INPUT OUTPUT ...\")");
   }
   const std::int32_t in_handle = host_open(input_path, std::strlen(input_path), kOpenReadBinary);
   if (in_handle < 0) return fail(replay_status::input_open, "cannot open the input file");
@@ -231,9 +250,11 @@ std::uint32_t run_replay(std::uint32_t (*stack_used_bytes)()) {
       out.text("\n");
       continue;
     }
+    if (k == profile_sample) profiler_start(kProfileIntervalTicks);
     std::uint32_t t0 = clock_now();
     const firmware::EngineSample sample = measured_step(g_seam, ug, vg);
     std::uint32_t t1 = clock_now();
+    if (k == profile_sample) profiler_stop();
     const core::AlarmLevel level = sample.alarm.level;
     const std::uint32_t ticks_step = ticks_between(t0, t1);
     const core::AccelQ7_56 ug_q(ug), vg_q(vg);
@@ -259,6 +280,21 @@ std::uint32_t run_replay(std::uint32_t (*stack_used_bytes)()) {
   }
   unsigned char extra = 0;
   if (in.read(&extra, 1)) return fail(replay_status::input_format, "the input has bytes after its last sample");
+  if (profile_sample != UINT64_MAX) {
+    out.text("profile ");
+    out.number(kProfileIntervalTicks);
+    out.text(" ");
+    out.number(profiler_count());
+    out.text(" ");
+    out.number(profiler_dropped());
+    out.text("\n");
+    const std::uint32_t* addresses = profiler_addresses();
+    for (std::uint32_t i = 0; i < profiler_count(); ++i) {
+      out.text("p ");
+      out.hex(addresses[i]);
+      out.text("\n");
+    }
+  }
   out.text("end ");
   out.number(n_samples);
   out.text(" ");

@@ -2,7 +2,8 @@
    address 0 (the M-profile reset reads the initial SP and PC from it), then Reset_Handler: FPU access on (the code is
    built with -mfloat-abi=hard, and any FP instruction before CPACR grants access faults), .data copied from its load
    address, .bss zeroed, and m4_replay_start() (replay_start.cpp: constructors, the replay, semihosting exit).
-   Every exception other than reset ends in m4_replay_fault() with its number (IPSR), which reports it and exits. */
+   Every exception other than reset and SysTick ends in m4_replay_fault() with its number (IPSR), which reports it and
+   exits; SysTick hands the interrupted address to the profiler (m4_profile_tick, replay_main.cpp). */
   .syntax unified
   .cpu cortex-m4
   .fpu fpv4-sp-d16
@@ -14,10 +15,11 @@
 m4_vectors:
   .word _estack
   .word Reset_Handler
-  .rept 14                  /* NMI, HardFault, MemManage, BusFault, UsageFault, 4 reserved, SVC, DebugMon, 1 reserved,
-                               PendSV, SysTick */
+  .rept 13                  /* NMI, HardFault, MemManage, BusFault, UsageFault, 4 reserved, SVC, DebugMon, 1 reserved,
+                               PendSV */
   .word Fault_Handler
   .endr
+  .word SysTick_Handler     /* the profiler's sampling tick (replay_main.cpp), enabled only when profiling */
   .rept 32                  /* external interrupts: none are enabled */
   .word Fault_Handler
   .endr
@@ -57,6 +59,17 @@ Reset_Handler:
 5:
   b 5b
   .size Reset_Handler, . - Reset_Handler
+
+  /* The interrupted instruction's address is the stacked PC, 24 bytes above the exception frame's start (the basic
+     frame comes first, also when the FPU's registers are stacked); the thread runs on the main stack. */
+  .thumb_func
+  .global SysTick_Handler
+  .type SysTick_Handler, %function
+SysTick_Handler:
+  mrs r0, msp
+  ldr r0, [r0, #24]
+  b m4_profile_tick         /* returns to the exception return in lr */
+  .size SysTick_Handler, . - SysTick_Handler
 
   .thumb_func
   .global Fault_Handler

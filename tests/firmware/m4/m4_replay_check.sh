@@ -60,6 +60,34 @@ run_case elcentro_vertical_wall any --record "$records/RSN6_IMPVALL.I_I-ELC180-h
   --vertical "$records/RSN6_IMPVALL.I_I-ELC-UP.AT2" --scale-pga 0.3 --b 0.12 --h1 1.6 --h2 1.5 --r ana --kappa 1.5 \
   --t-end 12
 
+# The profiler (--m4-profile): the collapse case's worst sample, in a second run. The addresses it records must
+# number about the step's instructions over the sampling interval (97.66 instructions, plus the handler's own ~13
+# per tick), and the shares name functions of the image.
+if [[ -f $work/set01_x_0.40g/m4.json ]]; then
+  worst=$("$python" -c 'import json,sys; print(json.load(open(sys.argv[1]))["insn_per_sample"]["max_sample"])' \
+          "$work/set01_x_0.40g/m4.json")
+  if "$root/scripts/m4-replay.sh" --m4-image "$image" --m4-profile "$worst" --m4-timeout 120 --suite "$suite" --set 1 \
+       --component X --scale-pga 0.40 >"$work/profile.json" 2>"$work/profile.err" &&
+     "$python" - "$work/profile.json" "$worst" <<'PY'
+import json, sys
+j = json.load(open(sys.argv[1]))
+p = j["profile"]
+insn = j["insn_per_sample"]["max"]
+ok = (p["sample"] == int(sys.argv[2]) and p["insn"] == insn and insn / 97.66 <= p["addresses"] <= insn / 70.0
+      and 0.5 < sum(f["share"] for f in p["functions"]) <= 1.0001
+      and not any(f["function"].startswith("0x") for f in p["functions"][:5]))
+print("profile of sample %d (%d instructions, %d addresses): %s" % (
+    p["sample"], insn, p["addresses"],
+    ", ".join("%s %.1f %%" % (f["function"].split("::")[-1], 100 * f["share"]) for f in p["functions"][:4])))
+sys.exit(0 if ok else 1)
+PY
+  then :; else
+    cat "$work/profile.err"
+    echo "FAILED: the profile of sample $worst"
+    failed=1
+  fi
+fi
+
 # Negative controls: the comparison must see a transition one sample late and a displacement one ulp off.
 control=$work/set01_x_0.40g
 if [[ -f $control/m4.json ]]; then
