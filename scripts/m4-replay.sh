@@ -27,14 +27,16 @@
 # {median, p99, max, max_sample} of step() through the monitor's seam (double -> Q7.56, the chain, the published
 # sample back in double) over samples 1..n-1, engine_insn_per_sample (the same for process_wall() alone, inputs
 # converted beforehand), start_insn, overhead_insn (the measurement window's own cost, subtracted), stack_bytes,
-# transitions [{sample, level}] (sample = index of the input sample whose step changed the level).
+# transitions [{sample, level}] (sample = index of the input sample whose step changed the level); with
+# --m4-profile also profile {sample, insn, interval_insn, addresses, functions [{function, share}]}.
 # Exit status: 0 printed; 1 build, emulation or image failure (with a message); 2 invalid options or input (the
 # message of simulate); 77 arm-none-eabi-g++ or qemu-system-arm not installed.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 python=/usr/bin/python3
 
-usage() { sed -n '2,30p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+help_text() { awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; }
+usage() { help_text >&2; exit 2; }
 
 image="" trace="" timeout_s=600 profile_sample=""
 sim_args=()
@@ -49,7 +51,7 @@ while [[ $# -gt 0 ]]; do
     --m4-timeout)
       [[ $# -ge 2 && $2 =~ ^[1-9][0-9]*$ ]] || { echo "m4-replay: --m4-timeout needs whole seconds > 0" >&2; exit 2; }
       timeout_s=$2; shift 2 ;;
-    -h|--help) usage ;;
+    -h|--help) help_text; exit 0 ;;
     --arith|--arith=*)
       value=${1#--arith}; value=${value#=}
       if [[ -z $value ]]; then [[ $# -ge 2 ]] || usage; value=$2; shift; fi
@@ -88,10 +90,8 @@ set +e
 "$rockwatch" simulate "${sim_args[@]}" "${extra[@]}" --engine-input-out "$work/input.bin" >/dev/null 2>"$work/simulate.err"
 status=$?
 set -e
-if [[ $status -ne 0 ]]; then
-  cat "$work/simulate.err" >&2
-  exit "$status"
-fi
+cat "$work/simulate.err" >&2  # its notes (e.g. on the record), or its error
+[[ $status -eq 0 ]] || exit "$status"
 
 # 2. The image: built unless given, and rebuilt when a source it depends on is newer.
 if [[ -z $image ]]; then
