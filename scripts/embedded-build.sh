@@ -9,14 +9,21 @@
 #
 #   scripts/embedded-build.sh [OUT_DIR]        (default build/embedded)
 #   scripts/embedded-build.sh --objects-only [OUT_DIR]   compile only (used by the symbol audit)
+#   scripts/embedded-build.sh --m4-replay [OUT_DIR]      the bootable replay image for QEMU's mps2-an386
+#       (firmware/embedded/m4_replay/: vector table, start-up, semihosting, WallEngine over an engine-input file;
+#       the same compiler flags) as OUT_DIR/rockwatch_m4_replay.elf, and its arm-none-eabi-size; run by
+#       scripts/m4-replay.sh. Compiles only wall_engine.cpp of the firmware sources.
 # Exit status: 0 built; 1 compile/link failure; 77 arm-none-eabi-g++ not installed (ctest SKIP_RETURN_CODE).
 # Environment: ARM_GXX, ARM_SIZE, ARM_NM, LCM_GEN override the tools.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 
-objects_only=0
+objects_only=0 m4_replay=0
 if [[ ${1:-} == --objects-only ]]; then
   objects_only=1
+  shift
+elif [[ ${1:-} == --m4-replay ]]; then
+  m4_replay=1
   shift
 fi
 out_dir=${1:-$root/build/embedded}
@@ -69,7 +76,7 @@ mkdir -p "$out_dir/lcmtypes" "$out_dir/lcm-include/lcm"
 cp "$lcm_include/lcm/lcm_coretypes.h" "$out_dir/lcm-include/lcm/"
 
 target_flags=(-mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16)
-cxx_flags=(-std=c++17 "${target_flags[@]}" -fno-exceptions -fno-rtti -Os -ffunction-sections -fdata-sections
+cxx_flags=(-std=c++17 "${target_flags[@]}" -fno-exceptions -fno-rtti ${ROCKWATCH_M4_OPT:--O2} -ffunction-sections -fdata-sections
            "${warnings[@]}" "${eigen_flags[@]}" -I"$root/core/include" -I"$root/firmware/include"
            -isystem "$out_dir/lcmtypes" -isystem "$out_dir/lcm-include"
            -DROCKWATCH_VERSION_MAJOR="$version_major" -DROCKWATCH_VERSION_MINOR="$version_minor"
@@ -88,6 +95,33 @@ compile() {
   echo "embedded-build: compile ${src#"$root"/} ${extra[*]}"
   "$gxx" "${cxx_flags[@]}" "${extra[@]}" -c "$src" -o "$obj"
 }
+if [[ $m4_replay -eq 1 ]]; then
+  # The replay image: its own start-up and linker script instead of newlib's crt0 (-nostartfiles); newlib-nano for
+  # memcpy/strlen and libm's sqrt, no nosys stubs (nothing may need them: no heap, no stdio, no syscalls).
+  replay_dir=$root/firmware/embedded/m4_replay
+  obj_dir=$out_dir/m4_replay
+  rm -rf "$obj_dir"
+  mkdir -p "$obj_dir"
+  objects=()
+  for src in "$root/firmware/src/wall_engine.cpp" "$replay_dir"/*.cpp; do
+    obj=$obj_dir/$(basename "${src%.cpp}").o
+    compile "$src" "$obj"
+    objects+=("$obj")
+  done
+  echo "embedded-build: assemble ${replay_dir#"$root"/}/startup.S"
+  "$gxx" "${target_flags[@]}" -c "$replay_dir/startup.S" -o "$obj_dir/startup.o"
+  objects+=("$obj_dir/startup.o")
+  image=$out_dir/rockwatch_m4_replay.elf
+  echo "embedded-build: link ${image#"$root"/}"
+  "$gxx" "${target_flags[@]}" -Os --specs=nano.specs -nostartfiles -T "$replay_dir/mps2_an386.ld" -Wl,--gc-sections \
+    -Wl,-Map="$out_dir/rockwatch_m4_replay.map" "${objects[@]}" -o "$image"
+  echo
+  echo "== arm-none-eabi-size (image; .text = code + constants + vector table, flash; .data + .bss + the 16 KiB stack, RAM)"
+  "$size_tool" -A "$image" | awk '$1 ~ /^\.(text|ARM\.exidx|data|bss|stack)$/'
+  "$size_tool" "$image" | sed "s|$out_dir/||"
+  exit 0
+fi
+
 rm -f "$out_dir"/*.o
 objects=()
 for src in "$root/core/core_compile_check.cpp" "$root"/firmware/src/*.cpp "$root/firmware/embedded/embedded_main.cpp"; do

@@ -3,7 +3,7 @@
 # once; sudo is used when not root.
 #
 #   scripts/install-deps.sh demo    what building the programs and running the demo needs (scripts/demo.sh)
-#   scripts/install-deps.sh [all]   that, plus the test-only tools: the Cortex-M4 toolchain, valgrind, clang and its
+#   scripts/install-deps.sh [all]   that, plus the test-only tools: the Cortex-M4 toolchain and emulator, valgrind, clang and its
 #                                   fuzzing runtimes (scripts/test.sh, scripts/fuzz.sh, scripts/soak.sh)
 set -euo pipefail
 set_name="${1:-all}"
@@ -25,6 +25,7 @@ DEMO_PACKAGES=(
 )
 TEST_PACKAGES=(
   gcc-arm-none-eabi libstdc++-arm-none-eabi-newlib libnewlib-arm-none-eabi   # Cortex-M4 build (scripts/embedded-build.sh)
+  qemu-system-arm        # the firmware on an emulated Cortex-M4 (scripts/m4-replay.sh, ctest m4_replay)
   binutils               # nm, size (symbol audit: tests/tools/symbol_audit.sh)
   valgrind               # callgrind instruction counts (tests/bench)
   clang libclang-rt-dev  # fuzzing (scripts/fuzz.sh, preset "fuzz"): clang++ and its libFuzzer/ASan/UBSan runtimes

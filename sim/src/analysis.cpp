@@ -267,6 +267,11 @@ AnalysisResult run_analysis(const core::WallParameters& wall, const GroundMotion
   if (o.wall_sensors) observed.emplace(wall, start.setup, o, dt);
   ObservedSteps<Engine>* const observer = observed ? &*observed : nullptr;
 
+  // Every input the engine is given, in double, when asked (AnalysisOptions::engine_inputs_out).
+  const auto note_input = [&o](double ug, double vg) {
+    if (o.engine_inputs_out) o.engine_inputs_out->push_back({ug, vg});
+  };
+  note_input(sample_or_zero(motion.ug_mps2, 0), sample_or_zero(motion.vg_mps2, 0));
   const typename Engine::Input ug0 = Engine::input(sample_or_zero(motion.ug_mps2, 0));
   const typename Engine::Input vg0 = Engine::input(sample_or_zero(motion.vg_mps2, 0));
   engine.chain().reset(ug0, vg0);
@@ -276,6 +281,7 @@ AnalysisResult run_analysis(const core::WallParameters& wall, const GroundMotion
   const auto forced_samples = static_cast<std::size_t>(std::llround(result.t_end_s / dt));
   std::size_t k = 0;
   for (; k < forced_samples && !engine.stepper().collapsed(); ++k) {
+    note_input(sample_or_zero(motion.ug_mps2, k + 1), sample_or_zero(motion.vg_mps2, k + 1));
     analysis_sample(engine, Engine::input(sample_or_zero(motion.ug_mps2, k + 1)),
                     Engine::input(sample_or_zero(motion.vg_mps2, k + 1)), double(k) * dt, dt, h, o, recorder, result,
                     observer);
@@ -287,6 +293,7 @@ AnalysisResult run_analysis(const core::WallParameters& wall, const GroundMotion
   const typename Engine::Input zero = Engine::input(0.0);
   std::size_t free = 0;
   for (; !engine.stepper().collapsed() && !engine.safe() && free < free_samples; ++free, ++k) {
+    note_input(0.0, 0.0);
     analysis_sample(engine, zero, zero, double(k) * dt, dt, h, o, recorder, result, observer);
   }
   result.t_final_s = double(k) * dt;
@@ -308,6 +315,7 @@ AnalysisStart start_analysis(const core::WallParameters& wall, const GroundMotio
   start.n_sub = static_cast<std::size_t>(core::substeps_per_sample(motion.dt_s, o.max_step_s));
   start.h_s = motion.dt_s / double(start.n_sub);
   result.dt_s = start.h_s;
+  result.sample_dt_s = motion.dt_s;
   result.duration_s = motion.duration_s();
   result.t_end_s = o.t_end_s ? *o.t_end_s : result.duration_s;
   result.pga_mps2 = peak_abs(motion.ug_mps2);

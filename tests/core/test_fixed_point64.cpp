@@ -297,6 +297,13 @@ static_assert(portable_quotient(UINT64_MAX - 1, UINT64_MAX, UINT64_MAX) == UINT6
                   portable_remainder(UINT64_MAX - 1, UINT64_MAX, UINT64_MAX) == UINT64_MAX - 1,
               "portable long division, n.hi = d − 1");
 static_assert(portable_quotient(0, 7, 2) == 3 && portable_remainder(0, 7, 2) == 1, "portable long division");
+constexpr std::uint64_t normalised_quotient(std::uint64_t hi, std::uint64_t lo, std::uint64_t d) {
+  std::uint64_t rem = 0;
+  return fixed64_detail::udiv_normalised(fixed64_detail::U128{hi, lo}, d, rem);
+}
+static_assert(normalised_quotient(UINT64_MAX - 1, UINT64_MAX, UINT64_MAX) == UINT64_MAX &&
+                  normalised_quotient(0, 7, 2) == 3 && normalised_quotient(0x80000000u, 0, 0x80000001u) != 0,
+              "normalised long division");
 static_assert(Q1_62(1.5).raw() == std::int64_t{3} << 61, "exact conversion");
 static_assert(Q7_56(-0.5) + Q7_56(2) == Q7_56(1.5), "addition");
 static_assert((Q1_62(0.5) * Q1_62(-0.5)).raw() == -(std::int64_t{1} << 60), "multiplication");
@@ -343,6 +350,11 @@ TEST(FixedPoint64, PortableDivisionEqualsTheNative128BitDivision) {
     std::uint64_t used_rem = 0;
     expect_word("udiv quotient", q, fixed64_detail::udiv(fixed64_detail::U128{hi, lo}, d, used_rem), hi, d);
     expect_word("udiv remainder", rem, used_rem, lo, d);
+    // The division a 32-bit target uses (Cortex-M4): normalised 32-bit digits, 64/32 steps in 16-bit halves.
+    std::uint64_t normalised_rem = 0;
+    expect_word("udiv_normalised quotient", q,
+                fixed64_detail::udiv_normalised(fixed64_detail::U128{hi, lo}, d, normalised_rem), hi, d);
+    expect_word("udiv_normalised remainder", rem, normalised_rem, lo, d);
   };
   for (const std::uint64_t d : kEdgeWords) {
     if (d == 0) continue;
@@ -360,6 +372,25 @@ TEST(FixedPoint64, PortableDivisionEqualsTheNative128BitDivision) {
     const std::uint64_t pick = rng.next() % 4u;
     const std::uint64_t hi = pick == 0 ? d - 1 : (pick == 1 ? 0 : rng.word() % d);
     check(hi, rng.word(), d);
+  }
+}
+
+// The 64/32 step of the normalised division, alone: every width of divisor, the quotient at both ends.
+TEST(FixedPoint64, DivluEqualsThe64BitDivision) {
+  SplitMix64 rng{3};
+  for (int i = 0; i < 200000; ++i) {
+    const auto width = static_cast<int>(rng.next() % 32u) + 1;
+    auto v = static_cast<std::uint32_t>(rng.next() & ((std::uint64_t{1} << width) - 1u));
+    if (v == 0) v = 1;
+    const std::uint64_t pick = rng.next() % 4u;
+    const auto u1 = static_cast<std::uint32_t>(pick == 0 ? v - 1u : (pick == 1 ? 0u : rng.next() % v));
+    const auto u0 = static_cast<std::uint32_t>(pick == 3 ? 0xffffffffu : rng.next());
+    const std::uint64_t n = (std::uint64_t{u1} << 32) | u0;
+    std::uint32_t r = 0;
+    const std::uint32_t q = fixed64_detail::divlu(u1, u0, v, r);
+    if (q != n / v || r != n % v) {
+      FAIL(("divlu(" + std::to_string(u1) + ", " + std::to_string(u0) + ", " + std::to_string(v) + ")").c_str());
+    }
   }
 }
 

@@ -1,5 +1,6 @@
 // `rockwatch simulate`: one record (pair) through sim::analyse, the engine every tool shares. This file only wires
 // the parts together and maps every failure to a one-line message and exit status 2; the CLI adds no physics.
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -19,6 +20,7 @@
 #include "rockwatch/options/usage_error.hpp"
 #include "rockwatch/sim/analysis.hpp"
 #include "rockwatch/sim/wall_sensor_synthesis.hpp"
+#include "simulate/engine_input_file.hpp"
 #include "simulate/simulate_report.hpp"
 #include "simulate/simulate_request.hpp"
 
@@ -44,12 +46,16 @@ void check_work_size(const SimulateRequest& q, const InputMotion& in) {
   const double h_s = dt_s / n_sub;
   const double t_end_s = q.analysis.t_end_s ? *q.analysis.t_end_s : in.motion.duration_s();
   const double worst_steps = (t_end_s + q.analysis.free_motion_limit_s) / h_s;
-  const double limit = q.analysis.keep_history ? kMaxHistoryRows : kMaxIntegrationSteps;
+  // --out and --engine-input-out keep a row per step in memory before writing.
+  const bool keeps_rows = q.analysis.keep_history || q.engine_input_out_path;
+  const double limit = keeps_rows ? kMaxHistoryRows : kMaxIntegrationSteps;
   if (worst_steps > limit) {
     throw UsageError("integration step " + number_text(h_s) + " s over t_end = " + number_text(t_end_s) +
                      " s (plus up to " + number_text(q.analysis.free_motion_limit_s) + " s of free rocking) means up to " +
                      number_text(std::round(worst_steps)) + " steps, more than the " + number_text(limit) +
-                     (q.analysis.keep_history ? " a run with --out may take" : " a run may take") +
+                     (q.analysis.keep_history   ? " a run with --out may take"
+                      : q.engine_input_out_path ? " a run with --engine-input-out may take"
+                                                : " a run may take") +
                      ": raise --max-step or lower --t-end");
   }
   if (q.sensors_out_path) {
@@ -78,7 +84,17 @@ void check_out_path(const char* option, const std::optional<std::string>& out, c
 void check_out_paths(const SimulateRequest& q) {
   check_out_path("--out", q.out_csv_path, q);
   check_out_path("--sensors-out", q.sensors_out_path, q);
+  check_out_path("--engine-input-out", q.engine_input_out_path, q);
   std::error_code ec;
+  if (q.engine_input_out_path) {
+    for (const std::optional<std::string>* other : {&q.out_csv_path, &q.sensors_out_path}) {
+      if (*other && (**other == *q.engine_input_out_path ||
+                     std::filesystem::equivalent(**other, *q.engine_input_out_path, ec))) {
+        throw UsageError("--engine-input-out names the same file as " +
+                         std::string(other == &q.out_csv_path ? "--out" : "--sensors-out") + ": choose two");
+      }
+    }
+  }
   if (q.out_csv_path && q.sensors_out_path && (*q.out_csv_path == *q.sensors_out_path ||
                                                std::filesystem::equivalent(*q.out_csv_path, *q.sensors_out_path, ec))) {
     throw UsageError("--out and --sensors-out name the same file: choose two");
@@ -101,8 +117,14 @@ int run(const SimulateRequest& q) {
   }
   PendingOutputFile csv(q.out_csv_path);  // opened now, so a wrong directory is reported before a long run
   PendingOutputFile sensors_csv(q.sensors_out_path, "--sensors-out");
+  PendingOutputFile engine_input(q.engine_input_out_path, "--engine-input-out");
+  std::vector<std::array<double, 2>> engine_inputs;
+  if (q.engine_input_out_path) options.engine_inputs_out = &engine_inputs;
 
   const sim::AnalysisResult result = sim::analyse(q.wall, input.motion, options);
+  engine_input.write("the engine input", [&](std::ostream& out) {
+    write_engine_input(out, engine_config_of(q, result), engine_inputs);
+  });
   csv.write("the time history", [&result](std::ostream& out) { write_history_csv(out, result.history); });
   if (q.sensors_out_path) {
     const std::vector<core::WallSensorSample> samples =

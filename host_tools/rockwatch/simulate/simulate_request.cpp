@@ -29,7 +29,7 @@ struct RawOptions {
   AlarmOptionTexts alarm;
   std::string scale_pga;
   ObserverOptionTexts observer;
-  std::string r = "exp", model = "linear", kappa, max_step, t_end, out;
+  std::string r = "exp", model = "linear", kappa, max_step, t_end, out, engine_input_out;
   std::string wall_sensors, sensors_out, sensor_noise, sensor_bias, sensor_quantum, sensor_rate, sensor_accel_noise,
       sensor_seed;
   std::vector<std::string> sensor_dropouts;
@@ -58,6 +58,11 @@ const char* const kFooter =
     "channel, with --vertical-channel vertical_channel, with --gain gain_counts_per_mps2, with --arith arithmetic\n"
     "(and saturated for fixed), with --alarms alarm (settings, max_level, first times, transitions), with\n"
     "--wall-sensors observer (r_estimate, sigma_r, bias_estimate_m, n_updates, n_rejected, x_rms_innovation_m, ...).\n"
+    "\n"
+    "--engine-input-out FILE writes the wall engine's configuration (wall, r, kappa, model, step, alarm settings) and\n"
+    "the input of every integration step as run (the record's samples, sub-stepped, then the zeros of the free motion\n"
+    "after it, up to where the analysis stopped), for scripts/m4-replay.sh, which replays them on an emulated\n"
+    "Cortex-M4 (firmware/README.md).\n"
     "\n"
     "Wall sensors (--wall-sensors FILE.csv): a header line naming t_s and x_mid_m and/or a_mid_mps2, then one sample per\n"
     "row (t_s on the record's clock, 0 at its first sample; any rate; an empty field = absent). The wall observer\n"
@@ -122,6 +127,10 @@ void add_options(CLI::App& app, RawOptions& raw) {
   app.add_option("--sensor-seed", raw.sensor_seed,
                  "With --sensors-out: seed of the noise, 0 to 2^64-1 (default " + std::to_string(d.seed) + ")")
       ->type_name("N");
+  app.add_option("--engine-input-out", raw.engine_input_out,
+                 "Write the engine's configuration and its input of every step (binary) for the Cortex-M4 replay "
+                 "(scripts/m4-replay.sh)")
+      ->type_name("FILE");
   app.add_flag("--json", raw.json, "Print the result as one JSON object on stdout");
   app.footer(kFooter);
 }
@@ -236,6 +245,15 @@ SimulateParse parse_simulate_arguments(int argc, const char* const* argv) {
     q.analysis.keep_history = true;
   }
   parse_sensor_options(app, raw, q);
+  if (given(app, "--engine-input-out")) {
+    if (raw.engine_input_out.empty()) throw UsageError("--engine-input-out needs a file name");
+    if (q.wall_sensors_path) {
+      throw UsageError("--engine-input-out does not carry the --wall-sensors samples (the replay runs the engine "
+                       "without the observer): run without --wall-sensors");
+    }
+    check_output_file("--engine-input-out", raw.engine_input_out);
+    q.engine_input_out_path = raw.engine_input_out;
+  }
   q.json = raw.json;
   return SimulateParse{q, {}};
 }

@@ -33,6 +33,9 @@ struct SimulateRequest {
   // --sensors-out FILE: samples of the simulated wall's sensors with this model (--sensor-*).
   std::optional<std::string> sensors_out_path;
   sim::SensorModel sensor_model;
+  // --engine-input-out FILE: the engine's configuration and every input it stepped on, for the Cortex-M4 replay
+  // (scripts/m4-replay.sh; format: firmware/include/rockwatch/firmware/engine_input_format.hpp).
+  std::optional<std::string> engine_input_out_path;
 };
 
 // Outcome of reading the command line: either a request to run, or text to print and an exit status

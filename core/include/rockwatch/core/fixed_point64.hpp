@@ -9,8 +9,10 @@
 //
 // 128-bit arithmetic is done on magnitudes as two uint64 words, so results are identical on every target. The
 // product uses the compiler's 128-bit type where it has one (x86-64, AArch64) and four 32×32→64 products
-// otherwise (Cortex-M4: UMULL); the quotient uses the 128-bit type's division, or a restoring long division of
-// fixed length (64 steps) — both exact, so both give the same bits.
+// otherwise (Cortex-M4: UMULL); the quotient uses the 128-bit type's division, or otherwise a normalised long
+// division in 32-bit digits whose digit estimates are 64/32 divisions done in 16-bit halves with the target's 32/32
+// divide (Cortex-M4: UDIV; Knuth's algorithm D, Hacker's Delight's divlu) — exact, so the same bits as the 128-bit
+// type's division. udiv_portable, a restoring long division of 64 steps, is the plain reference the tests hold both to.
 //
 // Mixed formats, also with the 32-bit Fixed: wide_mul<Out>(a, b), wide_div<Out>(a, b), wide_convert<Out>(a), one
 // rounding each, saturating to Out.
@@ -63,6 +65,97 @@ constexpr std::uint64_t udiv_portable(U128 n, std::uint64_t d, std::uint64_t& re
   return q;
 }
 
+// Leading zero bits of a non-zero word.
+constexpr int clz64(std::uint64_t v) {
+  int n = 0;
+  if ((v >> 32) == 0) { n += 32; v <<= 32; }
+  if ((v >> 48) == 0) { n += 16; v <<= 16; }
+  if ((v >> 56) == 0) { n += 8; v <<= 8; }
+  if ((v >> 60) == 0) { n += 4; v <<= 4; }
+  if ((v >> 62) == 0) { n += 2; v <<= 2; }
+  if ((v >> 63) == 0) n += 1;
+  return n;
+}
+
+// (u1·2³² + u0) / v for u1 < v (the quotient fits 32 bits), with 32-bit operations only: the divisor normalised, two
+// quotient halves of 16 bits each estimated by a 32/16 division and corrected (Hacker's Delight, divlu). r gets the
+// remainder. Products and sums wrap modulo 2³² where the algorithm relies on it.
+constexpr std::uint32_t divlu(std::uint32_t u1, std::uint32_t u0, std::uint32_t v, std::uint32_t& r) {
+  constexpr std::uint32_t b = 65536u;
+  const int s = clz64(v) - 32;
+  v <<= s;
+  const std::uint32_t vn1 = v >> 16, vn0 = v & 0xffffu;
+  const std::uint32_t un32 = s == 0 ? u1 : (u1 << s) | (u0 >> (32 - s));
+  const std::uint32_t un10 = u0 << s;
+  const std::uint32_t un1 = un10 >> 16, un0 = un10 & 0xffffu;
+  std::uint32_t q1 = un32 / vn1;
+  std::uint32_t rhat = un32 - q1 * vn1;
+  while (q1 >= b || q1 * vn0 > b * rhat + un1) {
+    --q1;
+    rhat += vn1;
+    if (rhat >= b) break;
+  }
+  const std::uint32_t un21 = un32 * b + un1 - q1 * v;
+  std::uint32_t q0 = un21 / vn1;
+  rhat = un21 - q0 * vn1;
+  while (q0 >= b || q0 * vn0 > b * rhat + un0) {
+    --q0;
+    rhat += vn1;
+    if (rhat >= b) break;
+  }
+  r = (un21 * b + un0 - q0 * v) >> s;
+  return q1 * b + q0;
+}
+
+// One 32-bit quotient digit of num / v, num < v·2³² (num of 96 bits), v normalised (top bit set, v ≥ 2⁶³): the
+// estimate from the top digits (≤ 2 too large, Knuth's theorem B), refined with the divisor's second digit, then
+// corrected against the whole product. rem gets num − q·v (< v).
+constexpr std::uint32_t quotient_digit(U128 num, std::uint64_t v, std::uint64_t& rem) {
+  const auto n2 = static_cast<std::uint32_t>(num.hi), n1 = static_cast<std::uint32_t>(num.lo >> 32),
+             n0 = static_cast<std::uint32_t>(num.lo);
+  const auto v1 = static_cast<std::uint32_t>(v >> 32), v0 = static_cast<std::uint32_t>(v);
+  std::uint32_t qhat = 0xffffffffu;
+  if (n2 < v1) {
+    std::uint32_t rhat = 0;
+    qhat = divlu(n2, n1, v1, rhat);
+    while (std::uint64_t{qhat} * v0 > ((std::uint64_t{rhat} << 32) | n0)) {
+      --qhat;
+      const std::uint64_t next = std::uint64_t{rhat} + v1;
+      if ((next >> 32) != 0) break;
+      rhat = static_cast<std::uint32_t>(next);
+    }
+  }
+  U128 p = umul_portable(qhat, v);
+  while (p.hi > num.hi || (p.hi == num.hi && p.lo > num.lo)) {  // at most twice
+    --qhat;
+    p = U128{p.hi - (p.lo < v ? 1u : 0u), p.lo - v};
+  }
+  rem = num.lo - p.lo;  // num − p < v: the low word alone
+  return qhat;
+}
+
+// n / d for n.hi < d by normalised long division in 32-bit digits (Knuth's algorithm D): a divisor of one digit takes
+// two 64/32 steps, a wider one two quotient digits. Exact: the same quotient and remainder as udiv_portable.
+constexpr std::uint64_t udiv_normalised(U128 n, std::uint64_t d, std::uint64_t& rem) {
+  if ((d >> 32) == 0) {
+    const auto v = static_cast<std::uint32_t>(d);
+    std::uint32_t r = 0;
+    const std::uint32_t q1 = divlu(static_cast<std::uint32_t>(n.hi), static_cast<std::uint32_t>(n.lo >> 32), v, r);
+    const std::uint32_t q0 = divlu(r, static_cast<std::uint32_t>(n.lo), v, r);
+    rem = r;
+    return (std::uint64_t{q1} << 32) | q0;
+  }
+  const int s = clz64(d);  // < 32
+  const std::uint64_t v = d << s;
+  const std::uint64_t nh = s == 0 ? n.hi : (n.hi << s) | (n.lo >> (64 - s));
+  const std::uint64_t nl = n.lo << s;
+  std::uint64_t r = 0;
+  const std::uint32_t q1 = quotient_digit(U128{nh >> 32, (nh << 32) | (nl >> 32)}, v, r);
+  const std::uint32_t q0 = quotient_digit(U128{r >> 32, (r << 32) | (nl & 0xffffffffu)}, v, r);
+  rem = r >> s;
+  return (std::uint64_t{q1} << 32) | q0;
+}
+
 constexpr U128 umul(std::uint64_t a, std::uint64_t b) {
 #if defined(__SIZEOF_INT128__)
   const native_u128 p = static_cast<native_u128>(a) * b;
@@ -79,7 +172,7 @@ constexpr std::uint64_t udiv(U128 n, std::uint64_t d, std::uint64_t& rem) {
   rem = static_cast<std::uint64_t>(wide % d);
   return static_cast<std::uint64_t>(wide / d);
 #else
-  return udiv_portable(n, d, rem);
+  return udiv_normalised(n, d, rem);
 #endif
 }
 

@@ -183,7 +183,7 @@ class FixedRockingStepper {
   static constexpr int kLocateIterationsBeyondBudget = 3;
   // The event budget of one sample (StepperAlarmChain), whatever its number of sub-steps: at 200 Hz with 5 sub-steps
   // two located events (an impact and an exceedance, or two impacts) and four further segments.
-  static constexpr FixedEventBudget kSampleBudget{1000, 1000};
+  static constexpr FixedEventBudget kSampleBudget{1000, 32};
 
   FixedSetupError init(const StepperSetup<double>& setup) {
     const FixedSetupError e = make_fixed_setup(setup, setup_);

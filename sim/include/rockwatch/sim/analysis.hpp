@@ -4,6 +4,7 @@
 // record by energy (SPEC §4.3), and summarises the response.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <stdexcept>
@@ -52,6 +53,11 @@ struct AnalysisOptions {
   const std::vector<core::WallSensorSample>* wall_sensors = nullptr;
   core::ObserverOptions observer{};
   int observer_r_after_impacts = 5;     // ObserverSummary::r_estimate_after_impacts after this many impacts
+  // When set (not owned), receives the engine's input of every sample as run, in double before any conversion: the
+  // input the engine was reset with, then one {ü, v̈} [m/s²] per record sample (the engine sub-steps between them;
+  // then the zeros of the free motion after the record), up to where the analysis stopped. `rockwatch simulate --engine-input-out` writes it for
+  // the Cortex-M4 replay (scripts/m4-replay.sh), which must run exactly the steps the host ran.
+  std::vector<std::array<double, 2>>* engine_inputs_out = nullptr;
 };
 
 // One change of alarm level, at the end of the integration step where it happened.
@@ -126,6 +132,7 @@ struct AnalysisResult {
   double r = 0.0;                       // energy ratio used [-]
   double pga_mps2 = 0.0;                // peak |ü| of the input as run [m/s²]
   double dt_s = 0.0;                    // integration step [s]
+  double sample_dt_s = 0.0;             // record sample interval: ceil(sample_dt / max_step) sub-steps of dt_s [s]
   double duration_s = 0.0;              // record duration [s]
   double t_end_s = 0.0;                 // end of the forced phase [s]
   double t_final_s = 0.0;               // where integration stopped [s]

@@ -1,0 +1,309 @@
+// The replay on the Cortex-M4: command line "IMAGE INPUT OUTPUT [profile SAMPLE]" (QEMU: -kernel IMAGE -append
+// "INPUT OUTPUT ..."); with "profile SAMPLE" the step of that sample is also profiled (profiler.hpp).
+// Reads the engine configuration from INPUT (rockwatch/firmware/engine_input_format.hpp), initialises
+// firmware::WallEngine with it on the target (init in double: newlib's libm and libgcc's soft double), then replays
+// every input sample as the host's `rockwatch simulate --arith fixed` does: sample 0 starts the engine (start()),
+// each later sample is one step() through the monitor's seam (double → Q7.56, the chain, the published sample back
+// in double). A second engine runs the same samples through process_wall() with the inputs converted beforehand, so
+// that the engine's own work is measured apart from the seam's conversions; both must agree on the level.
+//
+// OUTPUT is text, one record per line (scripts/m4-replay.sh parses it):
+//   rockwatch-m4-replay 1
+//   overhead <min> <max>                 ticks of an empty measured call (kOverheadRuns of them)
+//   start <ticks> <level>                sample 0: start() (the engine at rest)
+//   s <ticks_step> <ticks_engine> <level> <x> <xd>   samples 1 …: step() through the seam, process_wall() alone, the
+//                                        level after it, and the published x_m, xd_mps (EngineSample)
+//   profile <interval_ticks> <n> <dropped>   with "profile SAMPLE": the profiler's settings and addresses recorded,
+//   p <address>                          then one line per recorded address (hexadecimal)
+//   end <samples> <stack_bytes>          the number of samples and the deepest stack use [bytes]
+// ticks are of the instruction clock (instruction_clock.hpp); level is core::AlarmLevel as a number; x and xd are
+// the bits of the doubles in hexadecimal (16 digits), so that the host compares the trajectory exactly.
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+
+#include "instruction_clock.hpp"
+#include "profiler.hpp"
+#include "replay.hpp"
+#include "rockwatch/firmware/engine_input_format.hpp"
+#include "rockwatch/firmware/wall_engine.hpp"
+#include "semihosting.hpp"
+
+namespace rockwatch::m4 {
+
+namespace {
+
+namespace core = rockwatch::core;
+namespace firmware = rockwatch::firmware;
+
+constexpr int kOverheadRuns = 64;
+constexpr std::uint32_t kProfileIntervalTicks = 2500;  // 97.66 instructions at -icount shift=10: no loop aliases it
+
+// Buffered reads of the input file.
+class InputFile {
+ public:
+  void attach(std::int32_t handle) { handle_ = handle; }
+  // Exactly `size` bytes, or false (end of file or error).
+  bool read(void* data, std::size_t size) {
+    auto* out = static_cast<unsigned char*>(data);
+    while (size > 0) {
+      if (pos_ == end_) {
+        const std::int32_t n = host_read(handle_, buffer_, sizeof buffer_);
+        if (n <= 0) return false;
+        pos_ = 0;
+        end_ = static_cast<std::size_t>(n);
+      }
+      const std::size_t take = size < end_ - pos_ ? size : end_ - pos_;
+      std::memcpy(out, buffer_ + pos_, take);
+      out += take;
+      pos_ += take;
+      size -= take;
+    }
+    return true;
+  }
+  bool read_u64(std::uint64_t& v) { return read(&v, sizeof v); }
+  bool read_double(double& v) { return read(&v, sizeof v); }
+
+ private:
+  std::int32_t handle_ = -1;
+  unsigned char buffer_[4096];
+  std::size_t pos_ = 0, end_ = 0;
+};
+
+// Buffered text output.
+class OutputFile {
+ public:
+  void attach(std::int32_t handle) { handle_ = handle; }
+  void text(const char* s) {
+    while (*s != '\0') put(*s++);
+  }
+  void hex(std::uint64_t v) {
+    for (int shift = 60; shift >= 0; shift -= 4) put("0123456789abcdef"[(v >> shift) & 0xFu]);
+  }
+  void bits(double v) {
+    std::uint64_t b = 0;
+    std::memcpy(&b, &v, sizeof b);
+    hex(b);
+  }
+  void number(std::uint64_t v) {
+    char digits[20];
+    int n = 0;
+    do {
+      digits[n++] = static_cast<char>('0' + v % 10);
+      v /= 10;
+    } while (v != 0);
+    while (n > 0) put(digits[--n]);
+  }
+  bool flush() {
+    const bool ok = ok_ && (used_ == 0 || host_write(handle_, buffer_, used_));
+    used_ = 0;
+    ok_ = ok;
+    return ok;
+  }
+
+ private:
+  void put(char c) {
+    if (used_ == sizeof buffer_) flush();
+    buffer_[used_++] = c;
+  }
+  std::int32_t handle_ = -1;
+  char buffer_[4096];
+  std::size_t used_ = 0;
+  bool ok_ = true;
+};
+
+// Static storage: no heap, no large stack frames (the stack measured is the engine's and the replay loop's).
+InputFile g_in;
+OutputFile g_out;
+firmware::WallEngine g_seam;    // through step(): what the monitor loop calls
+firmware::WallEngine g_direct;  // through process_wall(): the engine alone
+char g_command_line[512];
+
+// The measured calls, out of line and opaque to the optimiser, so that exactly the call is between the clock reads.
+[[gnu::noipa]] void measured_nothing(firmware::WallEngine&, double, double) {}
+[[gnu::noipa]] firmware::EngineSample measured_step(firmware::WallEngine& e, double ug, double vg) {
+  return e.step(ug, vg);  // into the caller's object (guaranteed copy elision)
+}
+[[gnu::noipa]] core::AlarmLevel measured_process(firmware::WallEngine& e, core::AccelQ7_56 ug, core::AccelQ7_56 vg) {
+  return e.process_wall(ug, vg).alarm.level;
+}
+
+std::uint32_t fail(std::uint32_t status, const char* what) {
+  host_print("m4-replay image: ");
+  host_print(what);
+  host_print("\n");
+  return status;
+}
+
+// The two file names after the image's own name, and the sample to profile after "profile" (none: UINT64_MAX);
+// false unless the words are exactly those.
+bool split_command_line(char* line, const char*& input, const char*& output, std::uint64_t& profile_sample) {
+  const char* words[6] = {};
+  int n = 0;
+  for (char* p = line; *p != '\0';) {
+    while (*p == ' ') *p++ = '\0';
+    if (*p == '\0') break;
+    if (n == 6) return false;
+    words[n++] = p;
+    while (*p != '\0' && *p != ' ') ++p;
+  }
+  profile_sample = UINT64_MAX;
+  if (n == 5) {
+    if (std::strcmp(words[3], "profile") != 0 || *words[4] == '\0') return false;
+    std::uint64_t v = 0;
+    for (const char* c = words[4]; *c != '\0'; ++c) {
+      if (*c < '0' || *c > '9' || v > UINT64_MAX / 20) return false;
+      v = v * 10 + static_cast<std::uint64_t>(*c - '0');
+    }
+    profile_sample = v;
+  } else if (n != 3) {
+    return false;
+  }
+  input = words[1];
+  output = words[2];
+  return true;
+}
+
+}  // namespace
+
+std::uint32_t run_replay(std::uint32_t (*stack_used_bytes)()) {
+  const char* input_path = nullptr;
+  const char* output_path = nullptr;
+  std::uint64_t profile_sample = UINT64_MAX;
+  if (!host_command_line(g_command_line, sizeof g_command_line) ||
+      !split_command_line(g_command_line, input_path, output_path, profile_sample)) {
+    return fail(replay_status::usage,
+                "expected the command line IMAGE INPUT OUTPUT [profile SAMPLE] (qemu -append \"INPUT OUTPUT ...\")");
+  }
+  const std::int32_t in_handle = host_open(input_path, std::strlen(input_path), kOpenReadBinary);
+  if (in_handle < 0) return fail(replay_status::input_open, "cannot open the input file");
+  InputFile& in = g_in;
+  in.attach(in_handle);
+
+  char magic[sizeof firmware::kEngineInputMagic];
+  if (!in.read(magic, sizeof magic) || std::memcmp(magic, firmware::kEngineInputMagic, sizeof magic) != 0) {
+    return fail(replay_status::input_format, "the input is not an engine-input file (magic RWENGIN1 expected)");
+  }
+  std::uint64_t n_config = 0;
+  if (!in.read_u64(n_config) || n_config > firmware::kEngineInputMaxConfig) {
+    return fail(replay_status::input_format, "the input's configuration count is missing or too large");
+  }
+  firmware::WallEngineConfig config;
+  for (std::uint64_t i = 0; i < n_config; ++i) {
+    std::uint64_t key = 0;
+    double value = 0.0;
+    if (!in.read_u64(key) || !in.read_double(value)) {
+      return fail(replay_status::input_format, "the input's configuration is truncated");
+    }
+    if (!firmware::apply_engine_input_key(config, key, value)) {
+      return fail(replay_status::input_format,
+                  "the input has a configuration key this image does not know (rebuild the image)");
+    }
+  }
+  std::uint64_t n_samples = 0;
+  if (!in.read_u64(n_samples) || n_samples == 0) {
+    return fail(replay_status::input_format, "the input's sample count is missing or zero");
+  }
+  const firmware::WallEngineError init_seam = g_seam.init(config);
+  const firmware::WallEngineError init_direct = g_direct.init(config);
+  if (init_seam != firmware::WallEngineError::ok || init_direct != firmware::WallEngineError::ok) {
+    host_print("m4-replay image: WallEngine::init refused the configuration: ");
+    return fail(replay_status::engine_init, firmware::wall_engine_error_message(init_seam));
+  }
+
+  const std::int32_t out_handle = host_open(output_path, std::strlen(output_path), kOpenWriteBinary);
+  if (out_handle < 0) return fail(replay_status::output, "cannot open the output file");
+  OutputFile& out = g_out;
+  out.attach(out_handle);
+  out.text("rockwatch-m4-replay 1\n");
+
+  // The constant cost of a measurement window: an empty call of the same shape between the two reads.
+  std::uint32_t overhead_min = UINT32_MAX, overhead_max = 0;
+  for (int i = 0; i < kOverheadRuns; ++i) {
+    const std::uint32_t t0 = clock_now();
+    measured_nothing(g_seam, 0.0, 0.0);
+    const std::uint32_t t1 = clock_now();
+    const std::uint32_t ticks = ticks_between(t0, t1);
+    if (ticks < overhead_min) overhead_min = ticks;
+    if (ticks > overhead_max) overhead_max = ticks;
+  }
+  out.text("overhead ");
+  out.number(overhead_min);
+  out.text(" ");
+  out.number(overhead_max);
+  out.text("\n");
+
+  for (std::uint64_t k = 0; k < n_samples; ++k) {
+    double ug = 0.0, vg = 0.0;
+    if (!in.read_double(ug) || !in.read_double(vg)) {
+      return fail(replay_status::input_format, "the input's samples are truncated");
+    }
+    if (k == 0) {
+      const std::uint32_t t0 = clock_now();
+      const core::AlarmLevel level = g_seam.start(ug, vg).alarm.level;
+      const std::uint32_t t1 = clock_now();
+      g_direct.reset_wall(core::AccelQ7_56(ug), core::AccelQ7_56(vg));
+      out.text("start ");
+      out.number(ticks_between(t0, t1));
+      out.text(" ");
+      out.number(static_cast<std::uint64_t>(level));
+      out.text("\n");
+      continue;
+    }
+    if (k == profile_sample) profiler_start(kProfileIntervalTicks);
+    std::uint32_t t0 = clock_now();
+    const firmware::EngineSample sample = measured_step(g_seam, ug, vg);
+    std::uint32_t t1 = clock_now();
+    if (k == profile_sample) profiler_stop();
+    const core::AlarmLevel level = sample.alarm.level;
+    const std::uint32_t ticks_step = ticks_between(t0, t1);
+    const core::AccelQ7_56 ug_q(ug), vg_q(vg);
+    t0 = clock_now();
+    const core::AlarmLevel level_direct = measured_process(g_direct, ug_q, vg_q);
+    t1 = clock_now();
+    const std::uint32_t ticks_engine = ticks_between(t0, t1);
+    if (level_direct != level) {
+      out.flush();
+      return fail(replay_status::mismatch, "step() and process_wall() disagree on the alarm level");
+    }
+    out.text("s ");
+    out.number(ticks_step);
+    out.text(" ");
+    out.number(ticks_engine);
+    out.text(" ");
+    out.number(static_cast<std::uint64_t>(level));
+    out.text(" ");
+    out.bits(sample.x_m);
+    out.text(" ");
+    out.bits(sample.xd_mps);
+    out.text("\n");
+  }
+  unsigned char extra = 0;
+  if (in.read(&extra, 1)) return fail(replay_status::input_format, "the input has bytes after its last sample");
+  if (profile_sample != UINT64_MAX) {
+    out.text("profile ");
+    out.number(kProfileIntervalTicks);
+    out.text(" ");
+    out.number(profiler_count());
+    out.text(" ");
+    out.number(profiler_dropped());
+    out.text("\n");
+    const std::uint32_t* addresses = profiler_addresses();
+    for (std::uint32_t i = 0; i < profiler_count(); ++i) {
+      out.text("p ");
+      out.hex(addresses[i]);
+      out.text("\n");
+    }
+  }
+  out.text("end ");
+  out.number(n_samples);
+  out.text(" ");
+  out.number(stack_used_bytes());
+  out.text("\n");
+  if (!out.flush()) return fail(replay_status::output, "cannot write the output file");
+  host_close(out_handle);
+  host_close(in_handle);
+  return replay_status::ok;
+}
+
+}  // namespace rockwatch::m4

@@ -1,0 +1,82 @@
+/* Start-up of the Cortex-M4 replay image on QEMU's mps2-an386 (linker script mps2_an386.ld): the vector table at
+   address 0 (the M-profile reset reads the initial SP and PC from it), then Reset_Handler: FPU access on (the code is
+   built with -mfloat-abi=hard, and any FP instruction before CPACR grants access faults), .data copied from its load
+   address, .bss zeroed, and m4_replay_start() (replay_start.cpp: constructors, the replay, semihosting exit).
+   Every exception other than reset and SysTick ends in m4_replay_fault() with its number (IPSR), which reports it and
+   exits; SysTick hands the interrupted address to the profiler (m4_profile_tick, replay_main.cpp). */
+  .syntax unified
+  .cpu cortex-m4
+  .fpu fpv4-sp-d16
+  .thumb
+
+  .section .isr_vector, "a", %progbits
+  .align 2
+  .global m4_vectors
+m4_vectors:
+  .word _estack
+  .word Reset_Handler
+  .rept 13                  /* NMI, HardFault, MemManage, BusFault, UsageFault, 4 reserved, SVC, DebugMon, 1 reserved,
+                               PendSV */
+  .word Fault_Handler
+  .endr
+  .word SysTick_Handler     /* the profiler's sampling tick (replay_main.cpp), enabled only when profiling */
+  .rept 32                  /* external interrupts: none are enabled */
+  .word Fault_Handler
+  .endr
+
+  .text
+  .align 2
+  .thumb_func
+  .global Reset_Handler
+  .type Reset_Handler, %function
+Reset_Handler:
+  ldr r0, =0xE000ED88       /* SCB->CPACR: CP10 and CP11 full access */
+  ldr r1, [r0]
+  orr r1, r1, #(0xF << 20)
+  str r1, [r0]
+  dsb
+  isb
+  ldr r0, =_sdata           /* .data from its load address */
+  ldr r1, =_edata
+  ldr r2, =_sidata
+1:
+  cmp r0, r1
+  bhs 2f
+  ldr r3, [r2], #4
+  str r3, [r0], #4
+  b 1b
+2:
+  ldr r0, =_sbss            /* .bss = 0 */
+  ldr r1, =_ebss
+  movs r3, #0
+3:
+  cmp r0, r1
+  bhs 4f
+  str r3, [r0], #4
+  b 3b
+4:
+  bl m4_replay_start        /* does not return */
+5:
+  b 5b
+  .size Reset_Handler, . - Reset_Handler
+
+  /* The interrupted instruction's address is the stacked PC, 24 bytes above the exception frame's start (the basic
+     frame comes first, also when the FPU's registers are stacked); the thread runs on the main stack. */
+  .thumb_func
+  .global SysTick_Handler
+  .type SysTick_Handler, %function
+SysTick_Handler:
+  mrs r0, msp
+  ldr r0, [r0, #24]
+  b m4_profile_tick         /* returns to the exception return in lr */
+  .size SysTick_Handler, . - SysTick_Handler
+
+  .thumb_func
+  .global Fault_Handler
+  .type Fault_Handler, %function
+Fault_Handler:
+  mrs r0, ipsr
+  bl m4_replay_fault        /* does not return */
+6:
+  b 6b
+  .size Fault_Handler, . - Fault_Handler

@@ -1,0 +1,159 @@
+#!/usr/bin/env bash
+# ctest m4_replay: the firmware's engine on an emulated Cortex-M4 (scripts/m4-replay.sh) against the host's
+# `rockwatch simulate --arith fixed --alarms` on the same input: the same alarm transitions at the same samples, the
+# same x and xd at every sample (compare_m4_host.py), on a record that collapses, one that survives and one with a
+# vertical component, another wall and sub-stepping. Then the checks' own negative controls (a shifted transition
+# and a changed displacement must be reported), and the script's failure paths (bad options: simulate's message and
+# exit 2; an image that is not one: exit 1 with a message; a run over its time limit: exit 1, bounded).
+#
+#   m4_replay_check.sh ROCKWATCH_BINARY WORK_DIR
+# Exit status: 0 all identical; 1 a difference or failure; 77 arm-none-eabi-g++ or qemu-system-arm missing (SKIP).
+set -euo pipefail
+root=$(cd "$(dirname "$0")/../../.." && pwd)
+here=$root/tests/firmware/m4
+[[ $# -eq 2 ]] || { echo "usage: $0 ROCKWATCH_BINARY WORK_DIR" >&2; exit 2; }
+rockwatch=$1
+work=$2
+python=/usr/bin/python3
+
+for tool in "${ARM_GXX:-arm-none-eabi-g++}" "${QEMU_SYSTEM_ARM:-qemu-system-arm}"; do
+  if ! command -v "$tool" >/dev/null; then
+    echo "m4_replay: SKIPPED: $tool not found (scripts/install-deps.sh installs gcc-arm-none-eabi and qemu-system-arm)"
+    exit 77
+  fi
+done
+[[ -x $rockwatch ]] || { echo "m4_replay: $rockwatch is not executable" >&2; exit 1; }
+rm -rf "$work"
+mkdir -p "$work"
+
+# The image, once, in the build tree (not the source tree's build/m4-replay).
+"$root/scripts/embedded-build.sh" --m4-replay "$work/image" >"$work/build.log" 2>&1 || { cat "$work/build.log"; exit 1; }
+image=$work/image/rockwatch_m4_replay.elf
+export ROCKWATCH=$rockwatch
+
+suite=$root/sim/suites/npr9998-2015
+records=$root/tests/data/records
+failed=0
+run_case() {
+  local name=$1 expect=$2
+  shift 2
+  local dir=$work/$name
+  mkdir -p "$dir"
+  echo "== $name ($expect): $*"
+  if ! "$root/scripts/m4-replay.sh" --m4-image "$image" --m4-trace "$dir/trace.csv" --m4-timeout 120 "$@" \
+        >"$dir/m4.json" 2>"$dir/m4.err"; then
+    cat "$dir/m4.err"
+    echo "FAILED: m4-replay.sh"
+    failed=1
+    return
+  fi
+  "$rockwatch" simulate "$@" --arith fixed --alarms --json --out "$dir/history.csv" >"$dir/host.json"
+  if ! "$python" "$here/compare_m4_host.py" "$dir/m4.json" "$dir/trace.csv" "$dir/host.json" "$dir/history.csv" "$expect"; then
+    failed=1
+  fi
+}
+
+run_case set01_x_0.40g collapse --suite "$suite" --set 1 --component X --scale-pga 0.40
+run_case set01_x_0.20g survive --suite "$suite" --set 1 --component X --scale-pga 0.20
+# El Centro (dt 0.01 s, so two steps per sample), with its vertical, a thicker, shorter wall, r_ana, kappa 1.5.
+run_case elcentro_vertical_wall any --record "$records/RSN6_IMPVALL.I_I-ELC180-hor1.AT2" \
+  --vertical "$records/RSN6_IMPVALL.I_I-ELC-UP.AT2" --scale-pga 0.3 --b 0.12 --h1 1.6 --h2 1.5 --r ana --kappa 1.5 \
+  --t-end 12
+
+# The profiler (--m4-profile): the collapse case's worst sample, in a second run. The addresses it records must
+# number about the step's instructions over the sampling interval (97.66 instructions, plus the handler's own ~13
+# per tick), and the shares name functions of the image.
+if [[ -f $work/set01_x_0.40g/m4.json ]]; then
+  worst=$("$python" -c 'import json,sys; print(json.load(open(sys.argv[1]))["insn_per_sample"]["max_sample"])' \
+          "$work/set01_x_0.40g/m4.json")
+  if "$root/scripts/m4-replay.sh" --m4-image "$image" --m4-profile "$worst" --m4-timeout 120 --suite "$suite" --set 1 \
+       --component X --scale-pga 0.40 >"$work/profile.json" 2>"$work/profile.err" &&
+     "$python" - "$work/profile.json" "$worst" <<'PY'
+import json, sys
+j = json.load(open(sys.argv[1]))
+p = j["profile"]
+insn = j["insn_per_sample"]["max"]
+ok = (p["sample"] == int(sys.argv[2]) and p["insn"] == insn and insn / 97.66 <= p["addresses"] <= insn / 70.0
+      and 0.5 < sum(f["share"] for f in p["functions"]) <= 1.0001
+      and not any(f["function"].startswith("0x") for f in p["functions"][:5]))
+print("profile of sample %d (%d instructions, %d addresses): %s" % (
+    p["sample"], insn, p["addresses"],
+    ", ".join("%s %.1f %%" % (f["function"].split("::")[-1], 100 * f["share"]) for f in p["functions"][:4])))
+sys.exit(0 if ok else 1)
+PY
+  then :; else
+    cat "$work/profile.err"
+    echo "FAILED: the profile of sample $worst"
+    failed=1
+  fi
+fi
+
+# Negative controls: the comparison must see a transition one sample late and a displacement one ulp off.
+control=$work/set01_x_0.40g
+if [[ -f $control/m4.json ]]; then
+  "$python" - "$control" <<'PY'
+import json, struct, sys
+d = sys.argv[1]
+m4 = json.load(open(d + "/m4.json"))
+m4["transitions"][-1]["sample"] += 1
+json.dump(m4, open(d + "/m4_shifted.json", "w"))
+rows = open(d + "/trace.csv").read().splitlines()
+f = rows[500].split(",")
+x = float(f[4])
+f[4] = repr(struct.unpack("<d", struct.pack("<q", struct.unpack("<q", struct.pack("<d", x))[0] + 1))[0])
+rows[500] = ",".join(f)
+open(d + "/trace_ulp.csv", "w").write("\n".join(rows) + "\n")
+PY
+  for variant in "m4_shifted.json trace.csv" "m4.json trace_ulp.csv"; do
+    read -r j t <<<"$variant"
+    if "$python" "$here/compare_m4_host.py" "$control/$j" "$control/$t" "$control/host.json" "$control/history.csv" \
+         collapse >"$work/control.out"; then
+      echo "FAILED: the comparison accepted a perturbed replay ($j, $t)"
+      failed=1
+    else
+      echo "negative control ($j, $t): $(cat "$work/control.out")"
+    fi
+  done
+fi
+
+# Failure paths of the script.
+set +e
+"$root/scripts/m4-replay.sh" --m4-image "$image" --suite "$suite" --set 1 --component X --scale-pga -1 \
+  >"$work/bad.out" 2>"$work/bad.err"
+status=$?
+set -e
+if [[ $status -ne 2 ]] || ! grep -q "rockwatch simulate: error: --scale-pga" "$work/bad.err" || [[ -s $work/bad.out ]]; then
+  echo "FAILED: a bad option gave status $status: $(cat "$work/bad.err")"
+  failed=1
+else
+  echo "bad option: status 2: $(cat "$work/bad.err")"
+fi
+printf 'not an image\n' >"$work/not_an_image.elf"
+set +e
+"$root/scripts/m4-replay.sh" --m4-image "$work/not_an_image.elf" --m4-timeout 20 --suite "$suite" --set 1 \
+  --component X --scale-pga 0.2 >"$work/bad_image.out" 2>"$work/bad_image.err"
+status=$?
+set -e
+if [[ $status -ne 1 ]] || [[ -s $work/bad_image.out ]] || ! grep -q "^m4-replay: " "$work/bad_image.err"; then
+  echo "FAILED: a file that is no image gave status $status: $(cat "$work/bad_image.err")"
+  failed=1
+else
+  echo "not an image: status 1: $(tail -n 1 "$work/bad_image.err")"
+fi
+# A run that cannot finish in time: 600 s of input (120 001 samples, about 12 s of emulation) with a 1 s limit is stopped, status 1.
+set +e
+start=$(date +%s)
+"$root/scripts/m4-replay.sh" --m4-image "$image" --m4-timeout 1 --suite "$suite" --set 1 --component X \
+  --scale-pga 0.2 --t-end 600 >"$work/slow.out" 2>"$work/slow.err"
+status=$?
+elapsed=$(( $(date +%s) - start ))
+set -e
+if [[ $status -ne 1 ]] || ! grep -q "did not finish within 1 s" "$work/slow.err" || [[ $elapsed -gt 30 ]]; then
+  echo "FAILED: a run over its time limit gave status $status after $elapsed s: $(cat "$work/slow.err")"
+  failed=1
+else
+  echo "time limit: status 1 after $elapsed s: $(tail -n 1 "$work/slow.err")"
+fi
+
+[[ $failed -eq 0 ]] && echo "m4_replay: all identical" || echo "m4_replay: FAILED"
+exit $failed

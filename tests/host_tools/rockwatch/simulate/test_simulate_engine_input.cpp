@@ -1,0 +1,156 @@
+// `rockwatch simulate --engine-input-out FILE`: the file holds the engine's configuration as the analysis ran it and
+// every input the engine stepped on (checked against sim::analyse in-process through the same hook, value for value),
+// in the format the Cortex-M4 replay image reads; and the option's misuses are refused.
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_process.hpp"
+#include "cli_test_files.hpp"
+#include "rockwatch/core/restitution.hpp"
+#include "rockwatch/core/sample_engine.hpp"
+#include "rockwatch/core/wall.hpp"
+#include "rockwatch/firmware/engine_input_format.hpp"
+#include "rockwatch/records/record.hpp"
+#include "rockwatch/sim/analysis.hpp"
+
+#include "cli_expect.hpp"  // brings in CppUTest, after every standard header
+
+#include <CppUTest/TestHarness.h>
+
+using rockwatch::test::describe;
+using rockwatch::test::kG;
+using rockwatch::test::ProcessResult;
+using rockwatch::test::record_path;
+using rockwatch::test::run_rockwatch;
+using rockwatch::test::TempDir;
+namespace sim = rockwatch::sim;
+namespace core = rockwatch::core;
+namespace firmware = rockwatch::firmware;
+
+namespace {
+
+const char* const kElCentro180Input = "RSN6_IMPVALL.I_I-ELC180-hor1.AT2";  // dt 0.01 s: two steps per sample
+
+struct EngineInputFile {
+  std::uint64_t n_config = 0;
+  core::WallEngineConfig config;
+  bool keys_known = true;
+  std::vector<std::array<double, 2>> inputs;
+  bool complete = false;
+};
+
+EngineInputFile read_engine_input(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  EngineInputFile r;
+  std::size_t pos = 0;
+  const auto u64 = [&]() {
+    std::uint64_t v = 0;
+    for (int i = 0; i < 8 && pos < bytes.size(); ++i, ++pos) {
+      v |= std::uint64_t(static_cast<unsigned char>(bytes[pos])) << (8 * i);
+    }
+    return v;
+  };
+  const auto dbl = [&]() {
+    const std::uint64_t b = u64();
+    double d = 0.0;
+    std::memcpy(&d, &b, sizeof d);
+    return d;
+  };
+  if (bytes.compare(0, 8, std::string(firmware::kEngineInputMagic, 8)) != 0) return r;
+  pos = 8;
+  r.n_config = u64();
+  for (std::uint64_t i = 0; i < r.n_config; ++i) {
+    const std::uint64_t key = u64();
+    r.keys_known = firmware::apply_engine_input_key(r.config, key, dbl()) && r.keys_known;
+  }
+  const std::uint64_t n = u64();
+  for (std::uint64_t i = 0; i < n && pos + 16 <= bytes.size(); ++i) {
+    const double ug = dbl();
+    r.inputs.push_back({ug, dbl()});
+  }
+  r.complete = r.inputs.size() == n && pos == bytes.size();
+  return r;
+}
+
+}  // namespace
+
+TEST_GROUP(SimulateEngineInput){};
+
+TEST(SimulateEngineInput, HoldsTheConfigurationAndEveryInputTheEngineSteppedOn) {
+  TempDir dir;
+  const std::string path = dir.path() + "/input.bin";
+  const ProcessResult r = run_rockwatch({"simulate", "--record", record_path(kElCentro180Input), "--scale-pga", "0.25",
+                                         "--arith", "fixed", "--alarms", "--lambda-w", "0.3", "--alarm-hold", "0.5",
+                                         "--b", "0.12", "--h1", "1.6", "--r", "ana", "--kappa", "1.5", "--json",
+                                         "--engine-input-out", path});
+  const std::string what = describe(r);
+  CHECK_EQUAL_TEXT(0, r.exit_status, what.c_str());
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  const EngineInputFile f = read_engine_input(path);
+  CHECK_TRUE(f.complete);
+  CHECK_TRUE(f.keys_known);
+  LONGS_EQUAL(16, f.n_config);
+
+  core::WallParameters wall = core::paper_wall();
+  wall.b_m = 0.12;
+  wall.h1_m = 1.6;
+  DOUBLES_EQUAL(0.12, f.config.wall.b_m, 0.0);
+  DOUBLES_EQUAL(1.6, f.config.wall.h1_m, 0.0);
+  DOUBLES_EQUAL(wall.h2_m, f.config.wall.h2_m, 0.0);
+  DOUBLES_EQUAL(wall.g_mps2, f.config.wall.g_mps2, 0.0);
+  DOUBLES_EQUAL(j["r"].get<double>(), f.config.r_energy, 0.0);
+  DOUBLES_EQUAL(1.5, f.config.kappa, 0.0);
+  DOUBLES_EQUAL(0.01, f.config.dt_s, 1e-15);  // the record's sample interval, integrated in sub-steps of max_step
+  DOUBLES_EQUAL(core::kDefaultMaxStep_s, f.config.max_step_s, 0.0);
+  DOUBLES_EQUAL(j["dt_s"].get<double>() * 10.0, f.config.dt_s, 1e-15);
+  CHECK_TRUE(f.config.model == core::ModelKind::linear);
+  DOUBLES_EQUAL(0.3, f.config.alarm.lambda_warning, 0.0);
+  DOUBLES_EQUAL(0.5, f.config.alarm.hold_s, 0.0);
+  DOUBLES_EQUAL(core::AlarmSettings{}.energy_margin, f.config.alarm.energy_margin, 0.0);
+
+  // The same analysis in-process: the same inputs, value for value (one per record sample).
+  const rockwatch::records::Record rec = rockwatch::records::read_record(record_path(kElCentro180Input));
+  sim::GroundMotion m;
+  m.dt_s = rec.dt_s;
+  m.ug_mps2 = rec.horizontal_mps2;
+  const double factor = 0.25 * kG / sim::peak_abs(m.ug_mps2);
+  for (double& u : m.ug_mps2) u *= factor;
+  sim::AnalysisOptions o;
+  o.arithmetic = sim::Arithmetic::fixed_point;
+  o.restitution = core::Restitution{core::RestitutionKind::ana, 0.0};
+  o.kappa = 1.5;
+  o.evaluate_alarm = true;
+  o.alarm = core::AlarmSettings{0.3, 0.5, 1.5};
+  std::vector<std::array<double, 2>> expected;
+  o.engine_inputs_out = &expected;
+  const sim::AnalysisResult e = sim::analyse(wall, m, o);
+  DOUBLES_EQUAL(e.r, f.config.r_energy, 0.0);
+  LONGS_EQUAL(std::llround(e.t_final_s / m.dt_s) + 1, expected.size());
+  LONGS_EQUAL(expected.size(), f.inputs.size());
+  CHECK_TRUE(expected == f.inputs);
+  DOUBLES_EQUAL(m.ug_mps2[1], f.inputs[1][0], 0.0);
+  DOUBLES_EQUAL(m.ug_mps2[2], f.inputs[2][0], 0.0);
+}
+
+TEST(SimulateEngineInput, MisusesAreRefusedNamingTheOption) {
+  TempDir dir;
+  const std::string record = record_path(kElCentro180Input);
+  rockwatch::test::expect_command_rejected("simulate", {"--record", record, "--engine-input-out", ""},
+                                           {"--engine-input-out", "file name"});
+  rockwatch::test::expect_command_rejected("simulate", {"--record", record, "--engine-input-out", dir.path()},
+                                           {"--engine-input-out", "directory"});
+  rockwatch::test::expect_command_rejected(
+      "simulate", {"--record", record, "--engine-input-out", dir.path() + "/a", "--out", dir.path() + "/a"},
+      {"--engine-input-out", "--out"});
+  rockwatch::test::expect_command_rejected("simulate", {"--record", record, "--engine-input-out", record},
+                                           {"--engine-input-out", "input record"});
+}
