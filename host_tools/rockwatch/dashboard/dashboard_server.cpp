@@ -229,6 +229,10 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
  public:
   HttpSession(tcp::socket&& socket, DashboardServer::Impl& server) : stream_(std::move(socket)), server_(server) {
     ++server_.http_sessions_;
+    if (server_.settings().send_buffer_bytes > 0) {
+      beast::error_code ec;  // a refused size leaves the system's, which only changes how soon a client is slow
+      stream_.socket().set_option(asio::socket_base::send_buffer_size(server_.settings().send_buffer_bytes), ec);
+    }
   }
   ~HttpSession() { --server_.http_sessions_; }
 

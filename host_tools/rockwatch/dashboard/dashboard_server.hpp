@@ -27,6 +27,7 @@ struct ServerSettings {
   std::size_t max_ws_clients = 32;
   std::size_t ws_queue = 64;       // messages per WebSocket client
   int idle_timeout_s = 30;         // an HTTP connection with no complete request for this long is closed
+  int send_buffer_bytes = 0;       // SO_SNDBUF of each connection; 0: the system's (the tests make it small)
 };
 
 class DashboardServer {

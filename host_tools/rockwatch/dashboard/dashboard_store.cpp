@@ -172,14 +172,14 @@ void SnapshotStore::restart(Wall& w) {
 
 void SnapshotStore::add_point(Series& s, double t_s, double x_m, double energy_ratio) {
   if (!std::isfinite(t_s)) return;
-  const double bin_s = 1.0 / settings_.updates_per_s;
+  const double per_s = settings_.updates_per_s;  // bins: floor(t · updates_per_s)
   if (!s.points.empty()) {
     const Point& last = s.points.back();
     if (t_s < last.t_s - 1.0) {
       s.points.clear();  // a new time base (another publisher): the old curve would join the new one
     } else if (t_s < last.t_s) {
       return;  // reordered: the curve is drawn in time order
-    } else if (std::floor(t_s / bin_s) == std::floor(last.t_s / bin_s)) {
+    } else if (std::floor(t_s * per_s) == std::floor(last.t_s * per_s)) {
       // Same bin: keep the larger |x| (NaN never replaces a number).
       if (std::fabs(x_m) > std::fabs(last.x_m) || (!std::isfinite(last.x_m) && std::isfinite(x_m))) {
         s.points.back() = Point{last.id, t_s, x_m, energy_ratio};
@@ -191,9 +191,9 @@ void SnapshotStore::add_point(Series& s, double t_s, double x_m, double energy_r
   const std::uint64_t id = s.next_id++;
   s.points.push_back(Point{id, t_s, x_m, energy_ratio});
   if (id < s.dirty_from) s.dirty_from = id;
-  const std::size_t max_points =
-      static_cast<std::size_t>(std::ceil(settings_.history_s * settings_.updates_per_s)) + 1;
-  while (!s.points.empty() && (s.points.front().t_s < t_s - settings_.history_s || s.points.size() > max_points)) {
+  // The window (t - history_s, t]: at most history_s * updates_per_s bins.
+  const std::size_t max_points = static_cast<std::size_t>(std::ceil(settings_.history_s * settings_.updates_per_s));
+  while (!s.points.empty() && (s.points.front().t_s <= t_s - settings_.history_s || s.points.size() > max_points)) {
     s.points.pop_front();
   }
 }
@@ -333,13 +333,13 @@ json SnapshotStore::wall_json(const Wall& w, bool whole) const {
   };
   j["points"] = series(w.predicted, true);
   j["measured"] = series(w.measured, false);
-  if (whole || w.transitions_total != w.pushed_transitions_total) {
+  if (whole || w.send_everything || w.transitions_total != w.pushed_transitions_total) {
     json transitions = json::array();
     for (const rockwatch::alarm_event_t& e : w.transitions) transitions.push_back(transition_json(e));
     j["transitions"] = std::move(transitions);
   }
   const std::int64_t status_seq = w.status ? w.status->seq : -1;
-  if (whole || status_seq != w.pushed_status_seq) j["status"] = w.status ? status_json(*w.status) : json(nullptr);
+  if (whole || w.send_everything || status_seq != w.pushed_status_seq) j["status"] = w.status ? status_json(*w.status) : json(nullptr);
   return j;
 }
 
@@ -363,7 +363,9 @@ std::vector<std::string> SnapshotStore::take_updates(std::int64_t now_ns) {
   for (auto& [name, w] : walls_) {
     if (w.version == w.pushed_version) continue;
     if (w.pushed_once && now_ns - w.last_push_ns < interval_ns) continue;
-    updates.push_back(json{{"type", "update"}, {"wall", wall_json(w, false)}}.dump());
+    updates.push_back(
+        json{{"type", "update"}, {"server_time_s", static_cast<double>(now_ns) * 1e-9}, {"wall", wall_json(w, false)}}
+            .dump());
     w.pushed_version = w.version;
     w.pushed_once = true;
     w.last_push_ns = now_ns;
@@ -371,6 +373,7 @@ std::vector<std::string> SnapshotStore::take_updates(std::int64_t now_ns) {
     w.measured.dirty_from = kNothingDirty;
     w.pushed_transitions_total = w.transitions_total;
     w.pushed_status_seq = w.status ? w.status->seq : -1;
+    w.send_everything = false;
   }
   return updates;
 }

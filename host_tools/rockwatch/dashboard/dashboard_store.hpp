@@ -66,7 +66,8 @@ class SnapshotStore {
   // as wall_json with its whole history.
   nlohmann::json state_json() const;
 
-  // The WebSocket updates due at `now_ns` (any monotonic clock): one message {"type": "update", "wall": {...}} per
+  // The WebSocket updates due at `now_ns` (any monotonic clock): one message {"type": "update", "server_time_s":
+  // now_ns in s, "wall": {...}} per
   // wall that changed since its last update and whose last update is at least 1/updates_per_s s old. An update holds
   // the wall's current values, the points added or changed since the previous update, and the transitions and status
   // only when they changed.
@@ -105,6 +106,7 @@ class SnapshotStore {
     bool pushed_once = false;
     std::int64_t last_push_ns = 0;
     std::int64_t pushed_transitions_total = -1, pushed_status_seq = -1;
+    bool send_everything = true;  // the next update carries the transitions and status even when unchanged
   };
 
   Wall* wall_for(const std::string& name);  // nullptr when max_walls are known already

@@ -39,8 +39,8 @@
       series: [{}, { label: 'x predicted', stroke: COLORS.x, width: 2, spanGaps: false },
         { label: 'x measured', stroke: COLORS.measured, width: 1, spanGaps: true },
         line('+x_inst', COLORS.inst, null), line('−x_inst', COLORS.inst, null),
-        line('warning', COLORS.warning, dash), line('', COLORS.warning, dash),
-        line('collapse', COLORS.collapse, dash), line('', COLORS.collapse, dash)],
+        line('+warning', COLORS.warning, dash), line('−warning', COLORS.warning, dash),
+        line('+collapse', COLORS.collapse, dash), line('−collapse', COLORS.collapse, dash)],
       legend: { live: false },
     }, [[], [], [], [], [], [], [], [], []], el);
   }
@@ -60,7 +60,7 @@
   function makeWall(name) {
     const card = $('section', 'wall');
     card.dataset.wall = name;
-    card.appendChild($('h2', null, 'wall ' + name));
+    card.appendChild($('h2', null, 'wall "' + name + '"'));
     const row = $('div', 'banner-row');
     const level = $('div', 'level level-unknown', '—');
     level.dataset.testid = 'level';
@@ -263,7 +263,7 @@
     }
     for (const w of state.walls) applyWall(w, true);
     if (state.server) {
-      document.getElementById('server').textContent = 'pages ' + state.server.ws_clients + ', updates sent ' +
+      document.getElementById('server').textContent = 'at page load: pages ' + state.server.ws_clients + ', updates sent ' +
         state.server.ws_messages_sent + ', dropped ' + state.server.ws_messages_dropped;
     }
     scheduleRender();
