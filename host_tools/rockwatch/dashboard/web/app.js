@@ -19,8 +19,11 @@
     if (text !== undefined) el.textContent = text;
     return el;
   };
-  const fmt = (v, digits, unit) => (v === null || v === undefined || !isFinite(v)) ? '—' :
-    v.toFixed(digits) + (unit ? ' ' + unit : '');
+  const fmt = (v, digits, unit) => {
+    if (v === null || v === undefined || !isFinite(v)) return '—';
+    const r = Number(v.toFixed(digits));  // no "-0.0"
+    return (r === 0 ? 0 : r).toFixed(digits) + (unit ? ' ' + unit : '');
+  };
   const mm = (m) => fmt(m === null ? null : m * 1000, 1, 'mm');
   const clock = (t) => new Date(t * 1000).toISOString().substring(11, 23);
 
