@@ -54,7 +54,12 @@ int run_dashboard(const DashboardRequest& q) {
             << "  open " << url << " in a browser; JSON at " << url << "api/state; Ctrl-C stops\n"
             << std::flush;
   const auto start = std::chrono::steady_clock::now();
+  bool lcm_failed = false;
   while (!interrupt.interrupted()) {
+    if (receiver.failed()) {
+      lcm_failed = true;
+      break;
+    }
     if (q.duration_s > 0.0 &&
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >= q.duration_s) {
       break;
@@ -64,10 +69,15 @@ int run_dashboard(const DashboardRequest& q) {
   server.stop();
   receiver.stop();
   const nlohmann::json c = server.counters();
-  std::cout << "rockwatch dashboard: stopped" << (interrupt.interrupted() ? " by a signal" : " (--duration)") << "; "
+  std::cout << "rockwatch dashboard: stopped"
+            << (lcm_failed ? " (LCM failed)" : interrupt.interrupted() ? " by a signal" : " (--duration)") << "; "
             << store.wall_count() << " walls, " << c["http_requests"] << " HTTP requests (" << c["http_errors"]
             << " refused as bad), " << c["ws_clients_total"] << " live pages, " << c["ws_messages_sent"]
             << " updates sent, " << c["ws_messages_dropped"] << " dropped for slow pages\n";
+  if (lcm_failed) {
+    return fail(kDashboardErrors, "LCM stopped receiving on " + q.lcm_url + ": the page would show stale values",
+                kExitInternalError);
+  }
   return finish_stdout(kDashboardErrors);
 }
 

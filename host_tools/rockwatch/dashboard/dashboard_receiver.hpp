@@ -26,6 +26,8 @@ class LcmReceiver {
 
   void start();
   void stop();  // within about 100 ms; idempotent
+  // True once LCM failed while receiving (the thread has ended): the page would only show stale values.
+  bool failed() const { return failed_.load(); }
 
   // Hands one raw message to the store, as the receive thread does (the unit tests call it directly).
   static void deliver(const DashboardChannels& channels, SnapshotStore& store, const std::string& channel,
@@ -37,6 +39,7 @@ class LcmReceiver {
   std::unique_ptr<lcm::LCM> lcm_;
   std::thread thread_;
   std::atomic<bool> stop_{false};
+  std::atomic<bool> failed_{false};
 };
 
 }  // namespace rockwatch::cli

@@ -168,11 +168,6 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
     if (!writing_) do_write();
   }
 
-  void close() {
-    closed_ = true;
-    beast::error_code ec;
-    beast::get_lowest_layer(ws_).socket().close(ec);
-  }
 
  private:
   void on_accept(beast::error_code ec) {

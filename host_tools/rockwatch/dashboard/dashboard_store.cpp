@@ -1,5 +1,6 @@
 #include "dashboard/dashboard_store.hpp"
 
+#include <climits>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -100,7 +101,50 @@ json limits_json(const WallLimits& l) {
               {"energy_margin", l.energy_margin}};
 }
 
+// Decodes the whole datagram as T: a message that is shorter or longer than T's encoding is not a T.
+template <typename T>
+bool decode_exactly(const void* data, std::size_t size, T& out) {
+  if (size > static_cast<std::size_t>(INT_MAX)) return false;
+  const int length = static_cast<int>(size);
+  return out.decode(data, 0, length) == length;
+}
+
 }  // namespace
+
+void deliver_message(const DashboardChannels& channels, SnapshotStore& store, const std::string& channel,
+                     const void* data, std::size_t size) {
+  const std::optional<ChannelMatch> match = match_channel(channels, channel);
+  if (!match) return;  // the subscriptions' regular expressions and match_channel agree; this is a safeguard
+  bool ok = false;
+  switch (match->kind) {
+    case ChannelKind::state: {
+      rockwatch::wall_state_t m;
+      if ((ok = decode_exactly(data, size, m))) store.on_state(match->wall, m);
+      break;
+    }
+    case ChannelKind::alarm: {
+      rockwatch::alarm_event_t m;
+      if ((ok = decode_exactly(data, size, m))) store.on_alarm(match->wall, m);
+      break;
+    }
+    case ChannelKind::status: {
+      rockwatch::monitor_status_t m;
+      if ((ok = decode_exactly(data, size, m))) store.on_status(match->wall, m);
+      break;
+    }
+    case ChannelKind::sensor: {
+      rockwatch::wall_sensor_t m;
+      if ((ok = decode_exactly(data, size, m))) store.on_sensor(match->wall, m);
+      break;
+    }
+    case ChannelKind::estimate: {
+      rockwatch::wall_estimate_t m;
+      if ((ok = decode_exactly(data, size, m))) store.on_estimate(match->wall, m);
+      break;
+    }
+  }
+  if (!ok) store.count_decode_error();
+}
 
 std::string level_text(int level) {
   if (level >= 0 && level <= kCollapsed) return core::alarm_level_name(static_cast<core::AlarmLevel>(level));

@@ -24,6 +24,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "dashboard/dashboard_channels.hpp"
+
 #include "rockwatch/alarm_event_t.hpp"
 #include "rockwatch/monitor_status_t.hpp"
 #include "rockwatch/wall_estimate_t.hpp"
@@ -121,6 +123,11 @@ class SnapshotStore {
   std::int64_t decode_errors_ = 0;
   std::int64_t messages_ = 0;
 };
+
+// One raw LCM message: its channel's kind and wall (match_channel), decoded as that kind's type (the whole datagram,
+// or it is counted as a decode error) and handed to `store`. Channels that match nothing are ignored.
+void deliver_message(const DashboardChannels& channels, SnapshotStore& store, const std::string& channel,
+                     const void* data, std::size_t size);
 
 // "QUIET" ... "COLLAPSED", or "LEVEL_<n>" for a code this dashboard does not know.
 std::string level_text(int level);
