@@ -35,6 +35,7 @@ targets=(
   "fuzz_monitor_args      1024  4"
   "fuzz_monitor_loop     32768 10"
   "fuzz_monitor_datagrams 16384 8"
+  "fuzz_dashboard         8192  4"
 )
 
 field() { echo "$1" | awk -v n="$2" '{print $n}'; }

@@ -4,7 +4,11 @@
 #
 #   scripts/install-deps.sh demo    what building the programs and running the demo needs (scripts/demo.sh)
 #   scripts/install-deps.sh [all]   that, plus the test-only tools: the Cortex-M4 toolchain and emulator, valgrind, clang and its
-#                                   fuzzing runtimes (scripts/test.sh, scripts/fuzz.sh, scripts/soak.sh)
+#                                   fuzzing runtimes, chromium (scripts/test.sh, scripts/fuzz.sh, scripts/soak.sh)
+# Then the npm packages of package-lock.json (`npm ci`: uPlot, compiled into `rockwatch dashboard`, and playwright-core,
+# which drives chromium in the dashboard's browser test), when node_modules does not match the lock file. Without the
+# npm registry this step warns and the build still succeeds: the dashboard then serves its page without charts and
+# the browser test skips, saying why.
 set -euo pipefail
 set_name="${1:-all}"
 
@@ -22,13 +26,18 @@ DEMO_PACKAGES=(
   liblcm-dev liblcm-bin libglib2.0-dev   # LCM transport (firmware); lcm.pc needs glib-2.0
   iproute2               # ip: scripts/multicast-route.sh adds the multicast route on lo when there is none
   python3-matplotlib     # PNG plots (host_tools)
+  libboost-dev           # Boost.Beast: HTTP + WebSocket server of `rockwatch dashboard` (header-only)
 )
+# node and npm (the dashboard's uPlot through `npm ci`): Debian's nodejs and npm, unless a node with npm is there already
+# (Debian's npm package conflicts with other nodejs builds, e.g. NodeSource's, which bundle npm).
+NODE_PACKAGES=(nodejs npm)
 TEST_PACKAGES=(
   gcc-arm-none-eabi libstdc++-arm-none-eabi-newlib libnewlib-arm-none-eabi   # Cortex-M4 build (scripts/embedded-build.sh)
   qemu-system-arm        # the firmware on an emulated Cortex-M4 (scripts/m4-replay.sh, ctest m4_replay)
   binutils               # nm, size (symbol audit: tests/tools/symbol_audit.sh)
   valgrind               # callgrind instruction counts (tests/bench)
   clang libclang-rt-dev  # fuzzing (scripts/fuzz.sh, preset "fuzz"): clang++ and its libFuzzer/ASan/UBSan runtimes
+  chromium               # headless browser of the dashboard's browser test (driven by playwright-core from npm)
 )
 
 case "$set_name" in
@@ -36,6 +45,26 @@ case "$set_name" in
   all) PACKAGES=("${DEMO_PACKAGES[@]}" "${TEST_PACKAGES[@]}") ;;
   *) echo "install-deps: unknown package set '$set_name' (expected 'demo' or 'all')" >&2; exit 2 ;;
 esac
+
+if ! command -v npm >/dev/null 2>&1; then PACKAGES+=("${NODE_PACKAGES[@]}"); fi
+
+# npm ci when node_modules is missing or older than the lock file (npm writes node_modules/.package-lock.json).
+npm_install() {
+  cd "$(dirname "$0")/.."
+  if [ -f node_modules/.package-lock.json ] && [ node_modules/.package-lock.json -nt package-lock.json ]; then
+    echo "install-deps: node_modules matches package-lock.json"
+    return 0
+  fi
+  if ! command -v npm >/dev/null 2>&1; then
+    echo "install-deps: warning: npm not found: the dashboard will have no charts, its browser test will skip" >&2
+    return 0
+  fi
+  echo "install-deps: npm ci (uplot, playwright-core: package-lock.json)"
+  if ! npm ci --ignore-scripts --no-audit --no-fund; then
+    echo "install-deps: warning: npm ci failed (no registry?): the dashboard will have no charts, its browser test" \
+         "will skip" >&2
+  fi
+}
 
 missing=()
 for p in "${PACKAGES[@]}"; do
@@ -46,6 +75,7 @@ done
 
 if [ ${#missing[@]} -eq 0 ]; then
   echo "install-deps: all ${#PACKAGES[@]} packages of the '$set_name' set present"
+  npm_install
   exit 0
 fi
 
@@ -58,3 +88,4 @@ echo "install-deps: installing ${missing[*]}"
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -q
 $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
+npm_install

@@ -27,6 +27,8 @@ constexpr Command kCommands[] = {
      replay_main},
     {"demo", "the live monitor on two suite records over LCM, its alarm timeline beside the offline simulation",
      demo_main},
+    {"dashboard", "live web page of the monitor: alarm level, x(t), energy, transitions and status of every wall",
+     dashboard_main},
 };
 
 void print_usage(std::ostream& out) {

@@ -24,5 +24,6 @@ int generate_main(int argc, const char* const* argv);
 int study_main(int argc, const char* const* argv);
 int replay_main(int argc, const char* const* argv);
 int demo_main(int argc, const char* const* argv);
+int dashboard_main(int argc, const char* const* argv);
 
 }  // namespace rockwatch::cli

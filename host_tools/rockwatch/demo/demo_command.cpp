@@ -4,6 +4,8 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
+#include <cstring>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -387,6 +389,50 @@ class Demo {
   const SignalInterrupt& interrupt_;
 };
 
+// `rockwatch dashboard` as a child process (this executable: a command never includes another command's code), on
+// the demo's LCM URL, with the demo monitor's wall (paper wall, kappa 2: the dashboard's defaults).
+class DemoDashboard {
+ public:
+  DemoDashboard(const DemoRequest& q, const WorkDir& work) : out_(work.file("dashboard.out")) {
+    std::error_code ec;
+    const std::string self = std::filesystem::read_symlink("/proc/self/exe", ec).string();
+    if (ec) throw std::runtime_error("cannot find this executable to start the dashboard: " + ec.message());
+    process_ = std::make_unique<MonitorProcess>(
+        self, std::vector<std::string>{"dashboard", "--http", q.dashboard_http, "--lcm-url", q.lcm_url}, out_,
+        work.file("dashboard.err"));
+    err_ = work.file("dashboard.err");
+  }
+
+  // Waits until it prints its URL; throws UsageError with its message when it ends first (address in use...).
+  std::string wait_for_url() {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    constexpr const char* kServing = "serving on ";
+    while (std::chrono::steady_clock::now() < deadline) {
+      const std::string text = file_text(out_);
+      const std::size_t at = text.find(kServing);
+      if (at != std::string::npos && text.find('\n', at) != std::string::npos) {
+        const std::size_t start = at + std::strlen(kServing);
+        return text.substr(start, text.find('\n', at) - start);
+      }
+      if (!process_->running()) {
+        std::string message = file_text(err_);
+        const std::string prefix = "rockwatch dashboard: error: ";
+        if (message.rfind(prefix, 0) == 0) message = message.substr(prefix.size());
+        while (!message.empty() && message.back() == '\n') message.pop_back();
+        throw UsageError("--dashboard: the dashboard did not start (" + process_->exit_text() + "): " + message);
+      }
+      usleep(20000);
+    }
+    throw std::runtime_error("the dashboard did not print its URL within 10 s");
+  }
+
+  void stop() { process_->stop(kMonitorStopTimeout_s); }
+
+ private:
+  std::string out_, err_;
+  std::unique_ptr<MonitorProcess> process_;
+};
+
 int run(const DemoRequest& q) {
   const MonitorLocation monitor = find_monitor(q.monitor);
   const core::WallParameters wall = core::paper_wall();
@@ -411,6 +457,12 @@ int run(const DemoRequest& q) {
             << std::flush;
 
   const WorkDir work(q.out_dir);
+  std::unique_ptr<DemoDashboard> dashboard;
+  if (q.dashboard) {
+    dashboard = std::make_unique<DemoDashboard>(q, work);
+    const std::string url = dashboard->wait_for_url();
+    std::cout << "  dashboard: " << url << "  <- open it in a browser to watch the wall live\n" << std::flush;
+  }
   const SignalInterrupt interrupt;
   Demo demo(q, monitor, work, interrupt);
   std::vector<CaseResult> results;
@@ -444,6 +496,15 @@ int run(const DemoRequest& q) {
     std::cout << "The live monitor's alarms differ from the offline simulation (see above";
     if (q.out_dir) std::cout << "; files in " << *q.out_dir;
     std::cout << ").\n";
+  }
+  if (dashboard) {
+    if (q.dashboard_hold_s > 0.0) {
+      std::cout << "  dashboard: serving " << number_text(q.dashboard_hold_s) << " s more (Ctrl-C ends it)\n"
+                << std::flush;
+      const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(q.dashboard_hold_s);
+      while (!interrupt.interrupted() && std::chrono::steady_clock::now() < until) usleep(50000);
+    }
+    dashboard->stop();
   }
   const int status = finish_stdout(kErrors);
   if (status != kExitOk) return status;

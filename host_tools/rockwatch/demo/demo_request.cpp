@@ -28,8 +28,11 @@ constexpr double kMinDemoRateHz = 1.0 / 0.03;
 constexpr double kMaxDemoPga_g = 10.0;
 
 struct RawOptions {
-  std::string suite, set, pga, rate, speed, lcm_url, monitor, out;
+  std::string suite, set, pga, rate, speed, lcm_url, monitor, out, dashboard_http, dashboard_hold;
+  bool dashboard = false;
 };
+
+constexpr double kMaxDashboardHold_s = 24.0 * 3600.0;
 
 const char* const kFooter =
     "What it does:\n"
@@ -49,12 +52,18 @@ const char* const kFooter =
     "The monitor is $ROCKWATCH_MONITOR, else rockwatch-monitor next to this rockwatch executable (--monitor overrides\n"
     "both). It runs with --lcm-url, --rate, the paper wall, --r exp, --kappa 2 and the default alarm settings.\n"
     "\n"
+    "--dashboard starts `rockwatch dashboard` (this executable) on --dashboard-http before the first record and\n"
+    "prints its URL: open it in a browser to watch the wall's level, x(t), energy and transitions live as each\n"
+    "record is replayed (each record has a fresh monitor: the page starts the wall afresh). It stops with the demo,\n"
+    "or --dashboard-hold S seconds later.\n"
+    "\n"
     "Exit status: 0 the monitor's timelines match the offline ones, 1 they do not (or the monitor failed),\n"
     "2 invalid options, no multicast, or no monitor; 130 interrupted.\n"
     "\n"
     "Examples:\n"
     "  rockwatch demo\n"
-    "  rockwatch demo --speed 4 --out demo-run\n";
+    "  rockwatch demo --speed 4 --out demo-run\n"
+    "  rockwatch demo --dashboard --dashboard-hold 60\n";
 
 void add_options(CLI::App& app, RawOptions& raw) {
   app.add_option("--suite", raw.suite, "Suite directory (default: the shipped npr9998-2015 suite)")->type_name("DIR");
@@ -65,6 +74,13 @@ void add_options(CLI::App& app, RawOptions& raw) {
   app.add_option("--lcm-url", raw.lcm_url, std::string("LCM URL (default ") + kDefaultLcmUrl + ")")->type_name("URL");
   app.add_option("--monitor", raw.monitor, "The rockwatch-monitor executable")->type_name("PATH");
   app.add_option("--out", raw.out, "Keep each record's samples, monitor output and timelines in DIR")->type_name("DIR");
+  app.add_flag("--dashboard", raw.dashboard, "Serve the live dashboard (rockwatch dashboard) during the demo");
+  app.add_option("--dashboard-http", raw.dashboard_http,
+                 "With --dashboard: its ADDR:PORT (default 127.0.0.1:8080; port 0: any free port)")
+      ->type_name("ADDR:PORT");
+  app.add_option("--dashboard-hold", raw.dashboard_hold,
+                 "With --dashboard: keep it serving S seconds after the demo (default 0)")
+      ->type_name("S");
   app.footer(kFooter);
 }
 
@@ -144,6 +160,21 @@ DemoParse parse_demo_arguments(int argc, const char* const* argv) {
   if (given(app, "--out")) {
     if (raw.out.empty()) throw UsageError("--out needs a directory");
     q.out_dir = raw.out;
+  }
+  q.dashboard = raw.dashboard;
+  for (const char* option : {"--dashboard-http", "--dashboard-hold"}) {
+    if (given(app, option) && !q.dashboard) throw UsageError(std::string(option) + " needs --dashboard");
+  }
+  if (given(app, "--dashboard-http")) {
+    if (raw.dashboard_http.empty()) throw UsageError("--dashboard-http needs ADDR:PORT, e.g. 127.0.0.1:8080");
+    q.dashboard_http = raw.dashboard_http;  // `rockwatch dashboard --http` checks it, and the demo reports its message
+  }
+  if (given(app, "--dashboard-hold")) {
+    q.dashboard_hold_s = parse_finite_number("--dashboard-hold", raw.dashboard_hold);
+    if (q.dashboard_hold_s < 0.0 || q.dashboard_hold_s > kMaxDashboardHold_s) {
+      throw UsageError("--dashboard-hold must be from 0 to " + number_text(kMaxDashboardHold_s) + " s (got " +
+                       number_text(q.dashboard_hold_s) + ")");
+    }
   }
   return DemoParse{q, {}};
 }

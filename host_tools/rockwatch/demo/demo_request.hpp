@@ -16,6 +16,9 @@ struct DemoRequest {
   std::string lcm_url;                 // --lcm-url
   std::optional<std::string> monitor;  // --monitor PATH
   std::optional<std::string> out_dir;  // --out DIR: keep the samples and the monitor's output there
+  bool dashboard = false;              // --dashboard: run `rockwatch dashboard` during the demo
+  std::string dashboard_http = "127.0.0.1:8080";  // --dashboard-http ADDR:PORT
+  double dashboard_hold_s = 0.0;       // --dashboard-hold S: keep it serving this long after the demo
 };
 
 struct DemoParse {

@@ -43,6 +43,9 @@ TEST(DemoCommand, BadOptionsAreRefused) {
   expect_command_rejected("demo", {"--lcm-url", "memq://"}, {"--lcm-url", "udpm://"});
   expect_command_rejected("demo", {"--rate", "0"}, {"--rate"});
   expect_command_rejected("demo", {"--monitor", "/nonexistent/rockwatch-monitor"}, {"--monitor", "not an executable"});
+  expect_command_rejected("demo", {"--dashboard-hold", "5"}, {"--dashboard-hold", "needs --dashboard"});
+  expect_command_rejected("demo", {"--dashboard-http", "127.0.0.1:0"}, {"--dashboard-http", "needs --dashboard"});
+  expect_command_rejected("demo", {"--dashboard", "--dashboard-hold", "-1"}, {"--dashboard-hold"});
 }
 
 TEST(DemoCommand, MissingMonitorSaysWhereItLookedAndWhatToDo) {
@@ -64,9 +67,19 @@ TEST(DemoCommand, MonitorTimelinesMatchTheOfflineSimulation) {
     return;
   }
   const EnvOverride monitor("ROCKWATCH_MONITOR", ROCKWATCH_MONITOR_PATH);
-  const ProcessResult r = run_rockwatch({"demo", "--speed", "4", "--lcm-url", url});
+  // The dashboard's own refusal comes through, before any record is replayed.
+  const ProcessResult refused =
+      run_rockwatch({"demo", "--dashboard", "--dashboard-http", "0.0.0.0:0", "--lcm-url", url});
+  CHECK_EQUAL_TEXT(2, refused.exit_status, describe(refused).c_str());
+  CHECK_TEXT(refused.err.find("--dashboard: the dashboard did not start") != std::string::npos &&
+                 refused.err.find("--allow-remote") != std::string::npos,
+             describe(refused).c_str());
+  // The whole demo, with the dashboard serving on a free port during it (the browser test checks the page itself).
+  const ProcessResult r =
+      run_rockwatch({"demo", "--speed", "4", "--lcm-url", url, "--dashboard", "--dashboard-http", "127.0.0.1:0"});
   const std::string what = describe(r);
   CHECK_EQUAL_TEXT(0, r.exit_status, what.c_str());
+  CHECK_TEXT(r.out.find("  dashboard: http://127.0.0.1:") != std::string::npos, what.c_str());
   CHECK_EQUAL_TEXT(2u, count_of(r.out, "match: yes"), what.c_str());
   CHECK_TEXT(r.out.find("collapses at t = 3.05") != std::string::npos, what.c_str());  // set 3 Y at 0.25 g, 1 ms steps
   CHECK_TEXT(r.out.find("survives") != std::string::npos, what.c_str());               // set 3 X
