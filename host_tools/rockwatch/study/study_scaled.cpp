@@ -2,6 +2,10 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
+#include <cstdint>
+#include <cstdlib>
+#include <optional>
 #include <csignal>
 #include <cstddef>
 #include <filesystem>
@@ -372,13 +376,21 @@ void run_wall_chunk(const study::StudyPlan& plan, std::size_t runs_per_wall, std
 }
 
 void run_scaled_local(ScaledStudy& s, const std::vector<std::size_t>& todo, std::size_t jobs,
-                      const std::function<void(std::size_t)>& progress, const std::atomic<bool>* cancel) {
+                      const std::function<void(std::size_t)>& progress, const std::atomic<bool>* cancel,
+                      const std::function<void()>& between_chunks) {
   std::size_t done = 0;
   std::vector<study::RunResult> out;
   for (std::size_t begin = 0; begin < todo.size();) {
+    if (begin > 0 && between_chunks) between_chunks();
     const std::size_t wall = todo[begin] / s.runs_per_wall;
     std::size_t end = begin;
-    while (end < todo.size() && todo[end] / s.runs_per_wall == wall) ++end;
+    std::size_t wall_end = begin;
+    while (wall_end < todo.size() && todo[wall_end] / s.runs_per_wall == wall) ++wall_end;
+    // A sixteenth of the wall's runs (at least 4 per thread, at most kLocalChunkRuns): chunks long enough that
+    // starting the threads costs nothing, short enough for checkpoints within one wall's study.
+    const std::size_t chunk =
+        std::max<std::size_t>(4 * std::max<std::size_t>(jobs, 1), std::min(kLocalChunkRuns, (wall_end - begin) / 16));
+    while (end < wall_end && end - begin < chunk) ++end;
     const std::vector<std::size_t> indices(todo.begin() + static_cast<std::ptrdiff_t>(begin),
                                            todo.begin() + static_cast<std::ptrdiff_t>(end));
     set_wall(s, wall);
@@ -449,10 +461,16 @@ std::size_t read_scaled_runs(ScaledStudy& s, const std::string& path, const std:
       wall = it->second;
       fields.erase(fields.begin());
     }
+    // The run column (the eleventh) first: a run of another shard is named as such, not as a repeat.
+    if (fields.size() > 10) {
+      const std::optional<std::uint64_t> index = whole_number(fields[10], 0, s.runs_per_wall - 1);
+      if (index && !accept(wall * s.runs_per_wall + *index)) {
+        throw UsageError(where + ": run " + fields[10] + ": " + why_refused);
+      }
+    }
     set_wall(s, wall);
     const std::size_t index = read_runs_csv_row(where, fields, s.plan, s.results[wall]);
-    const std::size_t global = wall * s.runs_per_wall + index;
-    if (!accept(global)) throw UsageError(where + ": run " + std::to_string(index) + ": " + why_refused);
+    if (!accept(wall * s.runs_per_wall + index)) throw UsageError(where + ": run " + std::to_string(index) + ": " + why_refused);
     ++read;
   }
   if (in.bad()) throw UsageError("reading " + path + " failed");
@@ -461,6 +479,23 @@ std::size_t read_scaled_runs(ScaledStudy& s, const std::string& path, const std:
 
 void write_scaled_state_running(const ScaledStudy& s) {
   write_study_state(s.request, s.state_plan(), StudyState::running, runs_done(s), runs_in_shard(s));
+  if (s.sharded()) write_shard_state(s, "running");
+}
+
+double checkpoint_interval_s() {
+  const char* text = std::getenv("ROCKWATCH_STUDY_CHECKPOINT_S");
+  if (text == nullptr || *text == '\0') return kCheckpointInterval_s;
+  try {
+    const double value = parse_finite_number("ROCKWATCH_STUDY_CHECKPOINT_S", text);
+    if (value >= 0.0) return value;
+  } catch (const UsageError&) {
+  }
+  throw UsageError("ROCKWATCH_STUDY_CHECKPOINT_S must be a number of seconds >= 0 (got " + cli::quoted(text) + ")");
+}
+
+void write_scaled_checkpoint(ScaledStudy& s) {
+  write_scaled_runs(s);
+  write_scaled_state_running(s);
 }
 
 int finish_scaled_study(ScaledStudy& s, int signal_number) {
@@ -504,12 +539,20 @@ int run_scaled_study(const StudyRequest& q) {
     std::cerr << '\n';
   }
   write_scaled_state_running(s);
+  const double interval_s = checkpoint_interval_s();
+  auto last_checkpoint = std::chrono::steady_clock::now();
   int signal_number = 0;
   {
     const SignalInterrupt interrupt;
     StudyProgress progress(std::cerr, stderr_is_terminal(), resumed, in_shard, interrupt.flag());
     run_scaled_local(
-        s, todo, q.jobs, [&](std::size_t done) { progress.report(done, todo.size()); }, interrupt.flag());
+        s, todo, q.jobs, [&](std::size_t done) { progress.report(done, todo.size()); }, interrupt.flag(), [&] {
+          // A checkpoint now and then, so even SIGKILL (a batch job over its time) loses at most an interval.
+          const auto now = std::chrono::steady_clock::now();
+          if (std::chrono::duration<double>(now - last_checkpoint).count() < interval_s) return;
+          write_scaled_checkpoint(s);
+          last_checkpoint = now;
+        });
     progress.finish();
     signal_number = interrupt.signal_number();
   }

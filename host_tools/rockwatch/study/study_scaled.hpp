@@ -68,9 +68,12 @@ void run_wall_chunk(const sim::study::StudyPlan& plan, std::size_t runs_per_wall
                     const std::vector<std::size_t>& indices, std::vector<sim::study::RunResult>& out,
                     std::size_t jobs, const std::function<void()>& one_done, const std::atomic<bool>* cancel);
 
-// Runs `todo` in this process, a wall at a time. `progress(done)` after each finished run.
+// Runs `todo` in this process, a chunk (of one wall, at most kLocalChunkRuns) at a time, `between_chunks` between
+// them (the checkpoints). `progress(done)` after each finished run.
+inline constexpr std::size_t kLocalChunkRuns = 256;
 void run_scaled_local(ScaledStudy& study, const std::vector<std::size_t>& todo, std::size_t jobs,
-                      const std::function<void(std::size_t)>& progress, const std::atomic<bool>* cancel);
+                      const std::function<void(std::size_t)>& progress, const std::atomic<bool>* cancel,
+                      const std::function<void()>& between_chunks = {});
 
 // runs.csv: the single-process study's file without --walls; with it a first column "wall" (the id) and "run" the
 // index within the wall's plan.
@@ -85,8 +88,14 @@ std::size_t read_scaled_runs(ScaledStudy& study, const std::string& path,
 // walls_summary.csv, summary.json's "walls", walls_fragility.png with --plots, no table3.md), the text on stdout.
 int finish_scaled_study(ScaledStudy& study, int signal_number);
 
-// --out's study.json at the current state (running with the runs done so far).
+// --out's study.json (and a shard's shard.json) at the current state: running, with the runs done so far.
 void write_scaled_state_running(const ScaledStudy& study);
+
+// A checkpoint: runs.csv with the runs done so far and the state files, every kCheckpointInterval_s (or
+// $ROCKWATCH_STUDY_CHECKPOINT_S) seconds between chunks, so a study killed outright (SIGKILL) resumes from there.
+inline constexpr double kCheckpointInterval_s = 60.0;
+double checkpoint_interval_s();
+void write_scaled_checkpoint(ScaledStudy& study);
 
 // `rockwatch study --walls/--shard` in one process (--mpi: study_mpi.cpp).
 int run_scaled_study(const StudyRequest& request);
