@@ -22,6 +22,7 @@ DEMO_PACKAGES=(
   liblcm-dev liblcm-bin libglib2.0-dev   # LCM transport (firmware); lcm.pc needs glib-2.0
   iproute2               # ip: scripts/multicast-route.sh adds the multicast route on lo when there is none
   python3-matplotlib     # PNG plots (host_tools)
+  openmpi-bin libopenmpi-dev   # rockwatch study --mpi (mpirun, MPI); the tool builds without them, --mpi then refuses
 )
 TEST_PACKAGES=(
   gcc-arm-none-eabi libstdc++-arm-none-eabi-newlib libnewlib-arm-none-eabi   # Cortex-M4 build (scripts/embedded-build.sh)

@@ -270,11 +270,13 @@ nlohmann::ordered_json ScaledStudy::state_plan() const {
   return j;
 }
 
-ScaledStudy load_scaled_study(const StudyRequest& q) {
+ScaledStudy load_scaled_study(const StudyRequest& q, bool print_notes) {
   ScaledStudy s;
   s.request = q;
   s.records = load_study_records(q);
-  for (const std::string& note : s.records.notes) std::cerr << "note: " << note << '\n';
+  if (print_notes) {
+    for (const std::string& note : s.records.notes) std::cerr << "note: " << note << '\n';
+  }
   s.plan = build_study_plan(q, s.records);
   study::validate_plan(s.plan);
   s.runs_per_wall = study::run_count(s.plan);

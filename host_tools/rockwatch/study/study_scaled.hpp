@@ -48,8 +48,9 @@ struct ScaledStudy {
   nlohmann::ordered_json state_plan() const;
 };
 
-// Reads the records and the walls and builds the plan and its description. No file in --out is touched.
-ScaledStudy load_scaled_study(const StudyRequest& request);
+// Reads the records and the walls and builds the plan and its description (the readers' notes to stderr unless
+// print_notes is false: the MPI ranks but rank 0). No file in --out is touched.
+ScaledStudy load_scaled_study(const StudyRequest& request, bool print_notes = true);
 
 void set_wall(ScaledStudy& study, std::size_t wall);
 

@@ -236,3 +236,11 @@ TEST(StudyShards, TheMergeRefusesShardsThatAreNotOneWholeStudy) {
   LONGS_EQUAL(2, r.exit_status);
   STRCMP_CONTAINS("shard", r.err.c_str());
 }
+
+// Built without MPI (no libopenmpi-dev, or -DROCKWATCH_MPI=OFF), --mpi is a usage error that says so; with MPI,
+// tests/tools/study_mpi.sh (ctest study_mpi) runs it under mpirun.
+TEST(StudyShards, MpiWithoutMpiSaysSo) {
+  if (ROCKWATCH_TEST_HAVE_MPI) return;
+  const TempDir tmp;
+  expect_command_rejected("study", {"--mpi", "--out", tmp.file("x")}, {"--mpi", "built without MPI"});
+}
