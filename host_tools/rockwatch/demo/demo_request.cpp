@@ -28,7 +28,7 @@ constexpr double kMinDemoRateHz = 1.0 / 0.03;
 constexpr double kMaxDemoPga_g = 10.0;
 
 struct RawOptions {
-  std::string suite, set, pga, rate, speed, lcm_url, monitor, out;
+  std::string suite, set, pga, rate, speed, lcm_url, monitor, out, monitor_config;
 };
 
 const char* const kFooter =
@@ -65,6 +65,11 @@ void add_options(CLI::App& app, RawOptions& raw) {
   app.add_option("--lcm-url", raw.lcm_url, std::string("LCM URL (default ") + kDefaultLcmUrl + ")")->type_name("URL");
   app.add_option("--monitor", raw.monitor, "The rockwatch-monitor executable")->type_name("PATH");
   app.add_option("--out", raw.out, "Keep each record's samples, monitor output and timelines in DIR")->type_name("DIR");
+  app.add_option("--monitor-config", raw.monitor_config,
+                 "The monitor's --config, e.g. with a walls array (one monitor, many walls on the demo's ground "
+                 "motion): the transitions compared are those of the wall named \"wall\" (the paper wall, unsuffixed "
+                 "channels), the summary lists every wall's highest level")
+      ->type_name("FILE");
   app.footer(kFooter);
 }
 
@@ -144,6 +149,10 @@ DemoParse parse_demo_arguments(int argc, const char* const* argv) {
   if (given(app, "--out")) {
     if (raw.out.empty()) throw UsageError("--out needs a directory");
     q.out_dir = raw.out;
+  }
+  if (given(app, "--monitor-config")) {
+    check_input_file("--monitor-config", raw.monitor_config, "a rockwatch-monitor JSON configuration");
+    q.monitor_config = raw.monitor_config;
   }
   return DemoParse{q, {}};
 }
