@@ -510,7 +510,8 @@ int finish_scaled_study(ScaledStudy& s, int signal_number) {
     std::cout.flush();
     std::cerr << kScaledErrors.prefix << "interrupted by " << (signal_number == SIGTERM ? "SIGTERM" : "SIGINT")
               << ": " << done << " of " << total << " analyses done, written to " << study_file(q, kRunsCsvName)
-              << "\nresume with:\n  " << resume_command(q) << '\n';
+              << "\nresume with" << (q.mpi ? " (under mpirun, with any number of ranks)" : "") << ":\n  "
+              << (q.mpi ? "mpirun -np N " : "") << resume_command(q) << '\n';
     return kExitInterrupted;
   }
   if (s.sharded()) {
