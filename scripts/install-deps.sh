@@ -27,6 +27,7 @@ DEMO_PACKAGES=(
   iproute2               # ip: scripts/multicast-route.sh adds the multicast route on lo when there is none
   python3-matplotlib     # PNG plots (host_tools)
   libboost-dev           # Boost.Beast: HTTP + WebSocket server of `rockwatch dashboard` (header-only)
+  openmpi-bin libopenmpi-dev   # rockwatch study --mpi (mpirun, MPI); the tool builds without them, --mpi then refuses
 )
 # node and npm (the dashboard's uPlot through `npm ci`): Debian's nodejs and npm, unless a node with npm is there already
 # (Debian's npm package conflicts with other nodejs builds, e.g. NodeSource's, which bundle npm).

@@ -75,8 +75,12 @@ void DatagramInput::on_datagram(const std::uint8_t* data, std::size_t size, firm
   if (reassembler_.accept(data, size, source, receive_utime, &message, nullptr) != firmware::DatagramOutcome::message) {
     return;
   }
-  if (std::strcmp(message.channel, channels_.accel) == 0 || std::strcmp(message.channel, channels_.accel_batch) == 0 ||
-      (wall_sensors_ && std::strcmp(message.channel, channels_.wall_sensor) == 0)) {
+  const bool input = monitor_ != nullptr
+                         ? monitor_->reads(message.channel)
+                         : std::strcmp(message.channel, channels_.accel) == 0 ||
+                               std::strcmp(message.channel, channels_.accel_batch) == 0 ||
+                               (wall_sensors_ && std::strcmp(message.channel, channels_.wall_sensor) == 0);
+  if (input) {
     ++counters_.input_messages;
     sink_.on_input_message(message.channel, message.payload, message.size, receive_utime);
   } else {

@@ -13,6 +13,7 @@
 
 #include "rockwatch/firmware/lcm_datagram.hpp"
 #include "rockwatch/firmware/monitor_loop.hpp"
+#include "rockwatch/firmware/multi_wall_monitor.hpp"
 
 namespace rockwatch::monitor {
 
@@ -52,6 +53,9 @@ class DatagramInput {
   void on_datagram(const std::uint8_t* data, std::size_t size, firmware::DatagramSource source,
                    std::int64_t receive_utime);
 
+  // Many walls: the input channels are those some wall of `monitor` reads (instead of the channels given above).
+  void set_input_channels(const firmware::MultiWallMonitor* monitor) { monitor_ = monitor; }
+
   const firmware::DatagramCounters& datagram_counters() const { return reassembler_.counters(); }
   const DatagramInputCounters& counters() const { return counters_; }
 
@@ -60,6 +64,7 @@ class DatagramInput {
   std::vector<SourceNetwork> accept_;
   InputMessageSink& sink_;
   bool wall_sensors_ = false;
+  const firmware::MultiWallMonitor* monitor_ = nullptr;
   firmware::LcmDatagramReassembler reassembler_{};
   DatagramInputCounters counters_{};
 };

@@ -25,6 +25,7 @@
 #include "rockwatch/options/usage_error.hpp"
 #include "rockwatch/options/wall_options.hpp"
 #include "rockwatch/sim/analysis.hpp"
+#include "monitor_walls.hpp"
 
 #ifndef ROCKWATCH_VERSION
 #define ROCKWATCH_VERSION "unknown"
@@ -70,6 +71,11 @@ const char* const kFooter =
     "    wall_sensor) with the model, publishes wall_estimate_t (channel wall_estimate) and alarms on the fused state\n"
     "  lcm_url (--lcm-url; default $LCM_DEFAULT_URL, else udpm://239.255.76.67:7667?ttl=0)\n"
     "  accept_from [\"ADDR\" or \"ADDR/PREFIX\", ...]   (--accept-from; sources of input datagrams, default any)\n"
+    "  walls [{name, wall {...}, r, channels {accel, accel_batch, wall_sensor}}, ...]   one monitor, up to 16 walls:\n"
+    "    each the settings above with its own wall fields (replacing the top-level ones) and r; it publishes on the\n"
+    "    output channels suffixed _NAME (ROCKWATCH_WALL_STATE_north, ROCKWATCH_ALARM_north, ROCKWATCH_STATUS_north;\n"
+    "    the wall named \"wall\": unsuffixed) and reads the top-level ground channels (shared) unless given its own;\n"
+    "    alarm lines on stdout name the wall (\"wall\"), the summary lists the walls\n"
     "\n"
     "Offline mode (--offline-in LOG --offline-out LOG): every event of the input log on the two input channels is\n"
     "fed to the loop in order with its log timestamp as the receive time; the messages published go to the output\n"
@@ -179,6 +185,7 @@ struct FileValues {
   std::optional<bool> observer_enabled;
   std::optional<double> observer[6];
   std::optional<std::vector<SourceNetwork>> accept_from;
+  std::optional<json> walls;  // checked by expand_monitor_walls (monitor_walls.cpp)
 };
 
 struct WallField {
@@ -243,8 +250,8 @@ class ConfigReader {
     const json root = parse();
     if (!root.is_object()) fail("the top level", "expected a JSON object {...}, got " + json_type(root));
     check_keys(root, "", {"arith", "wall", "r", "model", "kappa", "alarm", "sample_rate_hz", "max_step_s",
-                          "max_bridge_samples",
-                          "sensor_range_mps2", "late_limit_s", "channels", "lcm_url", "accept_from", "observer"});
+                          "max_bridge_samples", "sensor_range_mps2", "late_limit_s", "channels", "lcm_url",
+                          "accept_from", "observer", "walls"});
     FileValues v;
     if (root.contains("wall")) read_wall(root.at("wall"), v);
     if (root.contains("r")) v.r = read_restitution(root.at("r"));
@@ -276,6 +283,7 @@ class ConfigReader {
       }
     }
     if (root.contains("observer")) read_observer(root.at("observer"), v);
+    if (root.contains("walls")) v.walls = root.at("walls");
     if (root.contains("accept_from")) {
       const json& a = root.at("accept_from");
       if (!a.is_array()) fail("accept_from", "expected an array of \"ADDR\" or \"ADDR/PREFIX\" strings, got " + json_type(a));
@@ -617,6 +625,8 @@ json normalised_settings(const MonitorConfig& config) {
     out["channels"]["wall_sensor"] = s.channels.wall_sensor;
     out["channels"]["wall_estimate"] = s.channels.wall_estimate;
   }
+  // Many walls: each one's own settings; absent with one wall (the digest of such a configuration stays).
+  if (!config.walls.empty()) out["walls"] = walls_json(config.walls);
   // Which sources are accepted changes what the monitor processes; absent when any is (the default digest stays).
   if (!config.accept_from.empty()) {
     json a = json::array();
@@ -839,9 +849,14 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
     throw UsageError("--receive-path: expected own or liblcm, got " + cli::quoted(raw.receive_path));
   }
   config.print_config = raw.print_config;
+  if (file.walls) {
+    expand_monitor_walls(config, *file.walls, reader->key_label("walls"));
+    if (config.receive_path == ReceivePath::liblcm) throw UsageError("walls needs --receive-path own");
+  }
 
   config.normalised = normalised_settings(config);
   config.settings.config_digest = static_cast<std::int64_t>(fnv1a64(config.normalised.dump()));
+  for (WallMonitorConfig& w : config.walls) w.settings.config_digest = config.settings.config_digest;
   return MonitorParse{std::move(config), {}};
 }
 

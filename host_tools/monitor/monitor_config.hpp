@@ -15,6 +15,9 @@
 //                the wall observer (--observer enables it with these or the defaults); in the digest only when on
 //   lcm_url      (--lcm-url)
 //   accept_from  (--accept-from) ["ADDR" or "ADDR/PREFIX", ...]: the only sources of input datagrams (default: any)
+//   walls        [{name, wall {...}, r, channels {accel, accel_batch, wall_sensor}}, ...]: one monitor, many walls
+//                (monitor_walls.hpp): each wall the settings above with its own wall fields and r, its outputs on the
+//                channels above suffixed _NAME (the wall named "wall": unsuffixed), its inputs shared unless given
 #pragma once
 
 #include <cstdint>
@@ -37,6 +40,14 @@ inline constexpr const char* kDefaultLcmUrl = "udpm://239.255.76.67:7667?ttl=0";
 // (--receive-path liblcm: only for measuring the two side by side; liblcm 1.3.1 crashes on crafted datagrams).
 enum class ReceivePath { own, liblcm };
 
+// One wall of a `walls` configuration (monitor_walls.hpp).
+struct WallMonitorConfig {
+  std::string name;                      // [A-Za-z0-9_-], 1 to 24 characters; "wall": the unsuffixed channels
+  firmware::MonitorSettings settings{};  // the top-level settings with this wall's wall, r and channels
+  core::Restitution restitution{};
+  std::string wall_origin;
+};
+
 struct MonitorConfig {
   firmware::MonitorSettings settings{};  // everything the loop needs; settings.config_digest set
   core::Restitution restitution{};       // the choice behind settings.engine.r_energy
@@ -51,6 +62,7 @@ struct MonitorConfig {
   std::string rate_origin = "default";   // where sample_rate_hz came from, for the engine's messages
   std::string wall_origin = "paper wall";
   nlohmann::json normalised;             // the settings that determine the outputs (config_digest hashes them)
+  std::vector<WallMonitorConfig> walls;  // the `walls` key: one loop each; empty: the one wall of `settings`
 };
 
 struct MonitorParse {

@@ -97,7 +97,9 @@ json observer_json(const core::ObserverOptions& o, const core::ObserverSample& l
 void AlarmPrinter::on_alarm(const rockwatch::alarm_event_t& event) {
   ++events_;
   if (event.level > max_level_) max_level_ = event.level;
-  out_ << alarm_json(event).dump() << '\n' << std::flush;
+  nlohmann::json line = alarm_json(event);
+  if (!wall_.empty()) line["wall"] = wall_;
+  out_ << line.dump() << '\n' << std::flush;
 }
 
 }  // namespace rockwatch::monitor

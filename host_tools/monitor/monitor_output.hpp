@@ -4,6 +4,8 @@
 
 #include <cstdint>
 #include <ostream>
+#include <string>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -28,13 +30,15 @@ nlohmann::json observer_json(const core::ObserverOptions& options, const core::O
 // The listener the executable installs: prints each alarm event and remembers the highest level.
 class AlarmPrinter final : public firmware::MonitorListener {
  public:
-  explicit AlarmPrinter(std::ostream& out) : out_(out) {}
+  // wall: with many walls, the wall's name, added to each line as "wall".
+  explicit AlarmPrinter(std::ostream& out, std::string wall = {}) : out_(out), wall_(std::move(wall)) {}
   void on_alarm(const rockwatch::alarm_event_t& event) override;
   std::int64_t events() const { return events_; }
   std::int64_t max_level() const { return max_level_; }
 
  private:
   std::ostream& out_;
+  std::string wall_;
   std::int64_t events_ = 0;
   std::int64_t max_level_ = 0;
 };

@@ -22,6 +22,7 @@
 #include "lcm_transport.hpp"
 #include "monitor_config.hpp"
 #include "monitor_output.hpp"
+#include "rockwatch/firmware/multi_wall_monitor.hpp"
 #include "rockwatch/firmware/wall_engine.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
@@ -109,7 +110,7 @@ class LoggedTransport final : public firmware::Transport {
 // Input messages from the receive path: into the traffic log (when --log), then the loop.
 class LoopInputSink final : public InputMessageSink {
  public:
-  LoopInputSink(firmware::MonitorLoop& loop, TrafficLog* log) : loop_(loop), log_(log) {}
+  LoopInputSink(firmware::MultiWallMonitor& loop, TrafficLog* log) : loop_(loop), log_(log) {}
   void on_input_message(const char* channel, const std::uint8_t* data, std::size_t size,
                         std::int64_t receive_utime) override {
     if (log_ != nullptr) log_->add(channel, data, size, receive_utime);
@@ -117,7 +118,7 @@ class LoopInputSink final : public InputMessageSink {
   }
 
  private:
-  firmware::MonitorLoop& loop_;
+  firmware::MultiWallMonitor& loop_;
   TrafficLog* log_;
 };
 
@@ -149,7 +150,7 @@ json datagram_summary(const UdpReceiver& receiver, const DatagramInput& input) {
 class LogFlusher {
  public:
   LogFlusher(TrafficLog& log, std::string path, std::ostream& err) : log_(log), path_(std::move(path)), err_(err) {}
-  void flush(firmware::MonitorLoop& loop) {
+  void flush(firmware::MultiWallMonitor& loop) {
     if (!log_.is_open()) return;
     const std::int64_t lost_before = log_.events_lost();
     if (log_.flush()) {
@@ -186,22 +187,58 @@ struct MonitorEngines {
   }
 };
 
-// Starts the loop on the selected engine (`engines` must outlive the loop's use); on refusal prints a message naming
-// the settings at fault and returns false.
-bool init_loop(firmware::MonitorLoop& loop, MonitorEngines& engines, const MonitorConfig& config,
-               firmware::Transport& transport, firmware::MonitorListener& listener, std::ostream& err) {
-  const firmware::MonitorError e =
-      loop.init(config.settings, engines.selected(config.settings.arithmetic), transport, &listener);
-  if (e == firmware::MonitorError::ok) return true;
-  err << kPrefix << "error: ";
+// The walls the monitor follows: the one of the top-level settings, or those of the `walls` key (monitor_walls.hpp),
+// each with its engines and its alarm printer (which names the wall when there are several).
+struct MonitorWalls {
+  std::vector<std::string> names;  // empty with the single top-level wall
+  std::vector<firmware::MonitorSettings> settings;
+  std::vector<std::unique_ptr<MonitorEngines>> engines;
+  std::vector<std::unique_ptr<AlarmPrinter>> printers;
+  std::unique_ptr<firmware::MultiWallMonitor> monitor = std::make_unique<firmware::MultiWallMonitor>();
+  bool many() const { return !names.empty(); }
+  firmware::MultiWallMonitor* operator->() { return monitor.get(); }
+};
+
+// Starts the walls' loops on the selected engines; on refusal prints a message naming the wall and the settings at
+// fault and returns false. `out`: where the alarm printers write.
+bool init_loop(MonitorWalls& walls, const MonitorConfig& config, firmware::Transport& transport, std::ostream& out,
+               std::ostream& err) {
+  if (config.walls.empty()) {
+    walls.settings.push_back(config.settings);
+  } else {
+    for (const WallMonitorConfig& w : config.walls) {
+      walls.names.push_back(w.name);
+      walls.settings.push_back(w.settings);
+    }
+  }
+  std::vector<firmware::SampleEngine*> engines;
+  std::vector<firmware::MonitorListener*> listeners;
+  for (std::size_t i = 0; i < walls.settings.size(); ++i) {
+    walls.engines.push_back(std::make_unique<MonitorEngines>());
+    walls.printers.push_back(std::make_unique<AlarmPrinter>(out, walls.many() ? walls.names[i] : std::string()));
+    engines.push_back(&walls.engines.back()->selected(config.settings.arithmetic));
+    listeners.push_back(walls.printers.back().get());
+  }
+  const firmware::MultiWallError me =
+      walls->init(walls.settings.data(), engines.data(), listeners.data(), walls.settings.size(), transport);
+  if (me == firmware::MultiWallError::ok) return true;
+  const std::size_t at = walls->failed_wall();
+  const std::string wall_name = walls.many() ? "walls[" + std::to_string(at) + "] (" + walls.names[at] + "): " : "";
+  const std::string wall_origin = walls.many() ? config.walls[at].wall_origin : config.wall_origin;
+  err << kPrefix << "error: " << wall_name;
+  if (me != firmware::MultiWallError::wall) {
+    err << firmware::multi_wall_error_message(me) << '\n';
+    return false;
+  }
+  const firmware::MonitorError e = walls->wall_error();
   if (e == firmware::MonitorError::engine) {
-    const firmware::WallEngineError w = loop.engine_error();
+    const firmware::WallEngineError w = walls->wall(at).engine_error();
     if (w == firmware::WallEngineError::fixed_point_setup) {
-      err << "the wall (" << config.wall_origin << ") at the sample rate " << cli::number_text(config.settings.sample_rate_hz)
+      err << "the wall (" << wall_origin << ") at the sample rate " << cli::number_text(config.settings.sample_rate_hz)
           << " Hz (" << config.rate_origin << ") is outside the fixed-point engine's formats: "
           << firmware::wall_engine_error_message(w);
     } else if (w == firmware::WallEngineError::indicator_constants) {
-      err << "the wall (" << config.wall_origin << ") is outside the alarm's formats: "
+      err << "the wall (" << wall_origin << ") is outside the alarm's formats: "
           << firmware::wall_engine_error_message(w);
     } else {
       err << "the wall engine refused the settings: " << firmware::wall_engine_error_message(w);
@@ -213,8 +250,8 @@ bool init_loop(firmware::MonitorLoop& loop, MonitorEngines& engines, const Monit
   return false;
 }
 
-json common_summary(const MonitorConfig& config, const firmware::MonitorLoop& loop, const AlarmPrinter& printer,
-                    std::int64_t statuses) {
+json wall_summary(const MonitorConfig& config, const firmware::MonitorLoop& loop, const AlarmPrinter& printer,
+                  std::int64_t statuses) {
   json s;
   s["config_digest"] = digest_hex(config.settings.config_digest);
   s["alarm_level"] = level_name(static_cast<std::int64_t>(loop.alarm_level()));
@@ -228,8 +265,32 @@ json common_summary(const MonitorConfig& config, const firmware::MonitorLoop& lo
   return s;
 }
 
-void human_summary(std::ostream& err, const std::string& first_line, const firmware::MonitorLoop& loop,
-                   const AlarmPrinter& printer, std::int64_t statuses) {
+// One wall: its summary, as always. Many: the first wall's (the walls share the ground input, so its sample counters
+// are the input's), the highest alarm level and the alarm transitions of all, and "walls": each wall's summary with
+// its name and alarm channel.
+json common_summary(const MonitorConfig& config, MonitorWalls& walls, std::int64_t statuses) {
+  json s = wall_summary(config, walls->wall(0), *walls.printers[0], statuses);
+  if (!walls.many()) return s;
+  std::int64_t highest = 0, events = 0;
+  json list = json::array();
+  for (std::size_t i = 0; i < walls->size(); ++i) {
+    highest = std::max(highest, walls.printers[i]->max_level());
+    events += walls.printers[i]->events();
+    json w = wall_summary(config, walls->wall(i), *walls.printers[i], statuses);
+    w.erase("config_digest");
+    w["name"] = walls.names[i];
+    w["alarm_channel"] = walls.settings[i].channels.alarm;
+    list.push_back(w);
+  }
+  s["max_alarm_level"] = level_name(highest);
+  s["alarm_events"] = events;
+  s["walls"] = list;
+  return s;
+}
+
+void human_summary(std::ostream& err, const std::string& first_line, MonitorWalls& walls, std::int64_t statuses) {
+  const firmware::MonitorLoop& loop = walls->wall(0);
+  const AlarmPrinter& printer = *walls.printers[0];
   const firmware::MonitorCounters& c = loop.counters();
   err << kPrefix << first_line << '\n'
       << "  samples: " << c.samples_received << " received, " << c.samples_processed << " processed ("
@@ -251,6 +312,15 @@ void human_summary(std::ostream& err, const std::string& first_line, const firmw
         << " stale, " << o->queue_overflow << " queue overflow; " << o->misaligned << " misaligned, " << o->dropouts
         << " dropouts, " << o->reinitialised << " re-initialisations; r " << last.r_estimate << " +- " << last.sigma_r
         << ", offset " << last.bias_m << " m; " << c.estimates_published << " estimates\n";
+  }
+  if (!walls.many()) return;
+  err << "  walls (" << walls->size() << ", the counters above are the first one's):\n";
+  for (std::size_t i = 0; i < walls->size(); ++i) {
+    const firmware::MonitorCounters& w = walls->wall(i).counters();
+    err << "    " << walls.names[i] << ": alarm highest " << level_name(walls.printers[i]->max_level()) << ", now "
+        << level_name(static_cast<std::int64_t>(walls->wall(i).alarm_level())) << "; " << walls.printers[i]->events()
+        << " transitions, " << w.samples_processed << " samples processed, " << w.states_published
+        << " wall states on " << walls.settings[i].channels.wall_state << "\n";
   }
 }
 
@@ -296,16 +366,16 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
   firmware::Transport& transport = config.log_path ? static_cast<firmware::Transport&>(logged_transport)
                                                    : static_cast<firmware::Transport&>(lcm_transport);
   LogFlusher flusher(log, config.log_path ? *config.log_path : std::string(), err);
-  AlarmPrinter printer(out);
-  const auto engines = std::make_unique<MonitorEngines>();
-  const auto loop = std::make_unique<firmware::MonitorLoop>();
-  if (!init_loop(*loop, *engines, config, transport, printer, err)) return kExitUsage;
+  MonitorWalls walls;
+  if (!init_loop(walls, config, transport, out, err)) return kExitUsage;
+  firmware::MultiWallMonitor* const loop = walls.monitor.get();
   loop->set_step_clock(&monotonic_ns);
   LoopInputSink sink(*loop, config.log_path ? &log : nullptr);
   DatagramInput input(config.settings.channels, config.accept_from, sink, config.settings.engine.observer_enabled);
+  input.set_input_channels(loop);
   std::unique_ptr<LcmInput> lcm_input;
   if (via_liblcm) {
-    lcm_input = std::make_unique<LcmInput>(lcm, *loop);
+    lcm_input = std::make_unique<LcmInput>(lcm, loop->wall(0));  // one wall only (the config refuses walls)
     if (!lcm_input->good()) {
       err << kPrefix << "error: LCM refused the subscription to the input channels\n";
       return kExitRuntime;
@@ -324,6 +394,15 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
       << (observer ? "; wall observer on" : "") << "; "
       << cli::number_text(config.settings.sample_rate_hz) << " Hz; config digest "
       << digest_hex(config.settings.config_digest) << std::endl;
+  if (walls.many()) {
+    err << kPrefix << walls->size() << " walls:";
+    for (std::size_t i = 0; i < walls->size(); ++i) {
+      const firmware::MonitorChannels& c = walls.settings[i].channels;
+      err << (i == 0 ? " " : "; ") << walls.names[i] << " (" << c.accel << " -> " << c.wall_state << ", " << c.alarm
+          << ", " << c.status << ")";
+    }
+    err << std::endl;
+  }
   if (!buffer_warning.empty()) err << kPrefix << "note: " << buffer_warning << std::endl;
   ServiceNotifier service;  // systemd (Type=notify, WatchdogSec=): ready now, fed from the loop below
   service.ready();
@@ -368,7 +447,7 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
   const bool log_ok = log.close();
   const double run_time_s = static_cast<double>(monotonic_ns() - start_ns) * 1e-9;
 
-  json s = common_summary(config, *loop, printer, statuses);
+  json s = common_summary(config, walls, statuses);
   s["mode"] = "live";
   s["stopped_by"] = failed ? std::string("receive failure") : StopSignals::stopped_by();
   s["lcm_url"] = url;
@@ -389,8 +468,7 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
   out << json{{"summary", s}}.dump() << '\n' << std::flush;
   char seconds[32];
   std::snprintf(seconds, sizeof seconds, "%.1f", run_time_s);
-  human_summary(err, "stopped by " + s["stopped_by"].get<std::string>() + " after " + seconds + " s", *loop, printer,
-                statuses);
+  human_summary(err, "stopped by " + s["stopped_by"].get<std::string>() + " after " + seconds + " s", walls, statuses);
   if (config.log_path) {
     err << "  log: " << log.events_written() << " events written to " << cli::quoted(*config.log_path) << ", "
         << log.events_lost() << " lost in " << log.write_failures() << " failed writes\n";
@@ -431,13 +509,11 @@ int run_offline(const MonitorConfig& config, std::ostream& out, std::ostream& er
     return kExitUsage;
   }
   LogTransport transport(log_out);
-  AlarmPrinter printer(out);
-  const auto engines = std::make_unique<MonitorEngines>();
-  const auto loop = std::make_unique<firmware::MonitorLoop>();
-  if (!init_loop(*loop, *engines, config, transport, printer, err)) return kExitUsage;
+  MonitorWalls walls;
+  if (!init_loop(walls, config, transport, out, err)) return kExitUsage;
+  firmware::MultiWallMonitor* const loop = walls.monitor.get();
   // No step clock: worst_step_ns would make the output depend on the machine.
 
-  const firmware::MonitorChannels& ch = config.settings.channels;
   constexpr std::int64_t kSecondUs = 1000000;
   std::int64_t statuses = 0, events = 0, fed = 0, skipped = 0;
   std::int64_t next_status_us = 0, last_us = 0;
@@ -464,8 +540,7 @@ int run_offline(const MonitorConfig& config, std::ostream& out, std::ostream& er
     }
     ++events;
     last_us = ts;
-    if (event->channel == ch.accel || event->channel == ch.accel_batch ||
-        (config.settings.engine.observer_enabled && event->channel == ch.wall_sensor)) {
+    if (loop->reads(event->channel.c_str())) {
       transport.set_event_time(ts);
       const auto size = event->datalen > 0 ? static_cast<std::size_t>(event->datalen) : std::size_t{0};
       loop->on_message(event->channel.c_str(), static_cast<const std::uint8_t*>(event->data), size, ts);
@@ -487,7 +562,7 @@ int run_offline(const MonitorConfig& config, std::ostream& out, std::ostream& er
   bool write_ok = transport.write_failures() == 0;
   if (FILE* f = log_out.getFilePtr(); f != nullptr) write_ok = std::fflush(f) == 0 && std::ferror(f) == 0 && write_ok;
 
-  json s = common_summary(config, *loop, printer, statuses);
+  json s = common_summary(config, walls, statuses);
   s["mode"] = "offline";
   s["stopped_by"] = StopSignals::stopped() ? StopSignals::stopped_by() : std::string("end of log");
   s["input_log"] = in_path;
@@ -503,7 +578,7 @@ int run_offline(const MonitorConfig& config, std::ostream& out, std::ostream& er
                 "offline: " + std::to_string(events) + " log events (" + std::to_string(fed) + " on the input channels) -> " +
                     std::to_string(transport.events_written()) + " events in " + out_path +
                     (StopSignals::stopped() ? "; stopped by " + StopSignals::stopped_by() : std::string()),
-                *loop, printer, statuses);
+                walls, statuses);
   if (!write_ok) {
     err << kPrefix << "error: --offline-out " << cli::quoted(out_path) << ": " << transport.write_failures()
         << " events could not be written\n";
@@ -530,10 +605,8 @@ int run_monitor(int argc, const char* const* argv, std::ostream& out, std::ostre
   {
     // Every setting is checked before anything is opened: the engine's formats refuse some walls and rates.
     NullTransport null_transport;
-    AlarmPrinter no_output(err);
-    MonitorEngines engines;
-    const auto probe = std::make_unique<firmware::MonitorLoop>();
-    if (!init_loop(*probe, engines, *config, null_transport, no_output, err)) return kExitUsage;
+    MonitorWalls probe;
+    if (!init_loop(probe, *config, null_transport, err, err)) return kExitUsage;
   }
   if (config->print_config) {
     json j{{"settings", config->normalised},

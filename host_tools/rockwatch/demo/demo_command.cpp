@@ -297,6 +297,10 @@ class Demo {
     std::vector<std::string> arguments{"--lcm-url", q_.lcm_url, "--rate", number_text(q_.rate_hz), "--r", "exp",
                                        "--kappa", "2"};
     arguments.insert(arguments.end(), extra.begin(), extra.end());
+    if (q_.monitor_config) {
+      arguments.emplace_back("--config");
+      arguments.push_back(*q_.monitor_config);
+    }
     MonitorProcess monitor(monitor_.path, arguments, out_path, err_path);
     if (!monitor.wait_for_marker(kListeningMarker, kMonitorStartTimeout_s)) {
       if (!monitor.running()) {
@@ -346,6 +350,15 @@ class Demo {
     if (out.summary) {
       std::cout << "  monitor: " << counters_text(*out.summary) << "; " << out.transitions.size()
                 << " alarm transitions\n";
+      if (out.summary->contains("walls") && (*out.summary)["walls"].is_array()) {
+        std::string walls;
+        for (const nlohmann::json& w : (*out.summary)["walls"]) {
+          walls += (walls.empty() ? "" : ", ") + w.value("name", std::string("?")) + " " +
+                   w.value("max_alarm_level", std::string("?"));
+        }
+        std::cout << "  walls (highest level): " << walls << " (" << out.other_walls_transitions
+                  << " transitions of the walls other than \"wall\")\n";
+      }
       const std::int64_t received = counter(out.summary, "samples_received");
       if (received >= 0 && static_cast<std::size_t>(received) != outcome.samples_sent) {
         std::cout << "  note: the monitor received " << received << " of the " << outcome.samples_sent

@@ -28,7 +28,7 @@ constexpr double kMinDemoRateHz = 1.0 / 0.03;
 constexpr double kMaxDemoPga_g = 10.0;
 
 struct RawOptions {
-  std::string suite, set, pga, rate, speed, lcm_url, monitor, out, dashboard_http, dashboard_hold;
+  std::string suite, set, pga, rate, speed, lcm_url, monitor, out, dashboard_http, dashboard_hold, monitor_config;
   bool dashboard = false;
 };
 
@@ -81,6 +81,11 @@ void add_options(CLI::App& app, RawOptions& raw) {
   app.add_option("--dashboard-hold", raw.dashboard_hold,
                  "With --dashboard: keep it serving S seconds after the demo (default 0)")
       ->type_name("S");
+  app.add_option("--monitor-config", raw.monitor_config,
+                 "The monitor's --config, e.g. with a walls array (one monitor, many walls on the demo's ground "
+                 "motion): the transitions compared are those of the wall named \"wall\" (the paper wall, unsuffixed "
+                 "channels), the summary lists every wall's highest level")
+      ->type_name("FILE");
   app.footer(kFooter);
 }
 
@@ -175,6 +180,10 @@ DemoParse parse_demo_arguments(int argc, const char* const* argv) {
       throw UsageError("--dashboard-hold must be from 0 to " + number_text(kMaxDashboardHold_s) + " s (got " +
                        number_text(q.dashboard_hold_s) + ")");
     }
+  }
+  if (given(app, "--monitor-config")) {
+    check_input_file("--monitor-config", raw.monitor_config, "a rockwatch-monitor JSON configuration");
+    q.monitor_config = raw.monitor_config;
   }
   return DemoParse{q, {}};
 }

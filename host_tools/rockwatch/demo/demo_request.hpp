@@ -15,6 +15,7 @@ struct DemoRequest {
   double speed = 1.0;                  // --speed: 1 real time; > 0
   std::string lcm_url;                 // --lcm-url
   std::optional<std::string> monitor;  // --monitor PATH
+  std::optional<std::string> monitor_config;  // --monitor-config FILE: the monitor's --config (e.g. a walls array)
   std::optional<std::string> out_dir;  // --out DIR: keep the samples and the monitor's output there
   bool dashboard = false;              // --dashboard: run `rockwatch dashboard` during the demo
   std::string dashboard_http = "127.0.0.1:8080";  // --dashboard-http ADDR:PORT

@@ -61,6 +61,11 @@ MonitorOutput parse_monitor_output(const std::string& text, std::int64_t start_u
       out.other_lines.push_back(line);
       continue;
     }
+    // A monitor with many walls names the wall of each transition: the timeline is the paper wall's ("wall").
+    if (j.contains("wall") && j["wall"] != "wall") {
+      ++out.other_walls_transitions;
+      continue;
+    }
     TimelineEntry e;
     if (j.contains("input_seq") && j["input_seq"].is_number_integer()) {
       e.sample = j["input_seq"].get<std::int64_t>();

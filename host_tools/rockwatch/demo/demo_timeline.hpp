@@ -3,6 +3,7 @@
 // Arithmetic::fixed_point and evaluate_alarm), both placed on the replay's sample grid.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -26,6 +27,7 @@ struct MonitorOutput {
   std::vector<TimelineEntry> transitions;
   std::optional<nlohmann::json> summary;  // the {"summary": {...}} line's object
   std::vector<std::string> other_lines;   // lines that are neither (shown when something went wrong)
+  std::size_t other_walls_transitions = 0;  // a walls configuration: transitions of walls other than "wall"
 };
 
 // Reads the monitor's stdout. The sample of a transition is its "input_seq" when present, else

@@ -26,7 +26,9 @@
 #include "study/study_progress.hpp"
 #include "study/study_records.hpp"
 #include "study/study_request.hpp"
+#include "study/study_mpi.hpp"
 #include "study/study_runs_csv.hpp"
+#include "study/study_scaled.hpp"
 #include "study/study_state.hpp"
 #include "study/study_summary.hpp"
 #include "study/study_table3.hpp"
@@ -177,9 +179,13 @@ int run(const StudyRequest& q) {
 }  // namespace
 
 int study_main(int argc, const char* const* argv) {
+  if (argc > 1 && std::string(argv[1]) == "merge") return study_merge_main(argc - 1, argv + 1);
   return run_command(kErrors, [&] {
     const StudyParse parsed = parse_study_arguments(argc, argv);
     if (!parsed.request) return print_help(parsed.help_text);
+    // At scale (study_scaled.hpp): a portfolio, a shard, MPI ranks.
+    if (parsed.request->mpi) return run_mpi_study(*parsed.request);
+    if (parsed.request->walls_file || parsed.request->shard_count > 0) return run_scaled_study(*parsed.request);
     return run(*parsed.request);
   });
 }

@@ -23,6 +23,7 @@
 #include "rockwatch/options/usage_error.hpp"
 #include "study/study_files.hpp"
 #include "study/study_runs_csv.hpp"
+#include "study/study_scale_options.hpp"
 
 namespace rockwatch::cli {
 
@@ -45,6 +46,7 @@ struct RawOptions {
   std::string units, dt, channel, vertical_channel, gain;
   std::string jobs, out;
   bool dt_check = false, plots = false, resume = false, force = false;
+  ScaleOptionTexts scale;
 };
 
 const char* const kFooter =
@@ -167,6 +169,7 @@ void add_options(CLI::App& app, RawOptions& raw) {
   app.add_flag("--resume", raw.resume, "Continue the interrupted study in --out: run only the analyses not done");
   app.add_flag("--force", raw.force, "Replace a study already in --out");
   app.footer(kFooter);
+  add_scale_options(app, raw.scale);
 }
 
 std::vector<sim::study::RestitutionCase> parse_restitution_list(const std::string& text) {
@@ -382,6 +385,7 @@ StudyParse parse_study_arguments(int argc, const char* const* argv) {
   parse_sources(app, raw, q);
   parse_analysis(app, raw, q);
   parse_run_options(app, raw, q);
+  parse_scale_options(app, raw.scale, q);
   for (int i = 1; i < argc; ++i) q.arguments.emplace_back(argv[i]);
   return StudyParse{q, {}};
 }

@@ -48,6 +48,10 @@ struct StudyRequest {
   bool resume = false;
   bool force = false;
   std::string out_dir;
+  std::optional<std::string> walls_file;    // --walls FILE.csv: a portfolio, one wall per row (study_walls.hpp)
+  std::size_t shard_index = 0;              // --shard K/N: K (from 1) ...
+  std::size_t shard_count = 0;              //   ... and N; 0: the whole plan
+  bool mpi = false;                         // --mpi: the plan over the ranks of an MPI job (study_mpi.hpp)
   std::vector<std::string> arguments;       // argv[1] onwards as given: the resume hint repeats them
 };
 

@@ -215,31 +215,21 @@ void write_runs_csv(std::ostream& out, const study::StudyPlan& plan, const std::
   }
 }
 
-std::size_t read_runs_csv(const std::string& path, const study::StudyPlan& plan,
-                          std::vector<study::RunResult>& results) {
+bool split_runs_csv_line(const std::string& line, std::vector<std::string>& fields) { return split_csv(line, fields); }
+
+std::size_t read_runs_csv_row(const std::string& where, const std::vector<std::string>& fields,
+                              const study::StudyPlan& plan, std::vector<study::RunResult>& results) {
   const std::size_t total = study::run_count(plan);
   if (results.empty()) results.resize(total);
-  errno = 0;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw UsageError("--resume: cannot open " + path + system_reason());
-  std::string line;
-  const std::string expected_header = runs_csv_header(plan);
-  if (!std::getline(in, line) || line != expected_header) {
-    throw UsageError(path + ":1: expected the header " + expected_header + " (got " + quoted(line) +
-                     "): the file belongs to another study (with or without --dt-check, --alarms, --arith fixed?)");
-  }
   const std::vector<std::string> header = columns(plan);
+  const std::string expected_header = runs_csv_header(plan);
   const std::size_t run_column = 10, error_column = header.size() - 1;
   const std::size_t imminent_column = column_of(header, "t_first_imminent_s");
   const std::size_t saturated_column = column_of(header, "saturated");
   const std::size_t differs_column = column_of(header, "verdict_differs");
   const std::size_t half_step_column = column_of(header, "collapsed_half_step");
-  std::size_t read = 0;
-  std::vector<std::string> fields;
-  for (int number = 2; std::getline(in, line); ++number) {
-    const std::string where = path + ":" + std::to_string(number);
-    if (line.empty()) continue;
-    if (!split_csv(line, fields) || fields.size() != header.size()) {
+  {
+    if (fields.size() != header.size()) {
       throw UsageError(where + ": expected " + std::to_string(header.size()) + " comma-separated fields (" +
                        expected_header + ")");
     }
@@ -277,6 +267,33 @@ std::size_t read_runs_csv(const std::string& path, const study::StudyPlan& plan,
     if (plan.dt_check) r.collapsed_half_step = row.optional_boolean(half_step_column);
     if (results[index].done) throw UsageError(where + ": run " + std::to_string(index) + " appears twice");
     results[index] = r;
+    return index;
+  }
+}
+
+std::size_t read_runs_csv(const std::string& path, const study::StudyPlan& plan,
+                          std::vector<study::RunResult>& results) {
+  const std::size_t total = study::run_count(plan);
+  if (results.empty()) results.resize(total);
+  errno = 0;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw UsageError("--resume: cannot open " + path + system_reason());
+  std::string line;
+  const std::string expected_header = runs_csv_header(plan);
+  if (!std::getline(in, line) || line != expected_header) {
+    throw UsageError(path + ":1: expected the header " + expected_header + " (got " + quoted(line) +
+                     "): the file belongs to another study (with or without --dt-check, --alarms, --arith fixed?)");
+  }
+  std::size_t read = 0;
+  std::vector<std::string> fields;
+  for (int number = 2; std::getline(in, line); ++number) {
+    if (line.empty()) continue;
+    const std::string where = path + ":" + std::to_string(number);
+    if (!split_runs_csv_line(line, fields)) {
+      throw UsageError(where + ": expected " + std::to_string(columns(plan).size()) + " comma-separated fields (" +
+                       expected_header + ")");
+    }
+    read_runs_csv_row(where, fields, plan, results);
     ++read;
   }
   if (in.bad()) throw UsageError("--resume: reading " + path + " failed");

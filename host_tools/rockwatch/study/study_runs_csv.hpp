@@ -36,4 +36,11 @@ void write_runs_csv(std::ostream& out, const sim::study::StudyPlan& plan,
 std::size_t read_runs_csv(const std::string& path, const sim::study::StudyPlan& plan,
                           std::vector<sim::study::RunResult>& results);
 
+// The pieces of read_runs_csv, for readers of files with more columns in front (a portfolio's wall, study_portfolio):
+// one line into its fields (false: an unclosed quote), and one row's fields (the plan's columns) into `results` at
+// its run index, returned. Throws UsageError naming `where` ("PATH:LINE") as read_runs_csv does.
+bool split_runs_csv_line(const std::string& line, std::vector<std::string>& fields);
+std::size_t read_runs_csv_row(const std::string& where, const std::vector<std::string>& fields,
+                              const sim::study::StudyPlan& plan, std::vector<sim::study::RunResult>& results);
+
 }  // namespace rockwatch::cli

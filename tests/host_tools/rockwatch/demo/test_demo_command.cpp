@@ -95,3 +95,29 @@ TEST(DemoCommand, MonitorTimelinesMatchTheOfflineSimulation) {
   CHECK_EQUAL_TEXT(1u, count_of(r.out, "1128 wall_sensor_t"), what.c_str());
 #endif
 }
+
+// --monitor-config with a walls array: one monitor follows the paper wall (named "wall": the unsuffixed channels, the
+// timeline compared) and a thicker one on the same ground motion; the demo reports both walls' highest levels.
+TEST(DemoCommand, OneMonitorManyWallsFromItsConfig) {
+#ifndef ROCKWATCH_MONITOR_PATH
+  std::printf("\nnote: rockwatch-monitor is not part of this build: DemoCommand.OneMonitorManyWalls skipped\n");
+#else
+  const std::string url = private_url();
+  const rockwatch::cli::MulticastProbe probe = rockwatch::cli::probe_multicast(url, 1000);
+  if (!probe.ok) {
+    std::printf("\nnote: LCM multicast does not work here (%s): DemoCommand.OneMonitorManyWalls skipped\n",
+                probe.problem.c_str());
+    return;
+  }
+  const rockwatch::test::TempDir tmp;
+  const std::string config = tmp.file("walls.json");
+  rockwatch::test::write_text(config, R"({"walls": [{"name": "wall"}, {"name": "thick", "wall": {"b": 0.2}}]})");
+  const EnvOverride monitor("ROCKWATCH_MONITOR", ROCKWATCH_MONITOR_PATH);
+  const ProcessResult r = run_rockwatch({"demo", "--speed", "4", "--lcm-url", url, "--monitor-config", config});
+  const std::string what = describe(r);
+  CHECK_EQUAL_TEXT(0, r.exit_status, what.c_str());
+  CHECK_EQUAL_TEXT(2u, count_of(r.out, "match: yes"), what.c_str());  // the paper wall, as without the config
+  CHECK_TEXT(r.out.find("walls (highest level): wall COLLAPSED, thick ") != std::string::npos, what.c_str());
+  CHECK_EQUAL_TEXT(1u, count_of(r.out, "live = offline fused: yes"), what.c_str());
+#endif
+}
