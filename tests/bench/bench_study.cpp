@@ -90,18 +90,18 @@ void BM_DefaultStudy(benchmark::State& state, bool dt_check) {
     study::run_study(plan, results, jobs);
     benchmark::DoNotOptimize(results.data());
   }
-  std::size_t collapsed = 0, errors = 0, half_step_differs = 0, samples = 0;
+  std::size_t collapsed = 0, errors = 0, reference_differs = 0, samples = 0;
   for (const study::RunResult& r : results) {
     collapsed += r.collapsed ? 1U : 0U;
     errors += r.error.empty() ? 0U : 1U;
-    half_step_differs += r.collapsed_half_step && *r.collapsed_half_step != r.collapsed ? 1U : 0U;
+    reference_differs += r.collapsed_reference && *r.collapsed_reference != r.collapsed ? 1U : 0U;
   }
   for (const study::StudyRecord& r : plan.records) samples = std::max(samples, r.ug_mps2.size());
   const double runs = double(results.size());
   state.counters["runs"] = runs;
   state.counters["collapsed"] = double(collapsed);
   state.counters["errors"] = double(errors);
-  if (dt_check) state.counters["half_step_differs"] = double(half_step_differs);
+  if (dt_check) state.counters["reference_differs"] = double(reference_differs);
   state.counters["samples"] = double(samples);
   // Per analysis (per run; with the dt check a run is two analyses), from the wall time of a study.
   state.counters["per_run"] =

@@ -177,7 +177,7 @@ bool same_results_for_one_and_two_jobs() {
     const study::RunResult& b = two[i];
     const bool same = a.done && b.done && a.collapsed == b.collapsed && a.max_abs_x_m == b.max_abs_x_m &&
                       a.t_collapse_s == b.t_collapse_s && a.t_exceed_s == b.t_exceed_s && a.n_impacts == b.n_impacts &&
-                      a.collapsed_half_step == b.collapsed_half_step && a.error == b.error &&
+                      a.collapsed_reference == b.collapsed_reference && a.error == b.error &&
                       a.t_first_imminent_s == b.t_first_imminent_s;
     differ += same ? 0U : 1U;
   }

@@ -239,7 +239,7 @@ TEST(StudyAlarmRuns, EachRunKeepsItsFirstImminentAndFixedRunsTheirDoubleReferenc
     DOUBLES_EQUAL(d.max_abs_x_m, f.reference->max_abs_x_m, 0.0);
     CHECK_TRUE(d.t_first_imminent_s == f.reference->t_first_imminent_s);
     CHECK_EQUAL(d.collapsed, sim::study::double_collapsed(f));
-    CHECK_TRUE(f.collapsed_half_step.has_value());
+    CHECK_TRUE(f.collapsed_reference.has_value());
     some_imminent = some_imminent || d.t_first_imminent_s.has_value();
     if (d.collapsed) CHECK_TRUE(*d.t_first_imminent_s < *d.t_collapse_s);
   }

@@ -175,7 +175,7 @@ TEST(BatchStudy, EveryResultEqualsADirectAnalysisOfTheSameScaledInput) {
   const RunResult& without = results[sim::study::run_index(plan, RunKey{0, 0, 0, 2})];
   const RunResult& with = results[sim::study::run_index(plan, RunKey{1, 0, 0, 2})];
   CHECK_TEXT(without.max_abs_x_m != with.max_abs_x_m, "the vertical changes the response");
-  CHECK_FALSE(results[0].collapsed_half_step.has_value());
+  CHECK_FALSE(results[0].collapsed_reference.has_value());
 }
 
 TEST(BatchStudy, ResumeRunsOnlyTheRunsNotDoneAndKeepsTheOthers) {
@@ -254,8 +254,8 @@ TEST(BatchStudy, DtCheckGivesTheVerdictOfADirectAnalysisAtHalfTheMaxStep) {
   for (std::size_t i = 0; i < results.size(); ++i) {
     const RunKey key = sim::study::run_key(plan, i);
     const sim::AnalysisResult half = direct_analysis(plan, key, 0.005);
-    CHECK_TEXT(results[i].collapsed_half_step.has_value(), run_text(i).c_str());
-    CHECK_TEXT(*results[i].collapsed_half_step == half.verdict_collapse(), run_text(i).c_str());
+    CHECK_TEXT(results[i].collapsed_reference.has_value(), run_text(i).c_str());
+    CHECK_TEXT(*results[i].collapsed_reference == half.verdict_collapse(), run_text(i).c_str());
   }
 }
 

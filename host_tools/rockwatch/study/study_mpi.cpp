@@ -130,7 +130,8 @@ void put_result(Writer& w, std::uint64_t global, const study::RunResult& r) {
     w.put(r.reference->max_abs_x_m);
     w.put_optional(r.reference->t_first_imminent_s);
   }
-  w.put<std::uint8_t>(r.collapsed_half_step ? (*r.collapsed_half_step ? 2 : 1) : 0);
+  w.put<std::uint8_t>(r.collapsed_reference ? (*r.collapsed_reference ? 2 : 1) : 0);
+  w.put_optional(r.max_abs_x_reference_m);
   w.put<std::uint64_t>(r.error.size());
   w.bytes.insert(w.bytes.end(), r.error.begin(), r.error.end());
 }
@@ -154,8 +155,9 @@ study::RunResult get_result(Reader& in, std::uint64_t& global) {
     d.t_first_imminent_s = in.get_optional();
     r.reference = d;
   }
-  const auto half = in.get<std::uint8_t>();
-  if (half != 0) r.collapsed_half_step = half == 2;
+  const auto half = in.get<std::uint8_t>();  // 0 none, 1 survives, 2 collapses
+  if (half != 0) r.collapsed_reference = half == 2;
+  r.max_abs_x_reference_m = in.get_optional();
   r.error = in.get_string(static_cast<std::size_t>(in.get<std::uint64_t>()));
   return r;
 }

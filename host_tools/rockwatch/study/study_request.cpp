@@ -70,7 +70,7 @@ const char* const kFooter =
     "\n"
     "Writes into DIR (created if missing):\n"
     "  runs.csv      one row per analysis: record, component, vertical, r, pga_g, collapsed, t_collapse_s,\n"
-    "                t_exceed_s, max_abs_x_m, n_impacts, run (its index), with --dt-check collapsed_half_step, and\n"
+    "                t_exceed_s, max_abs_x_m, n_impacts, run (its index), with --dt-check collapsed_reference, and\n"
     "                error (why the engine refused the input, e.g. lift-off; such runs have no verdict)\n"
     "                with --alarms also t_first_imminent_s; with --arith fixed also saturated, collapsed_double,\n"
     "                t_collapse_double_s, max_abs_x_double_m, [t_first_imminent_double_s,] verdict_differs\n"
@@ -90,9 +90,9 @@ const char* const kFooter =
     "\n"
     "--arith fixed runs every analysis on the monitor's fixed-point engine (linear model only) and again on the\n"
     "double engine, whose verdict is the verdict of record: summary.json's fixed_vs_double compares them (verdict\n"
-    "flips, which of them also flip at half the step with --dt-check, the largest difference of max |x| over runs\n"
+    "flips, which of them also flip at the reference step with --dt-check, the largest difference of max |x| over runs\n"
     "that survive in both, of the first IMMINENT in integration steps). The statistics per case are the fixed\n"
-    "engine's; --dt-check then runs the double engine at half the step.\n"
+    "engine's; --dt-check then runs the double engine at the reference step.\n"
     "--alarms runs the instability alarm in every analysis (see rockwatch simulate --help; --lambda-w,\n"
     "--alarm-hold, --energy-margin) and adds summary.json's alarm: recall (collapsed runs, by the double verdict,\n"
     "flagged IMMINENT strictly before t_collapse, over the collapsed runs), false_alarm_rate (surviving runs ever\n"
@@ -162,7 +162,9 @@ void add_options(CLI::App& app, RawOptions& raw) {
   app.add_option("--jobs", raw.jobs, "Analyses run in parallel; 0 = every hardware thread (default 0)")
       ->type_name("N");
   app.add_flag("--dt-check", raw.dt_check,
-               "Run every analysis again at half the step and report the verdicts that change");
+               "Convergence check: run every analysis again on the double engine at a reference step (half the max "
+               "step, at most 0.5 ms): runs.csv collapsed_reference and max_abs_x_reference_m, summary.json "
+               "dt_check (verdicts that change, the survivors' max |x| error: median, p90, max)");
   app.add_option("--out", raw.out, "Directory for runs.csv, summary.json, table3.md, study.json and the plots")
       ->type_name("DIR");
   app.add_flag("--plots", raw.plots, "Draw the paper's Figures 6-8 per case (PNG, matplotlib)");

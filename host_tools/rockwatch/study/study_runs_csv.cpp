@@ -38,7 +38,10 @@ std::vector<std::string> columns(const study::StudyPlan& plan) {
     if (alarms(plan)) c.emplace_back("t_first_imminent_double_s");
     c.emplace_back("verdict_differs");
   }
-  if (plan.dt_check) c.emplace_back("collapsed_half_step");
+  if (plan.dt_check) {
+    c.emplace_back("collapsed_reference");
+    c.emplace_back("max_abs_x_reference_m");
+  }
   c.emplace_back("error");
   return c;
 }
@@ -209,7 +212,10 @@ void write_runs_csv(std::ostream& out, const study::StudyPlan& plan, const std::
         row += alarms(plan) ? ",,,,,," : ",,,,,";
       }
     }
-    if (plan.dt_check) row += std::string(",") + (r.collapsed_half_step ? bool_text(*r.collapsed_half_step) : "");
+    if (plan.dt_check) {
+      row += std::string(",") + (r.collapsed_reference ? bool_text(*r.collapsed_reference) : "") + ',' +
+             optional_number(r.max_abs_x_reference_m);
+    }
     row += ',' + csv_field(one_line(r.error)) + '\n';
     out << row;
   }
@@ -227,7 +233,8 @@ std::size_t read_runs_csv_row(const std::string& where, const std::vector<std::s
   const std::size_t imminent_column = column_of(header, "t_first_imminent_s");
   const std::size_t saturated_column = column_of(header, "saturated");
   const std::size_t differs_column = column_of(header, "verdict_differs");
-  const std::size_t half_step_column = column_of(header, "collapsed_half_step");
+  const std::size_t reference_column = column_of(header, "collapsed_reference");
+  const std::size_t reference_x_column = column_of(header, "max_abs_x_reference_m");
   {
     if (fields.size() != header.size()) {
       throw UsageError(where + ": expected " + std::to_string(header.size()) + " comma-separated fields (" +
@@ -264,7 +271,10 @@ std::size_t read_runs_csv_row(const std::string& where, const std::vector<std::s
         r.reference = d;
       }
     }
-    if (plan.dt_check) r.collapsed_half_step = row.optional_boolean(half_step_column);
+    if (plan.dt_check) {
+      r.collapsed_reference = row.optional_boolean(reference_column);
+      r.max_abs_x_reference_m = row.optional_number(reference_x_column);
+    }
     if (results[index].done) throw UsageError(where + ": run " + std::to_string(index) + " appears twice");
     results[index] = r;
     return index;

@@ -19,7 +19,7 @@ inline constexpr const char* kRunsCsvName = "runs.csv";
 // [,t_first_imminent_s]                                                     with alarms
 // [,saturated,collapsed_double,t_collapse_double_s,max_abs_x_double_m
 //  [,t_first_imminent_double_s],verdict_differs]                            with fixed-point arithmetic
-// [,collapsed_half_step],error                                              with the dt check
+// [,collapsed_reference,max_abs_x_reference_m],error                                              with the dt check
 // In a fixed-point study the first columns are the fixed engine's, the _double ones the double engine's on the same
 // input (its verdict is the verdict of record), verdict_differs = collapsed != collapsed_double.
 std::string runs_csv_header(const sim::study::StudyPlan& plan);

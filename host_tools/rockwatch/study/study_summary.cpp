@@ -124,8 +124,8 @@ nlohmann::ordered_json fixed_json(const study::StudyPlan& plan, const FixedCompa
   j["runs_compared"] = f.runs_compared;
   j["verdicts_same"] = f.verdicts_same;
   j["verdict_flips"] = runs_json(f.verdict_flips);
-  j["flips_also_at_half_step"] =
-      plan.dt_check ? runs_json(f.flips_also_at_half_step) : nlohmann::ordered_json(nullptr);
+  j["flips_also_at_reference"] =
+      plan.dt_check ? runs_json(f.flips_also_at_reference) : nlohmann::ordered_json(nullptr);
   j["max_abs_x_diff_m_max"] = number_or_null(f.max_abs_x_diff_m_max);
   j["survivors_compared"] = f.survivors_compared;
   j["survivors_within_0_5_mm"] = f.survivors_within_half_mm;
@@ -258,7 +258,7 @@ FixedComparison fixed_comparison(const study::StudyPlan& plan, const std::vector
       ++f.verdicts_same;
     } else {
       f.verdict_flips.push_back(index);
-      if (r.collapsed_half_step && *r.collapsed_half_step != d.collapsed) f.flips_also_at_half_step.push_back(index);
+      if (r.collapsed_reference && *r.collapsed_reference != d.collapsed) f.flips_also_at_reference.push_back(index);
     }
     if (!r.collapsed && !d.collapsed) {
       const double diff = std::fabs(r.max_abs_x_m - d.max_abs_x_m);
@@ -297,9 +297,31 @@ StudyOutcome summarise_study(const study::StudyPlan& plan, const std::vector<stu
   }
   for (std::size_t index = 0; index < results.size(); ++index) {
     const study::RunResult& r = results[index];
-    if (r.error.empty() && r.collapsed_half_step && *r.collapsed_half_step != study::double_collapsed(r)) {
+    if (r.error.empty() && r.collapsed_reference && *r.collapsed_reference != study::double_collapsed(r)) {
       o.flipped_runs.push_back(index);
     }
+  }
+  if (plan.dt_check) {
+    DtCheckFigures d;
+    d.reference_step_s = study::dt_check_step_s(plan);
+    std::vector<double> rel, abs_m;
+    for (const study::RunResult& r : results) {
+      if (!r.error.empty() || !r.done || !r.collapsed_reference || !r.max_abs_x_reference_m) continue;
+      if (r.collapsed || *r.collapsed_reference || !(*r.max_abs_x_reference_m > 0.0)) continue;
+      const double e = std::fabs(r.max_abs_x_m - *r.max_abs_x_reference_m);
+      abs_m.push_back(e);
+      rel.push_back(e / *r.max_abs_x_reference_m);
+    }
+    std::sort(rel.begin(), rel.end());
+    std::sort(abs_m.begin(), abs_m.end());
+    d.survivors_compared = rel.size();
+    d.rel_error_median = quantile_type7(rel, 0.5);
+    d.rel_error_p90 = quantile_type7(rel, 0.9);
+    d.rel_error_max = quantile_type7(rel, 1.0);
+    d.abs_error_m_median = quantile_type7(abs_m, 0.5);
+    d.abs_error_m_p90 = quantile_type7(abs_m, 0.9);
+    d.abs_error_m_max = quantile_type7(abs_m, 1.0);
+    o.dt_check = d;
   }
   if (plan.analysis.evaluate_alarm) o.alarm = alarm_outcome(results);
   if (plan.analysis.arithmetic == sim::Arithmetic::fixed_point) o.fixed_vs_double = fixed_comparison(plan, results);
@@ -341,11 +363,25 @@ nlohmann::ordered_json summary_json(const study::StudyPlan& plan, const StudyRec
                        {"r", restitution_json(plan.restitutions[key.restitution_index])},
                        {"pga_g", plan.pga_g[key.pga_index]},
                        {"collapsed", study::double_collapsed(results[index])},
-                       {"collapsed_half_step", *results[index].collapsed_half_step}});
+                       {"collapsed_reference", *results[index].collapsed_reference}});
   }
   const nlohmann::ordered_json flips =
       plan.dt_check ? nlohmann::ordered_json(o.flipped_runs.size()) : nlohmann::ordered_json(nullptr);
   j["dt_check"] = {{"enabled", plan.dt_check}, {"flips", flips}, {"flipped_runs", flipped}};
+  if (o.dt_check) {
+    const DtCheckFigures& d = *o.dt_check;
+    const auto opt = [](const std::optional<double>& v) {
+      return v ? nlohmann::ordered_json(*v) : nlohmann::ordered_json(nullptr);
+    };
+    j["dt_check"]["reference"] = "double engine at reference_step_s";
+    j["dt_check"]["max_step_s"] = plan.analysis.max_step_s;
+    j["dt_check"]["reference_step_s"] = d.reference_step_s;
+    j["dt_check"]["survivors_compared"] = d.survivors_compared;
+    j["dt_check"]["max_abs_x_rel_error"] = {
+        {"median", opt(d.rel_error_median)}, {"p90", opt(d.rel_error_p90)}, {"max", opt(d.rel_error_max)}};
+    j["dt_check"]["max_abs_x_abs_error_m"] = {
+        {"median", opt(d.abs_error_m_median)}, {"p90", opt(d.abs_error_m_p90)}, {"max", opt(d.abs_error_m_max)}};
+  }
   nlohmann::ordered_json cases = nlohmann::ordered_json::array();
   for (const CaseOutcome& c : o.cases) cases.push_back(case_json(plan, c));
   j["cases"] = cases;
@@ -391,11 +427,20 @@ std::string study_summary_text(const StudyRequest& q, const study::StudyPlan& pl
   for (const CaseOutcome& c : o.cases) case_text(out, o, c);
   out += "\n";
   if (plan.dt_check) {
-    std::string text = format("%zu of %zu verdicts change at half the step", o.flipped_runs.size(), study::run_count(plan));
+    const DtCheckFigures& d = *o.dt_check;
+    std::string text = format("against the double engine at %s s: %zu of %zu verdicts change",
+                              number_text(d.reference_step_s).c_str(), o.flipped_runs.size(), study::run_count(plan));
     const std::size_t shown = o.flipped_runs.size() < 5 ? o.flipped_runs.size() : 5;
     for (std::size_t i = 0; i < shown; ++i) text += (i == 0 ? ": " : "; ") + run_text(plan, o.flipped_runs[i]);
     if (shown < o.flipped_runs.size()) text += "; ... (summary.json lists them all)";
     line(out, "dt check", text);
+    if (d.rel_error_median) {
+      line(out, "", format("survivors' max |x| (%zu) against it: median %.3g %%, p90 %.3g %%, max %.3g %% "
+                           "(%.3g / %.3g / %.3g mm)",
+                           d.survivors_compared, 100.0 * *d.rel_error_median, 100.0 * *d.rel_error_p90,
+                           100.0 * *d.rel_error_max, 1e3 * *d.abs_error_m_median, 1e3 * *d.abs_error_m_p90,
+                           1e3 * *d.abs_error_m_max));
+    }
   }
   if (o.alarm) {
     const AlarmOutcome& a = *o.alarm;
@@ -417,7 +462,7 @@ std::string study_summary_text(const StudyRequest& q, const study::StudyPlan& pl
     std::string text = format("%zu of %zu verdicts the same", f.verdicts_same, f.runs_compared);
     if (!f.verdict_flips.empty()) {
       text += format(", %zu flip%s", f.verdict_flips.size(), f.verdict_flips.size() == 1 ? "" : "s");
-      if (plan.dt_check) text += format(" (%zu also flip at half the step)", f.flips_also_at_half_step.size());
+      if (plan.dt_check) text += format(" (%zu also flip at the reference step)", f.flips_also_at_reference.size());
     }
     if (f.max_abs_x_diff_m_max) {
       text += format("; survivors' max |x| within 0.5 mm on %zu of %zu (worst %.3g m)", f.survivors_within_half_mm,

@@ -45,7 +45,7 @@ struct FixedComparison {
   std::size_t runs_compared = 0;         // runs with a verdict
   std::size_t verdicts_same = 0;
   std::vector<std::size_t> verdict_flips;            // run indices where the verdicts differ
-  std::vector<std::size_t> flips_also_at_half_step;  // --dt-check: flips whose double verdict changes at half the step
+  std::vector<std::size_t> flips_also_at_reference;  // --dt-check: flips whose double verdict changes at the reference step
   std::optional<double> max_abs_x_diff_m_max;        // over runs that survive in both engines [m]
   std::size_t survivors_compared = 0;                // runs that survive in both engines
   std::size_t survivors_within_half_mm = 0;          //   of which max|x| differs by at most 0.5 mm (the bound)
@@ -56,10 +56,19 @@ struct FixedComparison {
   std::size_t runs_saturated = 0;
 };
 
+// --dt-check: the plan's engine at its max step against the double engine at the reference step (dt_check_step_s).
+struct DtCheckFigures {
+  double reference_step_s = 0.0;            // [s]
+  std::size_t survivors_compared = 0;       // runs both survive, the reference with max |x| > 0
+  std::optional<double> rel_error_median, rel_error_p90, rel_error_max;  // |max|x| − reference| / reference [-]
+  std::optional<double> abs_error_m_median, abs_error_m_p90, abs_error_m_max;  // |max|x| − reference| [m]
+};
+
 struct StudyOutcome {
   StaticCapacities capacities;
   std::vector<CaseOutcome> cases;     // in study_cases() order
-  std::vector<std::size_t> flipped_runs;  // --dt-check: runs whose (double) verdict differs at half the step
+  std::vector<std::size_t> flipped_runs;  // --dt-check: runs whose verdict of record differs at the reference step
+  std::optional<DtCheckFigures> dt_check;  // --dt-check: the survivors' max |x| against the reference
   std::size_t runs_with_error = 0;
   std::optional<AlarmOutcome> alarm;              // with --alarms
   std::optional<FixedComparison> fixed_vs_double;  // with --arith fixed

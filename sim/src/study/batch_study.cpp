@@ -77,9 +77,11 @@ class Worker {
         out.reference = DoubleReference{d.verdict_collapse(), d.t_collapse_s, d.max_abs_x_m, d.alarm.t_first_imminent_s};
       }
       if (plan_.dt_check) {
-        options.max_step_s = plan_.analysis.max_step_s / 2.0;
-        options.evaluate_alarm = false;  // only the verdict is kept
-        out.collapsed_half_step = analyse(plan_.wall, motion_, options).verdict_collapse();
+        options.max_step_s = dt_check_step_s(plan_);
+        options.evaluate_alarm = false;  // only the verdict and max |x| are kept
+        const AnalysisResult reference = analyse(plan_.wall, motion_, options);
+        out.collapsed_reference = reference.verdict_collapse();
+        out.max_abs_x_reference_m = reference.max_abs_x_m;
       }
     } catch (const AnalysisError& e) {
       out = RunResult{};
@@ -100,6 +102,8 @@ double integration_step_s(const StudyPlan& plan, const StudyRecord& record) {
   const double n_sub = std::max(1, core::substeps_per_sample(record.dt_s, plan.analysis.max_step_s));
   return record.dt_s / n_sub;
 }
+
+double dt_check_step_s(const StudyPlan& plan) { return std::min(plan.analysis.max_step_s / 2.0, 0.0005); }
 
 std::size_t run_count(const StudyPlan& plan) {
   return plan.vertical.size() * plan.restitutions.size() * plan.records.size() * plan.pga_g.size();
@@ -177,8 +181,10 @@ void validate_plan(const StudyPlan& plan) {
     const StudyRecord& r = plan.records[i];
     if (!(std::isfinite(r.dt_s) && r.dt_s > 0.0)) reject(record_text(plan, i) + ": sample interval must be > 0 s");
     if (r.ug_mps2.size() < 2) reject(record_text(plan, i) + ": no samples (at least two are needed)");
-    if (r.dt_s / plan.analysis.max_step_s > double(core::kMaxSubsteps) + 1e-9) {
-      reject(record_text(plan, i) + ": max step " + number_text(plan.analysis.max_step_s) + " s would need more than " +
+    const double finest_step_s = plan.dt_check ? dt_check_step_s(plan) : plan.analysis.max_step_s;
+    if (r.dt_s / finest_step_s > double(core::kMaxSubsteps) + 1e-9) {
+      reject(record_text(plan, i) + ": max step " + number_text(finest_step_s) + " s" +
+             (plan.dt_check ? " (the --dt-check reference)" : "") + " would need more than " +
              std::to_string(core::kMaxSubsteps) + " sub-steps per sample (dt " + number_text(r.dt_s) +
              " s): choose max step >= dt / " + std::to_string(core::kMaxSubsteps));
     }

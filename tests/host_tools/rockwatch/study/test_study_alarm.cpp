@@ -217,7 +217,7 @@ TEST(StudyAlarm, FixedPointStudyIsComparedWithTheDoubleEngine) {
   lines.pop_back();
   STRCMP_EQUAL("record,component,vertical,r,pga_g,collapsed,t_collapse_s,t_exceed_s,max_abs_x_m,n_impacts,run,"
                "t_first_imminent_s,saturated,collapsed_double,t_collapse_double_s,max_abs_x_double_m,"
-               "t_first_imminent_double_s,verdict_differs,collapsed_half_step,error",
+               "t_first_imminent_double_s,verdict_differs,collapsed_reference,max_abs_x_reference_m,error",
                lines.front().c_str());
   LONGS_EQUAL(19, lines.size());
   std::vector<std::size_t> flips, flips_at_half_step;
@@ -228,8 +228,9 @@ TEST(StudyAlarm, FixedPointStudyIsComparedWithTheDoubleEngine) {
       ++survivors_both;
       if (std::fabs(std::stod(f[8]) - std::stod(f[15])) <= 5e-4) ++survivors_within;
     }
-    LONGS_EQUAL(20, f.size());
-    CHECK_TRUE(f[19].empty());
+    LONGS_EQUAL(21, f.size());
+    CHECK_TRUE(!f[19].empty() && std::stod(f[19]) >= 0.0);  // max |x| at the reference step
+    CHECK_TRUE(f[20].empty());
     CHECK_EQUAL(f[5] != f[13], f[17] == "true");
     if (f[17] == "true") {
       flips.push_back(i - 1);
@@ -245,7 +246,7 @@ TEST(StudyAlarm, FixedPointStudyIsComparedWithTheDoubleEngine) {
   LONGS_EQUAL(18, c["runs_compared"].get<std::size_t>());
   LONGS_EQUAL(18 - flips.size(), c["verdicts_same"].get<std::size_t>());
   CHECK_TRUE(c["verdict_flips"] == nlohmann::json(flips));
-  CHECK_TRUE(c["flips_also_at_half_step"] == nlohmann::json(flips_at_half_step));
+  CHECK_TRUE(c["flips_also_at_reference"] == nlohmann::json(flips_at_half_step));
   CHECK_TRUE(c["max_abs_x_diff_m_max"].get<double>() >= 0.0);
   CHECK_TRUE(c["first_imminent_diff_samples_max"].is_number_unsigned());
   LONGS_EQUAL(survivors_both, c["survivors_compared"].get<std::size_t>());
@@ -358,25 +359,25 @@ TEST(StudyAlarmArithmetic, FixedAgainstDouble) {
   results[0].max_abs_x_m = 0.010;
   results[0].t_first_imminent_s = 1.000;
   results[0].reference = study::DoubleReference{false, std::nullopt, 0.012, 1.030};
-  results[0].collapsed_half_step = false;
+  results[0].collapsed_reference = false;
   // 1: both collapse.
   results[1].collapsed = true;
   results[1].t_collapse_s = 3.0;
   results[1].reference = study::DoubleReference{true, 3.01, 0.2, std::nullopt};
-  results[1].collapsed_half_step = true;
+  results[1].collapsed_reference = true;
   // 2: fixed collapses, double survives, and survives at half the step too: a flip of the fixed engine's own.
   results[2].collapsed = true;
   results[2].reference = study::DoubleReference{false, std::nullopt, 0.09, std::nullopt};
-  results[2].collapsed_half_step = false;
+  results[2].collapsed_reference = false;
   // 3: fixed survives, double collapses but survives at half the step: the double verdict itself is fragile.
   results[3].max_abs_x_m = 0.05;
   results[3].saturated = true;
   results[3].reference = study::DoubleReference{true, 7.0, 0.2, std::nullopt};
-  results[3].collapsed_half_step = false;
+  results[3].collapsed_reference = false;
   // 4: both survive, max |x| 0.020 vs 0.0205.
   results[4].max_abs_x_m = 0.020;
   results[4].reference = study::DoubleReference{false, std::nullopt, 0.0205, 2.0};
-  results[4].collapsed_half_step = false;
+  results[4].collapsed_reference = false;
   // 5: refused.
   results[5].error = "out of range";
   const cli::FixedComparison f = cli::fixed_comparison(plan, results);
@@ -385,8 +386,8 @@ TEST(StudyAlarmArithmetic, FixedAgainstDouble) {
   LONGS_EQUAL(2, f.verdict_flips.size());
   LONGS_EQUAL(2, f.verdict_flips[0]);
   LONGS_EQUAL(3, f.verdict_flips[1]);
-  LONGS_EQUAL(1, f.flips_also_at_half_step.size());
-  LONGS_EQUAL(3, f.flips_also_at_half_step[0]);
+  LONGS_EQUAL(1, f.flips_also_at_reference.size());
+  LONGS_EQUAL(3, f.flips_also_at_reference[0]);
   DOUBLES_EQUAL(0.002, *f.max_abs_x_diff_m_max, 1e-15);
   LONGS_EQUAL(3, *f.first_imminent_diff_samples_max);
   LONGS_EQUAL(1, f.runs_saturated);
@@ -412,11 +413,12 @@ TEST(StudyAlarmArithmetic, RunsCsvOfAFixedPointStudyReadsBackWhatWasWritten) {
   results[0].t_first_imminent_s = 3.125;
   results[0].saturated = true;
   results[0].reference = study::DoubleReference{false, std::nullopt, 0.0931, 3.13};
-  results[0].collapsed_half_step = false;
+  results[0].collapsed_reference = false;
+  results[0].max_abs_x_reference_m = 0.0932;
   results[2].done = true;
   results[2].max_abs_x_m = 0.01;
   results[2].reference = study::DoubleReference{false, std::nullopt, 0.0101, std::nullopt};
-  results[2].collapsed_half_step = false;
+  results[2].collapsed_reference = false;
   results[3].done = true;
   results[3].error = "refused, with a comma";
 
@@ -425,10 +427,11 @@ TEST(StudyAlarmArithmetic, RunsCsvOfAFixedPointStudyReadsBackWhatWasWritten) {
   const std::vector<std::string> lines = split_fields(text.str(), '\n');
   STRCMP_EQUAL("record,component,vertical,r,pga_g,collapsed,t_collapse_s,t_exceed_s,max_abs_x_m,n_impacts,run,"
                "t_first_imminent_s,saturated,collapsed_double,t_collapse_double_s,max_abs_x_double_m,"
-               "t_first_imminent_double_s,verdict_differs,collapsed_half_step,error",
+               "t_first_imminent_double_s,verdict_differs,collapsed_reference,max_abs_x_reference_m,error",
                lines[0].c_str());
-  STRCMP_EQUAL("rec,X,false,exp,0.1,true,4.25,4,0.2006552,7,0,3.125,true,false,,0.0931,3.13,true,false,", lines[1].c_str());
-  STRCMP_EQUAL("rec,X,false,exp,0.4,,,,,,3,,,,,,,,,\"refused, with a comma\"", lines[3].c_str());
+  STRCMP_EQUAL("rec,X,false,exp,0.1,true,4.25,4,0.2006552,7,0,3.125,true,false,,0.0931,3.13,true,false,0.0932,",
+               lines[1].c_str());
+  STRCMP_EQUAL("rec,X,false,exp,0.4,,,,,,3,,,,,,,,,,\"refused, with a comma\"", lines[3].c_str());
 
   const TempDir tmp;
   rockwatch::test::write_text(tmp.file("runs.csv"), text.str());
@@ -450,7 +453,8 @@ TEST(StudyAlarmArithmetic, RunsCsvOfAFixedPointStudyReadsBackWhatWasWritten) {
       DOUBLES_EQUAL(a.reference->max_abs_x_m, b.reference->max_abs_x_m, 0.0);
       CHECK_TRUE(a.reference->t_first_imminent_s == b.reference->t_first_imminent_s);
     }
-    CHECK_TRUE(a.collapsed_half_step == b.collapsed_half_step);
+    CHECK_TRUE(a.collapsed_reference == b.collapsed_reference);
+    CHECK_TRUE(a.max_abs_x_reference_m == b.max_abs_x_reference_m);
     STRCMP_EQUAL(a.error.c_str(), b.error.c_str());
   }
   CHECK_FALSE(back[1].done);

@@ -3,6 +3,7 @@
 // independent of --jobs, --resume after losing half the rows (and after a real SIGINT) giving the same files, a
 // resume with another plan refused, the default suite found without a path, --records with real AT2 files, the
 // --dt-check, the plots, and every invalid option rejected with a message naming it (exit 2, nothing written).
+#include <algorithm>
 #include <signal.h>  // kill (POSIX)
 #include <sys/wait.h>
 #include <unistd.h>
@@ -317,25 +318,45 @@ TEST(StudyCommand, RecordsListOfRealRecords) {
   CHECK_FALSE(fs::exists(tmp.file("x")));
 }
 
-TEST(StudyCommand, DtCheckAddsTheHalfStepVerdictAndCountsFlips) {
+TEST(StudyCommand, DtCheckComparesWithTheReferenceStepAndReportsTheConvergence) {
   const TempDir tmp;
   const std::string dir = tmp.file("study");
   const ProcessResult r = run_rockwatch(with(mini_study(dir), {"--dt-check"}));
   check_ok(r);
   const Runs runs = read_runs(dir + "/runs.csv");
-  STRCMP_EQUAL((std::string(kHeader).substr(0, std::string(kHeader).size() - 6) + ",collapsed_half_step,error").c_str(),
+  STRCMP_EQUAL((std::string(kHeader).substr(0, std::string(kHeader).size() - 6) +
+                ",collapsed_reference,max_abs_x_reference_m,error")
+                   .c_str(),
                runs.header.c_str());
-  std::size_t flips = 0;
+  std::size_t flips = 0, survivors = 0;
+  std::vector<double> rel;
   for (const std::vector<std::string>& row : runs.rows) {
-    LONGS_EQUAL(13, row.size());
+    LONGS_EQUAL(14, row.size());
     CHECK_TRUE(row[11] == "true" || row[11] == "false");
     flips += row[11] != row[5] ? 1 : 0;
+    const double x = std::stod(row[8]), x_ref = std::stod(row[12]);
+    if (row[5] == "false" && row[11] == "false" && x_ref > 0.0) {
+      ++survivors;
+      rel.push_back(std::fabs(x - x_ref) / x_ref);
+    }
   }
   const nlohmann::json summary = nlohmann::json::parse(slurp(dir + "/summary.json"));
-  CHECK_TRUE(summary["dt_check"]["enabled"].get<bool>());
-  LONGS_EQUAL(flips, summary["dt_check"]["flips"].get<std::size_t>());
-  LONGS_EQUAL(flips, summary["dt_check"]["flipped_runs"].size());
-  STRCMP_CONTAINS("verdicts change at half the step", r.out.c_str());
+  const nlohmann::json& d = summary["dt_check"];
+  CHECK_TRUE(d["enabled"].get<bool>());
+  LONGS_EQUAL(flips, d["flips"].get<std::size_t>());
+  LONGS_EQUAL(flips, d["flipped_runs"].size());
+  // The reference: half the default max step of 1 ms.
+  DOUBLES_EQUAL(0.0005, d["reference_step_s"].get<double>(), 0.0);
+  LONGS_EQUAL(survivors, d["survivors_compared"].get<std::size_t>());
+  CHECK_TRUE(survivors > 0);
+  std::sort(rel.begin(), rel.end());
+  DOUBLES_EQUAL(rel.back(), d["max_abs_x_rel_error"]["max"].get<double>(), 0.0);
+  const double h = 0.5 * double(rel.size() - 1);  // type 7 median
+  const auto lo = static_cast<std::size_t>(h);
+  const double median = rel[lo] + (h - double(lo)) * (rel[std::min(lo + 1, rel.size() - 1)] - rel[lo]);
+  DOUBLES_EQUAL(median, d["max_abs_x_rel_error"]["median"].get<double>(), 1e-15);
+  STRCMP_CONTAINS("against the double engine at 5e-04 s", r.out.c_str());
+  STRCMP_CONTAINS("survivors' max |x|", r.out.c_str());
   // The plan includes the check: a resume without it is another study.
   rockwatch::test::expect_command_rejected("study", with(mini_args(dir), {"--resume"}), {"dt_check"});
 }
