@@ -56,7 +56,14 @@ std::string table3_markdown(const study::StudyPlan& plan, const StudyRecords& re
   }
   md += "PGA levels " + number_text(plan.pga_g.front()) + " to " + number_text(plan.pga_g.back()) + " g (" +
         std::to_string(plan.pga_g.size()) + "), model " + model_name(plan.analysis.model) + ", kappa " +
-        number_text(plan.analysis.kappa) + ", " + std::to_string(study::run_count(plan)) + " analyses.\n";
+        number_text(plan.analysis.kappa) + ", " + std::to_string(study::run_count(plan)) + " analyses. Integration step: " +
+        "at most " + number_text(plan.analysis.max_step_s) + " s (`--max-step`; " +
+        (plan.analysis.max_step_s < 0.005
+             ? "record samples of 5 ms in sub-steps, the input linear between samples; the paper integrated at the "
+               "records' 5 ms: `--max-step 0.005`)"
+             : plan.analysis.max_step_s == 0.005 ? "the paper's step: one step per 5 ms sample)"
+                                                 : "coarser than the paper's 5 ms)") +
+        ".\n";
   if (!is_paper_wall(plan.wall)) {
     md += "\nThe wall is not the paper's (b 0.1 m, h1 = h2 = 1.75 m): the paper's numbers are for its own wall.\n";
   }
