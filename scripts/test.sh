@@ -6,13 +6,23 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 stage_times=()
-stage_start=$SECONDS
-stage() {  # stage NAME: starts NAME's clock; stage_done records it
+# CPU seconds (user + system) of this shell's finished child processes so far: cutime + cstime of /proc/PID/stat.
+ticks=$(getconf CLK_TCK)
+child_cpu() {
+  local f
+  read -r -a f </proc/$$/stat
+  echo $(((f[15] + f[16]) / ticks))
+}
+stage() {  # stage NAME: starts NAME's clocks; stage_done records them
   echo "== $1 ($(date +%T))"
   stage_start=$SECONDS
+  stage_cpu=$(child_cpu)
   stage_name=$1
 }
-stage_done() { stage_times+=("$(printf '%-14s %4d s' "$stage_name" $((SECONDS - stage_start)))"); }
+stage_done() {
+  stage_times+=("$(printf '%-14s %4d s wall %5d s CPU' "$stage_name" $((SECONDS - stage_start)) \
+    $(($(child_cpu) - stage_cpu)))")
+}
 for preset in release debug; do
   stage "$preset: build"
   ./scripts/build.sh "$preset"
@@ -32,4 +42,4 @@ stage "fuzz: smoke"
 stage_done
 echo "== stage times"
 printf '%s\n' "${stage_times[@]}"
-echo "total          $SECONDS s"
+printf '%-14s %4d s wall %5d s CPU\n' total "$SECONDS" "$(child_cpu)"
