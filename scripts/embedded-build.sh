@@ -15,7 +15,8 @@
 #       scripts/m4-replay.sh. Compiles only wall_engine.cpp of the firmware sources.
 # Exit status: 0 built; 1 compile/link failure; 77 arm-none-eabi-g++ not installed (ctest SKIP_RETURN_CODE).
 # Environment: ARM_GXX, ARM_SIZE, ARM_NM, LCM_GEN override the tools; ROCKWATCH_M4_OPT the optimisation flag (default
-# -O2: the 128-bit fixed-point helpers inline, 2.3 x fewer M4 instructions per sample than -Os; docs/BENCHMARKS.md).
+# -O2: the 128-bit fixed-point helpers inline: 1.5 x fewer M4 instructions per sample than -Os, measured on set 1 X;
+# docs/BENCHMARKS.md).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 
