@@ -727,7 +727,7 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
     max_step = {cli::parse_positive_number("--max-step", raw.max_step, " s"), "--max-step"};
   }
   check_range(max_step.value > 0.0 && max_step.value <= 0.03 &&
-                  1.0 / (rate.value * max_step.value) <= double(core::kMaxSubsteps) + 1e-9,
+                  core::substeps_per_sample(1.0 / rate.value, max_step.value) != 0,
               name_of(max_step.origin, "max_step_s"),
               "in (0, 0.03] s and at least 1/(64 * rate) (at most 64 sub-steps per sample; " +
                   std::string(config.rate_origin) + " gives the rate)",

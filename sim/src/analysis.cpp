@@ -48,7 +48,7 @@ void check_options(const core::WallParameters& wall, const GroundMotion& motion,
   if (!core::restitution_valid(o.restitution)) throw AnalysisError("restitution r must be in [0, 1]");
   if (!(std::isfinite(o.kappa) && o.kappa >= 1.0)) throw AnalysisError("kappa must be a finite number >= 1");
   if (!(std::isfinite(o.max_step_s) && o.max_step_s > 0.0)) throw AnalysisError("max step must be > 0 s");
-  if (std::isfinite(motion.dt_s) && motion.dt_s / o.max_step_s > double(core::kMaxSubsteps) + 1e-9) {
+  if (std::isfinite(motion.dt_s) && motion.dt_s > 0.0 && core::substeps_per_sample(motion.dt_s, o.max_step_s) == 0) {
     throw AnalysisError("max step " + number_text(o.max_step_s) + " s would need more than " +
                         std::to_string(core::kMaxSubsteps) + " sub-steps per record sample (dt " +
                         number_text(motion.dt_s) + " s): choose max step >= dt / " +

@@ -37,7 +37,7 @@ constexpr double kMaxHistoryRows = 2e7;  // --out keeps every step in memory bef
 
 void check_work_size(const SimulateRequest& q, const InputMotion& in) {
   const double dt_s = in.motion.dt_s;
-  if (dt_s / q.analysis.max_step_s > double(core::kMaxSubsteps) + 1e-9) {
+  if (core::substeps_per_sample(dt_s, q.analysis.max_step_s) == 0) {
     throw UsageError("--max-step " + number_text(q.analysis.max_step_s) + " s would need more than " +
                      std::to_string(core::kMaxSubsteps) + " sub-steps per record sample (the record's dt is " +
                      number_text(dt_s) + " s): give --max-step >= dt / " + std::to_string(core::kMaxSubsteps));

@@ -155,8 +155,8 @@ study::RunResult get_result(Reader& in, std::uint64_t& global) {
     d.t_first_imminent_s = in.get_optional();
     r.reference = d;
   }
-  const auto half = in.get<std::uint8_t>();  // 0 none, 1 survives, 2 collapses
-  if (half != 0) r.collapsed_reference = half == 2;
+  const auto reference_verdict = in.get<std::uint8_t>();  // 0 none, 1 survives, 2 collapses
+  if (reference_verdict != 0) r.collapsed_reference = reference_verdict == 2;
   r.max_abs_x_reference_m = in.get_optional();
   r.error = in.get_string(static_cast<std::size_t>(in.get<std::uint64_t>()));
   return r;

@@ -182,7 +182,7 @@ void validate_plan(const StudyPlan& plan) {
     if (!(std::isfinite(r.dt_s) && r.dt_s > 0.0)) reject(record_text(plan, i) + ": sample interval must be > 0 s");
     if (r.ug_mps2.size() < 2) reject(record_text(plan, i) + ": no samples (at least two are needed)");
     const double finest_step_s = plan.dt_check ? dt_check_step_s(plan) : plan.analysis.max_step_s;
-    if (r.dt_s / finest_step_s > double(core::kMaxSubsteps) + 1e-9) {
+    if (core::substeps_per_sample(r.dt_s, finest_step_s) == 0) {
       reject(record_text(plan, i) + ": max step " + number_text(finest_step_s) + " s" +
              (plan.dt_check ? " (the --dt-check reference)" : "") + " would need more than " +
              std::to_string(core::kMaxSubsteps) + " sub-steps per sample (dt " + number_text(r.dt_s) +

@@ -158,16 +158,14 @@ struct FixedStepReport {
   // Work done, for the constant-iteration proofs and worst-case accounting (tests/sim/test_fixed_engine.cpp):
   std::uint16_t segments = 0;           // trials to the step end (≤ kMaxSegmentsPerStep)
   std::uint16_t events_located = 0;     // impacts, collapse and x_inst passages located inside the step
-  std::uint16_t locate_iterations = 0;  // kLocateIterations per event located within the budget, 0 beyond it
+  std::uint16_t locate_iterations = 0;  // always events_located · kLocateIterations
 };
 
 // The work one sample may spend on events, shared by its sub-steps (StepperAlarmChain passes one per sample): what
-// bounds the worst sample. Each sub-step's first segment is free; an event located with Newton iterations takes one
-// `locates`, a further segment of the same sub-step (after an impact or a start) one `extra_segments`. Spent:
-// events are located by the secant of the bracket alone (one division), and a sub-step that would need another
-// segment puts the wall at rest (`rest_forced`: impacts that close together mean settling speeds).
+// bounds the worst sample. Each sub-step's first segment is free; a further segment of the same sub-step (after an
+// impact or a start) takes one `extra_segments`. Spent: a sub-step that would need another segment puts the wall at
+// rest (`rest_forced`: impacts that close together mean settling speeds).
 struct FixedEventBudget {
-  int locates = 0;
   int extra_segments = 0;
 };
 
@@ -179,13 +177,11 @@ class FixedRockingStepper {
   static constexpr int kLocateIterations = 8;
   // Segments (impacts + 1) handled inside one step; more means settling speeds and the wall is put at rest.
   static constexpr int kMaxSegmentsPerStep = 16;
-  // Newton iterations for an event beyond the sample's budget of fully located ones.
-  static constexpr int kLocateIterationsBeyondBudget = 3;
-  // The event budget of one sample (StepperAlarmChain), whatever its number of sub-steps: every event fully located
-  // (the locate budget is not binding) and 32 further segments, which bounds a sample of settling chatter (impacts
-  // microseconds apart) at 5 + 32 segments instead of 5 × 16. Tighter budgets cost the agreement with the double
+  // The event budget of one sample (StepperAlarmChain), whatever its number of sub-steps: 32 further segments, which
+  // bounds a sample of settling chatter (impacts microseconds apart) at 5 + 32 segments instead of 5 × 16 at 200 Hz.
+  // Tighter budgets, or events beyond a budget located with fewer iterations, cost the agreement with the double
   // engine (measured in docs/BENCHMARKS.md); a cheaper location for chatter is what would allow them.
-  static constexpr FixedEventBudget kSampleBudget{1000, 32};
+  static constexpr FixedEventBudget kSampleBudget{32};
 
   FixedSetupError init(const StepperSetup<double>& setup) {
     const FixedSetupError e = make_fixed_setup(setup, setup_);
@@ -227,14 +223,6 @@ class FixedRockingStepper {
 
   // The same, spending from a budget shared with the other sub-steps of the sample (FixedEventBudget).
   FixedStepReport step(AccelQ7_56 ug_mps2, AccelQ7_56 vg_mps2, FixedEventBudget& budget) {
-    budget_ = &budget;
-    FixedStepReport report = step_within_budget(ug_mps2, vg_mps2);
-    budget_ = nullptr;
-    return report;
-  }
-
- private:
-  FixedStepReport step_within_budget(AccelQ7_56 ug_mps2, AccelQ7_56 vg_mps2) {
     FixedStepReport report;
     AccelQ7_56 f_end[2];
     StiffQ8_55 k_end[2];
@@ -248,8 +236,8 @@ class FixedRockingStepper {
     bool finished = false;
     for (int segment = 0; segment < kMaxSegmentsPerStep && !finished; ++segment) {
       if (segment > 0) {
-        if (budget_->extra_segments <= 0) break;
-        --budget_->extra_segments;
+        if (budget.extra_segments <= 0) break;
+        --budget.extra_segments;
       }
       if (!moving_ && !try_start(f_end, at, report)) break;
       finished = advance_segment(f_end, k_end, at, report);
@@ -266,7 +254,6 @@ class FixedRockingStepper {
     return report;
   }
 
- public:
   // The velocity ratio at impact √r from now on (the observer's estimate of the real wall's restitution).
   void set_sqrt_r(FractionQ1_62 sqrt_r) { setup_.sqrt_r = sqrt_r; }
 
@@ -478,9 +465,6 @@ class FixedRockingStepper {
   // quotient, which is then clamped to the bracket.
   FractionQ1_62 locate(const MotionPoint& p, const SubStep& s, LengthQ1_62 level, FixedStepReport& report) const {
     ++report.events_located;
-    const bool full = budget_->locates > 0;
-    if (full) --budget_->locates;
-    const int iterations = full ? kLocateIterations : kLocateIterationsBeyondBudget;
     const bool pos = p.side == Side::positive;
     const AccelQ7_56 level_k0 = wide_mul<AccelQ7_56>(s.k_start, level);
     const AccelQ7_56 level_dk = wide_mul<AccelQ7_56>(s.k_delta, level);
@@ -505,7 +489,7 @@ class FixedRockingStepper {
     const bool lo_positive = g_lo > LengthQ1_62{};
     int kept = 0;  // −1: lo kept last time, +1: hi kept last time
     FractionQ1_62 tau = clamp_fraction(wide_div<FractionQ1_62>(g_lo, g_lo - g_hi));
-    for (int it = 0; it < iterations; ++it) {
+    for (int it = 0; it < kLocateIterations; ++it) {
       ++report.locate_iterations;
       const LengthQ1_62 value = value_at(tau);
       const LengthQ1_62 slope =
@@ -542,7 +526,6 @@ class FixedRockingStepper {
   }
 
   FixedStepperSetup setup_{};
-  FixedEventBudget* budget_ = nullptr;  // the budget of the step in progress (step())
   LengthQ1_62 x_{};
   SpeedQ3_60 xd_{};
   AccelQ7_56 xdd_{};

@@ -105,9 +105,9 @@ struct AlarmChainOutput {
 };
 
 // Integration sub-steps per input sample: the step is at most max_step_s, so ceil(dt / max_step) sub-steps of
-// dt / n each (1 when the samples are already that close), capped at kMaxSubsteps. The one rule every engine and
-// tool uses (sim::analyse, the monitor's engines, study's step report). 0 when the arguments are not positive
-// and finite.
+// dt / n each (1 when the samples are already that close). The one rule every engine and tool uses and checks
+// (sim::analyse, the monitor's engines and configuration, simulate, study): 0 when the arguments are not positive and
+// finite or the sample would need more than kMaxSubsteps sub-steps.
 inline constexpr int kMaxSubsteps = 64;
 // The default longest integration step [s]: 1 ms, five sub-steps per sample at 200 Hz. Chosen so that over the
 // default study the survivors' max|x| is within 0.5 % (median) of the converged answer (docs/BENCHMARKS.md, "Sub-steps");
@@ -115,9 +115,10 @@ inline constexpr int kMaxSubsteps = 64;
 inline constexpr double kDefaultMaxStep_s = 0.001;
 inline int substeps_per_sample(double sample_dt_s, double max_step_s) {
   if (!(sample_dt_s > 0.0 && max_step_s > 0.0 && sample_dt_s < 1e6 && max_step_s < 1e6)) return 0;
-  double n = 1.0;
-  while (n < double(kMaxSubsteps) && sample_dt_s / max_step_s - 1e-9 > n) n += 1.0;
-  return int(n);
+  const double ratio = sample_dt_s / max_step_s - 1e-9;  // a ratio a rounding above a whole number is that number
+  if (ratio > double(kMaxSubsteps)) return 0;
+  const int whole = static_cast<int>(ratio);
+  return whole < 1 ? 1 : (double(whole) < ratio ? whole + 1 : whole);
 }
 
 // Why init() refused. Values are stable: append, never renumber.
