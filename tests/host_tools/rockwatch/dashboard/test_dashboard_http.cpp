@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <thread>
 
@@ -201,15 +202,29 @@ TEST(DashboardRoutes, ListenAddresses) {
   }
 }
 
-TEST_GROUP(DashboardServer){};
+// The store and the server live in the group, not in the test's frame: a failed CHECK leaves the test body by
+// longjmp, which runs no destructors, and a server thread left running would read a dead frame (CI saw exactly that).
+// teardown() always runs, and stops the I/O thread before the store goes.
+TEST_GROUP(DashboardServer) {
+  std::unique_ptr<rockwatch::cli::SnapshotStore> store;
+  std::unique_ptr<rockwatch::cli::DashboardServer> server;
+  void start(const rockwatch::cli::ServerSettings& settings) {
+    store = std::make_unique<rockwatch::cli::SnapshotStore>(rockwatch::cli::StoreSettings{});
+    server = std::make_unique<rockwatch::cli::DashboardServer>(*store, rockwatch::cli::embedded_dashboard_assets(),
+                                                               settings);
+    server->start();
+  }
+  void teardown() override {
+    server.reset();  // joins the I/O thread
+    store.reset();
+  }
+};
 
 TEST(DashboardServer, BadRequestsGet4xxAndTheServerGoesOn) {
-  rockwatch::cli::SnapshotStore store{rockwatch::cli::StoreSettings{}};
   rockwatch::cli::ServerSettings settings;
   settings.port = 0;
-  rockwatch::cli::DashboardServer server(store, rockwatch::cli::embedded_dashboard_assets(), settings);
-  server.start();
-  const unsigned short port = server.port();
+  start(settings);
+  const unsigned short port = server->port();
   const std::string host = "Host: 127.0.0.1:" + std::to_string(port) + "\r\n";
   const struct {
     std::string request;
@@ -236,20 +251,17 @@ TEST(DashboardServer, BadRequestsGet4xxAndTheServerGoesOn) {
   STRCMP_EQUAL("HTTP/1.1 200 OK", status_line(page).c_str());
   CHECK(page.find("data-testid") != std::string::npos || page.find("<!doctype html>") != std::string::npos);
   CHECK(page.find("\"walls\":[]") != std::string::npos);
-  const nlohmann::json counters = server.counters();
+  const nlohmann::json counters = server->counters();
   CHECK(counters["http_errors"].get<int>() >= 10);
-  server.stop();
 }
 
 TEST(DashboardServer, ASlowWebSocketClientIsDroppedBehindAndOthersAreServed) {
-  rockwatch::cli::SnapshotStore store{rockwatch::cli::StoreSettings{}};
   rockwatch::cli::ServerSettings settings;
   settings.port = 0;
   settings.ws_queue = 4;
   settings.send_buffer_bytes = 4096;
-  rockwatch::cli::DashboardServer server(store, rockwatch::cli::embedded_dashboard_assets(), settings);
-  server.start();
-  const unsigned short port = server.port();
+  start(settings);
+  const unsigned short port = server->port();
   // A WebSocket client that completes the handshake and then never reads.
   const int slow = connect_to(port, 2048);
   send_all(slow, "GET /ws HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
@@ -264,7 +276,7 @@ TEST(DashboardServer, ASlowWebSocketClientIsDroppedBehindAndOthersAreServed) {
   double worst_state_s = 0.0;
   std::int64_t seq = 0;
   while (std::chrono::steady_clock::now() - start < std::chrono::seconds(2)) {
-    for (int w = 0; w < 20; ++w) store.on_state("w" + std::to_string(w), some_state(seq));
+    for (int w = 0; w < 20; ++w) store->on_state("w" + std::to_string(w), some_state(seq));
     ++seq;
     if (seq % 100 == 0) {  // a normal client meanwhile: answered at once
       const auto t0 = std::chrono::steady_clock::now();
@@ -274,24 +286,23 @@ TEST(DashboardServer, ASlowWebSocketClientIsDroppedBehindAndOthersAreServed) {
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
-  const nlohmann::json c = server.counters();
+  const nlohmann::json c = server->counters();
   CHECK_TEXT(c["ws_messages_dropped"].get<std::int64_t>() > 0, c.dump().c_str());
   CHECK_TEXT(c["ws_resyncs"].get<std::int64_t>() > 0, c.dump().c_str());
   CHECK_EQUAL(1, c["ws_clients"].get<int>());
   CHECK_TEXT(worst_state_s < 1.0, std::to_string(worst_state_s).c_str());
   close(slow);
-  server.stop();
 }
 
 TEST(DashboardServer, AnAddressInUseIsAUsageError) {
-  rockwatch::cli::SnapshotStore store{rockwatch::cli::StoreSettings{}};
+  rockwatch::cli::SnapshotStore snapshots{rockwatch::cli::StoreSettings{}};
   rockwatch::cli::ServerSettings settings;
   settings.port = 0;
-  rockwatch::cli::DashboardServer first(store, rockwatch::cli::embedded_dashboard_assets(), settings);
+  rockwatch::cli::DashboardServer first(snapshots, rockwatch::cli::embedded_dashboard_assets(), settings);
   settings.port = first.port();
   CHECK_THROWS(rockwatch::cli::UsageError,
-               rockwatch::cli::DashboardServer(store, rockwatch::cli::embedded_dashboard_assets(), settings));
+               rockwatch::cli::DashboardServer(snapshots, rockwatch::cli::embedded_dashboard_assets(), settings));
   settings.address = "not-an-address";
   CHECK_THROWS(rockwatch::cli::UsageError,
-               rockwatch::cli::DashboardServer(store, rockwatch::cli::embedded_dashboard_assets(), settings));
+               rockwatch::cli::DashboardServer(snapshots, rockwatch::cli::embedded_dashboard_assets(), settings));
 }
