@@ -13,7 +13,8 @@
 #                        SIMULATE_OPTIONS...
 #     SIMULATE_OPTIONS  `rockwatch simulate`'s own: --record/--suite ..., --units, --dt, --scale-pga, --vertical,
 #                       the wall (--b --h1 --h2 ...), --r, --kappa, --max-step, --t-end, the alarm settings, ...
-#                       (--arith fixed and --alarms are added; --arith double, --wall-sensors and --engine-input-out
+#                       and --wall-sensors FILE with the --observer-* settings (the observer then runs on the
+#                       target too) (--arith fixed and --alarms are added; --arith double and --engine-input-out
 #                       are refused)
 #     --m4-image ELF    run this image instead of building build/m4-replay/rockwatch_m4_replay.elf (rebuilt when a
 #                       source is newer)
@@ -23,7 +24,8 @@
 #                       every 97.66 instructions) and add "profile": the functions' shares of that step
 #   Environment: ROCKWATCH (the rockwatch binary; default build/release/host_tools/rockwatch, else on PATH),
 #                QEMU_SYSTEM_ARM (default qemu-system-arm), ARM_GXX (see embedded-build.sh).
-# Output keys: machine, samples (input samples including sample 0, which starts the engine), insn_per_sample
+# Output keys: machine, samples (input samples including sample 0, which starts the engine), observer (true with
+# --wall-sensors: the wall observer ran on the target), insn_per_sample
 # {median, p99, max, max_sample} of step() through the monitor's seam (double -> Q7.56, the chain, the published
 # sample back in double) over samples 1..n-1, engine_insn_per_sample (the same for process_wall() alone, inputs
 # converted beforehand), start_insn, overhead_insn (the measurement window's own cost, subtracted), stack_bytes,
@@ -60,9 +62,8 @@ while [[ $# -gt 0 ]]; do
         exit 2
       fi
       arith_given=1; shift ;;
-    --engine-input-out|--engine-input-out=*|--wall-sensors|--wall-sensors=*)
-      echo "m4-replay: ${1%%=*} is not available here (the script writes the engine input; the replay runs the" \
-           "engine without the wall observer)" >&2
+    --engine-input-out|--engine-input-out=*)
+      echo "m4-replay: ${1%%=*} is not available here (the script writes the engine input itself)" >&2
       exit 2 ;;
     *) sim_args+=("$1"); shift ;;
   esac
@@ -159,11 +160,14 @@ if [[ -n $profile_sample ]]; then
   "${ARM_NM:-arm-none-eabi-nm}" -C -S --defined-only "$image" >"$symbols" 2>/dev/null || : >"$symbols"
 fi
 # 4. Ticks to instructions, statistics and the JSON.
-"$python" - "$work/output.txt" "$shift_icount" "${qemu_version:-?}" "$trace" "$profile_sample" "$symbols" <<'EOF'
+observer=0
+for a in "${sim_args[@]}"; do [[ $a == --wall-sensors || $a == --wall-sensors=* ]] && observer=1; done
+"$python" - "$work/output.txt" "$shift_icount" "${qemu_version:-?}" "$trace" "$profile_sample" "$symbols" "$observer" <<'EOF'
 import json, math, struct, sys
 
 path, shift, qemu_version, trace = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4]
 profile_sample, symbols = sys.argv[5], sys.argv[6]
+observer = sys.argv[7] == "1"
 LEVELS = ["QUIET", "ROCKING", "WARNING", "IMMINENT", "COLLAPSED"]
 NS_PER_TICK = 40.0                      # the board's 25 MHz timer clock
 ticks_per_insn = (1 << shift) / NS_PER_TICK
@@ -236,6 +240,7 @@ if trace:
 result = {
     "machine": "mps2-an386 (Cortex-M4F, qemu-system-arm %s, -icount shift=%d)" % (qemu_version, shift),
     "samples": len(steps) + 1,
+    "observer": observer,
     "insn_per_sample": stats(step_insn),
     "engine_insn_per_sample": stats(engine_insn),
     "start_insn": start[0] - overhead,

@@ -6,6 +6,9 @@
 // each later sample is one step() through the monitor's seam (double → Q7.56, the chain, the published sample back
 // in double). A second engine runs the same samples through process_wall() with the inputs converted beforehand, so
 // that the engine's own work is measured apart from the seam's conversions; both must agree on the level.
+// With the observer (`simulate --wall-sensors`: the file's observer keys and sensor section), each step is step_at()
+// (process_wall_at() for the second engine) at the sample's end time, after pushing the sensor samples due by then
+// into both engines, as the analysis does; the push is outside the measured window (the monitor does it on arrival).
 //
 // OUTPUT is text, one record per line (scripts/m4-replay.sh parses it):
 //   rockwatch-m4-replay 1
@@ -18,6 +21,7 @@
 //   end <samples> <stack_bytes>          the number of samples and the deepest stack use [bytes]
 // ticks are of the instruction clock (instruction_clock.hpp); level is core::AlarmLevel as a number; x and xd are
 // the bits of the doubles in hexadecimal (16 digits), so that the host compares the trajectory exactly.
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -63,6 +67,16 @@ class InputFile {
   }
   bool read_u64(std::uint64_t& v) { return read(&v, sizeof v); }
   bool read_double(double& v) { return read(&v, sizeof v); }
+  // Reads and drops `size` bytes.
+  bool skip(std::uint64_t size) {
+    unsigned char scratch[64];
+    while (size > 0) {
+      const std::size_t take = size < sizeof scratch ? static_cast<std::size_t>(size) : sizeof scratch;
+      if (!read(scratch, take)) return false;
+      size -= take;
+    }
+    return true;
+  }
 
  private:
   std::int32_t handle_ = -1;
@@ -114,6 +128,7 @@ class OutputFile {
 
 // Static storage: no heap, no large stack frames (the stack measured is the engine's and the replay loop's).
 InputFile g_in;
+InputFile g_sensors;  // a second reader of the input file, at its sensor section
 OutputFile g_out;
 firmware::WallEngine g_seam;    // through step(): what the monitor loop calls
 firmware::WallEngine g_direct;  // through process_wall(): the engine alone
@@ -127,6 +142,63 @@ char g_command_line[512];
 [[gnu::noipa]] core::AlarmLevel measured_process(firmware::WallEngine& e, core::AccelQ7_56 ug, core::AccelQ7_56 vg) {
   return e.process_wall(ug, vg).alarm.level;
 }
+[[gnu::noipa]] firmware::EngineSample measured_step_at(firmware::WallEngine& e, double ug, double vg, std::int64_t t_us,
+                                                       std::int64_t step_us) {
+  return e.step_at(ug, vg, t_us, step_us);
+}
+[[gnu::noipa]] core::AlarmLevel measured_process_at(firmware::WallEngine& e, core::AccelQ7_56 ug, core::AccelQ7_56 vg,
+                                                    std::int64_t t_us, std::int64_t step_us) {
+  return e.process_wall_at(ug, vg, t_us, step_us).alarm.level;
+}
+
+// The wall-sensor samples of the input file's sensor section, one at a time, in order.
+class SensorStream {
+ public:
+  // Positions `in` (a fresh reader of the whole file) at the sensor section: past the magic, the configuration and
+  // the samples. False when the file is shorter than that.
+  bool open(InputFile& in, std::uint64_t n_config, std::uint64_t n_samples) {
+    in_ = &in;
+    std::uint64_t n = 0;
+    if (!in.skip(sizeof firmware::kEngineInputMagic + 8 + 16 * n_config) || !in.read_u64(n) || n != n_samples ||
+        !in.skip(16 * n_samples) || !in.read_u64(left_)) {
+      return false;
+    }
+    return advance();
+  }
+  bool has_next() const { return have_; }
+  const core::WallSensorSample& next() const { return next_; }
+  bool error() const { return error_; }
+  // Reads the following sample (false at the end or on a truncated section, which error() then tells).
+  bool advance() {
+    have_ = false;
+    if (left_ == 0) return true;
+    std::uint64_t utime = 0, valid = 0, status = 0;
+    double x = 0.0, a = 0.0;
+    if (!in_->read_u64(utime) || !in_->read_double(x) || !in_->read_double(a) || !in_->read_u64(valid) ||
+        !in_->read_u64(status)) {
+      error_ = true;
+      return false;
+    }
+    --left_;
+    next_ = core::WallSensorSample{};
+    next_.utime_us = static_cast<std::int64_t>(utime);
+    next_.x_mid_m = x;
+    next_.a_mid_mps2 = a;
+    next_.x_valid = (valid & firmware::kEngineInputSensorValidX) != 0;
+    next_.a_valid = (valid & firmware::kEngineInputSensorValidA) != 0;
+    next_.sensor_status = static_cast<std::int32_t>(static_cast<std::int64_t>(status));
+    have_ = true;
+    return true;
+  }
+
+ private:
+  InputFile* in_ = nullptr;
+  std::uint64_t left_ = 0;
+  core::WallSensorSample next_{};
+  bool have_ = false;
+  bool error_ = false;
+};
+SensorStream g_sensor_stream;
 
 std::uint32_t fail(std::uint32_t status, const char* what) {
   host_print("m4-replay image: ");
@@ -182,7 +254,7 @@ std::uint32_t run_replay(std::uint32_t (*stack_used_bytes)()) {
 
   char magic[sizeof firmware::kEngineInputMagic];
   if (!in.read(magic, sizeof magic) || std::memcmp(magic, firmware::kEngineInputMagic, sizeof magic) != 0) {
-    return fail(replay_status::input_format, "the input is not an engine-input file (magic RWENGIN1 expected)");
+    return fail(replay_status::input_format, "the input is not an engine-input file (magic RWENGIN2 expected)");
   }
   std::uint64_t n_config = 0;
   if (!in.read_u64(n_config) || n_config > firmware::kEngineInputMaxConfig) {
@@ -204,6 +276,19 @@ std::uint32_t run_replay(std::uint32_t (*stack_used_bytes)()) {
   if (!in.read_u64(n_samples) || n_samples == 0) {
     return fail(replay_status::input_format, "the input's sample count is missing or zero");
   }
+  // The sensor section, through a second reader of the same file.
+  const std::int32_t sensor_handle = host_open(input_path, std::strlen(input_path), kOpenReadBinary);
+  if (sensor_handle < 0) return fail(replay_status::input_open, "cannot open the input file a second time");
+  g_sensors.attach(sensor_handle);
+  SensorStream& sensors = g_sensor_stream;
+  if (!sensors.open(g_sensors, n_config, n_samples)) {
+    return fail(replay_status::input_format, "the input's wall-sensor section is missing or truncated");
+  }
+  if (sensors.has_next() && !config.observer_enabled) {
+    return fail(replay_status::input_format, "the input has wall-sensor samples but the observer is off");
+  }
+  const bool observed = config.observer_enabled;
+  const std::int64_t step_us = std::llround(config.dt_s * 1e6);
   const firmware::WallEngineError init_seam = g_seam.init(config);
   const firmware::WallEngineError init_direct = g_direct.init(config);
   if (init_seam != firmware::WallEngineError::ok || init_direct != firmware::WallEngineError::ok) {
@@ -250,16 +335,26 @@ std::uint32_t run_replay(std::uint32_t (*stack_used_bytes)()) {
       out.text("\n");
       continue;
     }
+    const std::int64_t t_us = firmware::engine_input_step_end_us(k, config.dt_s);
+    while (observed && sensors.has_next() && sensors.next().utime_us <= t_us) {
+      g_seam.push_sensor(sensors.next());
+      g_direct.push_sensor(sensors.next());
+      if (!sensors.advance() && sensors.error()) {
+        return fail(replay_status::input_format, "the input's wall-sensor samples are truncated");
+      }
+    }
     if (k == profile_sample) profiler_start(kProfileIntervalTicks);
     std::uint32_t t0 = clock_now();
-    const firmware::EngineSample sample = measured_step(g_seam, ug, vg);
+    const firmware::EngineSample sample =
+        observed ? measured_step_at(g_seam, ug, vg, t_us, step_us) : measured_step(g_seam, ug, vg);
     std::uint32_t t1 = clock_now();
     if (k == profile_sample) profiler_stop();
     const core::AlarmLevel level = sample.alarm.level;
     const std::uint32_t ticks_step = ticks_between(t0, t1);
     const core::AccelQ7_56 ug_q(ug), vg_q(vg);
     t0 = clock_now();
-    const core::AlarmLevel level_direct = measured_process(g_direct, ug_q, vg_q);
+    const core::AlarmLevel level_direct = observed ? measured_process_at(g_direct, ug_q, vg_q, t_us, step_us)
+                                                   : measured_process(g_direct, ug_q, vg_q);
     t1 = clock_now();
     const std::uint32_t ticks_engine = ticks_between(t0, t1);
     if (level_direct != level) {
@@ -278,8 +373,16 @@ std::uint32_t run_replay(std::uint32_t (*stack_used_bytes)()) {
     out.bits(sample.xd_mps);
     out.text("\n");
   }
+  // The samples after the last step's end were never due; then the file must end.
+  while (sensors.has_next()) {
+    if (!sensors.advance() && sensors.error()) {
+      return fail(replay_status::input_format, "the input's wall-sensor samples are truncated");
+    }
+  }
   unsigned char extra = 0;
-  if (in.read(&extra, 1)) return fail(replay_status::input_format, "the input has bytes after its last sample");
+  if (g_sensors.read(&extra, 1)) {
+    return fail(replay_status::input_format, "the input has bytes after its last wall-sensor sample");
+  }
   if (profile_sample != UINT64_MAX) {
     out.text("profile ");
     out.number(kProfileIntervalTicks);
@@ -302,6 +405,7 @@ std::uint32_t run_replay(std::uint32_t (*stack_used_bytes)()) {
   out.text("\n");
   if (!out.flush()) return fail(replay_status::output, "cannot write the output file");
   host_close(out_handle);
+  host_close(sensor_handle);
   host_close(in_handle);
   return replay_status::ok;
 }

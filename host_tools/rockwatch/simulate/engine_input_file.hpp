@@ -14,11 +14,14 @@
 namespace rockwatch::cli {
 
 // The WallEngine configuration equivalent to the analysis that ran: the wall, r as used, κ, the model, the
-// integration step as the sample interval, and the alarm settings the analysis' chain ran with.
+// integration step as the sample interval, the alarm settings the analysis' chain ran with, and the observer's
+// settings when it ran (--wall-sensors).
 core::WallEngineConfig engine_config_of(const SimulateRequest& q, const sim::AnalysisResult& result);
 
-// The file's bytes (little-endian whatever the host).
+// The file's bytes (little-endian whatever the host); `wall_sensors` are the samples the observer was given (none
+// without --wall-sensors).
 void write_engine_input(std::ostream& out, const core::WallEngineConfig& config,
-                        const std::vector<std::array<double, 2>>& inputs);
+                        const std::vector<std::array<double, 2>>& inputs,
+                        const std::vector<core::WallSensorSample>& wall_sensors);
 
 }  // namespace rockwatch::cli

@@ -123,7 +123,7 @@ int run(const SimulateRequest& q) {
 
   const sim::AnalysisResult result = sim::analyse(q.wall, input.motion, options);
   engine_input.write("the engine input", [&](std::ostream& out) {
-    write_engine_input(out, engine_config_of(q, result), engine_inputs);
+    write_engine_input(out, engine_config_of(q, result), engine_inputs, wall_sensors);
   });
   csv.write("the time history", [&result](std::ostream& out) { write_history_csv(out, result.history); });
   if (q.sensors_out_path) {

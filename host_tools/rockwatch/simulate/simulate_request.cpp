@@ -59,10 +59,10 @@ const char* const kFooter =
     "(and saturated for fixed), with --alarms alarm (settings, max_level, first times, transitions), with\n"
     "--wall-sensors observer (r_estimate, sigma_r, bias_estimate_m, n_updates, n_rejected, x_rms_innovation_m, ...).\n"
     "\n"
-    "--engine-input-out FILE writes the wall engine's configuration (wall, r, kappa, model, step, alarm settings) and\n"
-    "the input of every integration step as run (the record's samples, sub-stepped, then the zeros of the free motion\n"
-    "after it, up to where the analysis stopped), for scripts/m4-replay.sh, which replays them on an emulated\n"
-    "Cortex-M4 (firmware/README.md).\n"
+    "--engine-input-out FILE writes the wall engine's configuration (wall, r, kappa, model, step, alarm settings and,\n"
+    "with --wall-sensors, the observer's) and the input of every sample as run (the record's samples, then the zeros of\n"
+    "the free motion after it, up to where the analysis stopped) with the wall-sensor samples, for scripts/m4-replay.sh,\n"
+    "which replays them on an emulated Cortex-M4 (firmware/README.md).\n"
     "\n"
     "Wall sensors (--wall-sensors FILE.csv): a header line naming t_s and x_mid_m and/or a_mid_mps2, then one sample per\n"
     "row (t_s on the record's clock, 0 at its first sample; any rate; an empty field = absent). The wall observer\n"
@@ -247,10 +247,6 @@ SimulateParse parse_simulate_arguments(int argc, const char* const* argv) {
   parse_sensor_options(app, raw, q);
   if (given(app, "--engine-input-out")) {
     if (raw.engine_input_out.empty()) throw UsageError("--engine-input-out needs a file name");
-    if (q.wall_sensors_path) {
-      throw UsageError("--engine-input-out does not carry the --wall-sensors samples (the replay runs the engine "
-                       "without the observer): run without --wall-sensors");
-    }
     check_output_file("--engine-input-out", raw.engine_input_out);
     q.engine_input_out_path = raw.engine_input_out;
   }

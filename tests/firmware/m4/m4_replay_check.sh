@@ -56,6 +56,29 @@ run_case() {
 run_case set01_x_0.40g collapse --suite "$suite" --set 1 --component X --scale-pga 0.40
 run_case set01_x_0.20g survive --suite "$suite" --set 1 --component X --scale-pga 0.20
 # El Centro (dt 0.01 s, so two steps per sample), with its vertical, a thicker, shorter wall, r_ana, kappa 1.5.
+# The wall observer on the target: wall sensors synthesised from a truth run whose restitution differs from the
+# model's (r_ana against the engine's r_exp), with a transducer offset and a mid-height accelerometer.
+mkdir -p "$work/observer_truth"
+"$rockwatch" simulate --suite "$suite" --set 1 --component X --scale-pga 0.25 --r ana \
+  --sensors-out "$work/observer_truth/sensors.csv" --sensor-bias-m 0.002 --sensor-accel-noise-mps2 0.05 >/dev/null
+run_case set01_x_0.25g_observer any --suite "$suite" --set 1 --component X --scale-pga 0.25 --r exp \
+  --wall-sensors "$work/observer_truth/sensors.csv"
+# The trajectory compared above is the fused one only if the observer did fuse: the host's updates must be there.
+if [[ -f $work/set01_x_0.25g_observer/m4.json ]] &&
+   ! "$python" - "$work/set01_x_0.25g_observer" <<'PY'
+import json, sys
+d = sys.argv[1]
+m4, host = json.load(open(d + "/m4.json")), json.load(open(d + "/host.json"))
+o = host["observer"]
+ok = m4["observer"] and o["n_updates"] > 100 and o["n_accel_updates"] > 100 and abs(o["bias_estimate_m"] - 0.002) < 5e-4
+print("observer on the target: %d displacement and %d acceleration updates, offset %.4f m (0.002 given), r %.4f" % (
+    o["n_updates"], o["n_accel_updates"], o["bias_estimate_m"], o["r_estimate"]))
+sys.exit(0 if ok else 1)
+PY
+then
+  echo "FAILED: the observer case did not fuse the wall sensors"
+  failed=1
+fi
 run_case elcentro_vertical_wall any --record "$records/RSN6_IMPVALL.I_I-ELC180-hor1.AT2" \
   --vertical "$records/RSN6_IMPVALL.I_I-ELC-UP.AT2" --scale-pga 0.3 --b 0.12 --h1 1.6 --h2 1.5 --r ana --kappa 1.5 \
   --t-end 12

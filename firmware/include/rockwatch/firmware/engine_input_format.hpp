@@ -3,22 +3,32 @@
 // firmware::WallEngine on exactly the configuration and the inputs the host's fixed-point analysis ran.
 //
 // Layout (little-endian, every field 8 bytes, so the image reads it with memcpy and no parsing):
-//   magic "RWENGIN1"
+//   magic "RWENGIN2"
 //   uint64 n_config, then n_config pairs {uint64 key (EngineInputKey), double value}
 //   uint64 n_samples, then n_samples pairs {double ug_mps2, double vg_mps2}: the wall-frame inputs of the engine's
 //     start (sample 0) and of each sample after it (samples 1 …), as simulate fed them to its engine — the record's
 //     samples (the engine integrates each in ceil(dt_s / max_step_s) sub-steps), then zeros for the free rocking after
 //     the record, up to where simulate stopped (collapse, or the verdict after the record).
+//   uint64 n_sensor, then n_sensor wall-sensor samples (kEngineInputSensorFields fields each: int64 utime_us, double
+//     x_mid_m, double a_mid_mps2, uint64 valid (bit 0 x, bit 1 a), int64 sensor_status): what `simulate
+//     --wall-sensors` gave its observer (0 without). Sample k ≥ 1 ends at utime llround(k·dt_s·1e6) µs on the
+//     sensors' clock; before stepping it, the sensor samples with utime ≤ that are pushed (WallEngine::push_sensor),
+//     as the analysis does.
 // A key the reader does not know is an error (the file is newer than the image): keys are never renumbered or reused.
+// Version 1 (RWENGIN1, without the sensor section) is no longer read: the image and the tool come from one tree.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 
 #include "rockwatch/core/sample_engine.hpp"
 
 namespace rockwatch::firmware {
 
-inline constexpr char kEngineInputMagic[8] = {'R', 'W', 'E', 'N', 'G', 'I', 'N', '1'};
+inline constexpr char kEngineInputMagic[8] = {'R', 'W', 'E', 'N', 'G', 'I', 'N', '2'};
+inline constexpr std::uint64_t kEngineInputSensorFields = 5;  // 8-byte fields per wall-sensor sample
+inline constexpr std::uint64_t kEngineInputSensorValidX = 1;  // valid bits of a wall-sensor sample
+inline constexpr std::uint64_t kEngineInputSensorValidA = 2;
 inline constexpr std::uint64_t kEngineInputMaxConfig = 64;  // more pairs than keys: a corrupt file
 
 // Keys of the configuration pairs. Values are stable: append, never renumber or reuse.
@@ -39,7 +49,31 @@ enum class EngineInputKey : std::uint64_t {
   alarm_hold_s = 14,
   alarm_energy_margin = 15,
   max_step_s = 16,        // longest integration step: ceil(dt_s / max_step_s) sub-steps per input
+  observer_enabled = 17,  // 1: the wall observer runs on the sensor section's samples (core::ObserverOptions below)
+  observer_x_noise_m = 18,
+  observer_a_noise_mps2 = 19,
+  observer_process_accel_mps2 = 20,
+  observer_r_sigma0 = 21,
+  observer_r_walk = 22,
+  observer_bias_sigma0_m = 23,
+  observer_bias_walk_m = 24,
+  observer_gate_chi2 = 25,
+  observer_reinit_after = 26,
+  observer_dropout_s = 27,
+  observer_max_age_s = 28,
+  observer_x_range_m = 29,
+  observer_a_range_mps2 = 30,
+  observer_stuck_after = 31,
+  observer_quiet_fraction = 32,
+  observer_v_min_mps = 33,
 };
+
+// An integer option carried as a double: exact, or false.
+inline bool engine_input_integer(double v, std::int32_t& out) {
+  if (!(v >= -2147483648.0 && v <= 2147483647.0) || double(static_cast<std::int32_t>(v)) != v) return false;
+  out = static_cast<std::int32_t>(v);
+  return true;
+}
 
 // Sets one configuration field; false for an unknown key or a value that is not a model kind.
 inline bool apply_engine_input_key(core::WallEngineConfig& c, std::uint64_t key, double v) {
@@ -68,6 +102,26 @@ inline bool apply_engine_input_key(core::WallEngineConfig& c, std::uint64_t key,
     case EngineInputKey::alarm_hold_s: c.alarm.hold_s = v; return true;
     case EngineInputKey::alarm_energy_margin: c.alarm.energy_margin = v; return true;
     case EngineInputKey::max_step_s: c.max_step_s = v; return true;
+    case EngineInputKey::observer_enabled:
+      if (v != 0.0 && v != 1.0) return false;
+      c.observer_enabled = v == 1.0;
+      return true;
+    case EngineInputKey::observer_x_noise_m: c.observer.x_noise_m = v; return true;
+    case EngineInputKey::observer_a_noise_mps2: c.observer.a_noise_mps2 = v; return true;
+    case EngineInputKey::observer_process_accel_mps2: c.observer.process_accel_mps2 = v; return true;
+    case EngineInputKey::observer_r_sigma0: c.observer.r_sigma0 = v; return true;
+    case EngineInputKey::observer_r_walk: c.observer.r_walk = v; return true;
+    case EngineInputKey::observer_bias_sigma0_m: c.observer.bias_sigma0_m = v; return true;
+    case EngineInputKey::observer_bias_walk_m: c.observer.bias_walk_m = v; return true;
+    case EngineInputKey::observer_gate_chi2: c.observer.gate_chi2 = v; return true;
+    case EngineInputKey::observer_reinit_after: return engine_input_integer(v, c.observer.reinit_after);
+    case EngineInputKey::observer_dropout_s: c.observer.dropout_s = v; return true;
+    case EngineInputKey::observer_max_age_s: c.observer.max_age_s = v; return true;
+    case EngineInputKey::observer_x_range_m: c.observer.x_range_m = v; return true;
+    case EngineInputKey::observer_a_range_mps2: c.observer.a_range_mps2 = v; return true;
+    case EngineInputKey::observer_stuck_after: return engine_input_integer(v, c.observer.stuck_after);
+    case EngineInputKey::observer_quiet_fraction: c.observer.quiet_fraction = v; return true;
+    case EngineInputKey::observer_v_min_mps: c.observer.v_min_mps = v; return true;
   }
   return false;
 }
@@ -92,6 +146,29 @@ void for_each_engine_input_key(const core::WallEngineConfig& c, Sink&& sink) {
   sink(EngineInputKey::alarm_hold_s, c.alarm.hold_s);
   sink(EngineInputKey::alarm_energy_margin, c.alarm.energy_margin);
   sink(EngineInputKey::max_step_s, c.max_step_s);
+  sink(EngineInputKey::observer_enabled, c.observer_enabled ? 1.0 : 0.0);
+  sink(EngineInputKey::observer_x_noise_m, c.observer.x_noise_m);
+  sink(EngineInputKey::observer_a_noise_mps2, c.observer.a_noise_mps2);
+  sink(EngineInputKey::observer_process_accel_mps2, c.observer.process_accel_mps2);
+  sink(EngineInputKey::observer_r_sigma0, c.observer.r_sigma0);
+  sink(EngineInputKey::observer_r_walk, c.observer.r_walk);
+  sink(EngineInputKey::observer_bias_sigma0_m, c.observer.bias_sigma0_m);
+  sink(EngineInputKey::observer_bias_walk_m, c.observer.bias_walk_m);
+  sink(EngineInputKey::observer_gate_chi2, c.observer.gate_chi2);
+  sink(EngineInputKey::observer_reinit_after, double(c.observer.reinit_after));
+  sink(EngineInputKey::observer_dropout_s, c.observer.dropout_s);
+  sink(EngineInputKey::observer_max_age_s, c.observer.max_age_s);
+  sink(EngineInputKey::observer_x_range_m, c.observer.x_range_m);
+  sink(EngineInputKey::observer_a_range_mps2, c.observer.a_range_mps2);
+  sink(EngineInputKey::observer_stuck_after, double(c.observer.stuck_after));
+  sink(EngineInputKey::observer_quiet_fraction, c.observer.quiet_fraction);
+  sink(EngineInputKey::observer_v_min_mps, c.observer.v_min_mps);
+}
+
+// The step end of input sample k ≥ 1 on the wall sensors' clock [µs], as the analysis computes it
+// (sim/src/analysis.cpp, ObservedSteps::step: t0 = (k − 1)·dt, end t0 + dt).
+inline std::int64_t engine_input_step_end_us(std::uint64_t k, double dt_s) {
+  return static_cast<std::int64_t>(std::llround((double(k - 1) * dt_s + dt_s) * 1e6));
 }
 
 }  // namespace rockwatch::firmware

@@ -20,6 +20,7 @@
 #include "rockwatch/firmware/engine_input_format.hpp"
 #include "rockwatch/records/record.hpp"
 #include "rockwatch/sim/analysis.hpp"
+#include "common/wall_sensors.hpp"
 
 #include "cli_expect.hpp"  // brings in CppUTest, after every standard header
 
@@ -44,6 +45,7 @@ struct EngineInputFile {
   core::WallEngineConfig config;
   bool keys_known = true;
   std::vector<std::array<double, 2>> inputs;
+  std::vector<core::WallSensorSample> sensors;
   bool complete = false;
 };
 
@@ -77,7 +79,19 @@ EngineInputFile read_engine_input(const std::string& path) {
     const double ug = dbl();
     r.inputs.push_back({ug, dbl()});
   }
-  r.complete = r.inputs.size() == n && pos == bytes.size();
+  const std::uint64_t n_sensor = u64();
+  for (std::uint64_t i = 0; i < n_sensor && pos + 8 * firmware::kEngineInputSensorFields <= bytes.size(); ++i) {
+    core::WallSensorSample s;
+    s.utime_us = static_cast<std::int64_t>(u64());
+    s.x_mid_m = dbl();
+    s.a_mid_mps2 = dbl();
+    const std::uint64_t valid = u64();
+    s.x_valid = (valid & firmware::kEngineInputSensorValidX) != 0;
+    s.a_valid = (valid & firmware::kEngineInputSensorValidA) != 0;
+    s.sensor_status = static_cast<std::int32_t>(static_cast<std::int64_t>(u64()));
+    r.sensors.push_back(s);
+  }
+  r.complete = r.inputs.size() == n && r.sensors.size() == n_sensor && pos == bytes.size();
   return r;
 }
 
@@ -98,7 +112,9 @@ TEST(SimulateEngineInput, HoldsTheConfigurationAndEveryInputTheEngineSteppedOn) 
   const EngineInputFile f = read_engine_input(path);
   CHECK_TRUE(f.complete);
   CHECK_TRUE(f.keys_known);
-  LONGS_EQUAL(16, f.n_config);
+  LONGS_EQUAL(33, f.n_config);
+  CHECK_FALSE(f.config.observer_enabled);
+  LONGS_EQUAL(0, f.sensors.size());
 
   core::WallParameters wall = core::paper_wall();
   wall.b_m = 0.12;
@@ -139,6 +155,55 @@ TEST(SimulateEngineInput, HoldsTheConfigurationAndEveryInputTheEngineSteppedOn) 
   CHECK_TRUE(expected == f.inputs);
   DOUBLES_EQUAL(m.ug_mps2[1], f.inputs[1][0], 0.0);
   DOUBLES_EQUAL(m.ug_mps2[2], f.inputs[2][0], 0.0);
+}
+
+// With --wall-sensors the file also carries the observer's settings and every sensor sample it was given, as read.
+TEST(SimulateEngineInput, CarriesTheObserverSettingsAndTheWallSensorSamples) {
+  TempDir dir;
+  const std::string sensors = dir.path() + "/sensors.csv", path = dir.path() + "/input.bin";
+  const std::vector<std::string> record = {"simulate", "--record", record_path(kElCentro180Input), "--scale-pga", "0.3",
+                                           "--b", "0.12", "--h1", "1.6", "--arith", "fixed"};
+  std::vector<std::string> truth = record;
+  for (const char* a : {"--r", "ana", "--sensors-out", sensors.c_str(), "--sensor-accel-noise-mps2", "0.05",
+                        "--sensor-bias-m", "0.001"}) {
+    truth.push_back(a);
+  }
+  const ProcessResult t = run_rockwatch(truth);
+  CHECK_EQUAL_TEXT(0, t.exit_status, describe(t).c_str());
+  std::vector<std::string> fused = record;
+  for (const char* a : {"--wall-sensors", sensors.c_str(), "--observer-gate-chi2", "25", "--observer-process-mps2", "0.3",
+                        "--engine-input-out", path.c_str()}) {
+    fused.push_back(a);
+  }
+  const ProcessResult r = run_rockwatch(fused);
+  CHECK_EQUAL_TEXT(0, r.exit_status, describe(r).c_str());
+  const EngineInputFile f = read_engine_input(path);
+  CHECK_TRUE(f.complete);
+  CHECK_TRUE(f.keys_known);
+  CHECK_TRUE(f.config.observer_enabled);
+  DOUBLES_EQUAL(25.0, f.config.observer.gate_chi2, 0.0);
+  DOUBLES_EQUAL(0.3, f.config.observer.process_accel_mps2, 0.0);
+  DOUBLES_EQUAL(core::ObserverOptions{}.x_noise_m, f.config.observer.x_noise_m, 0.0);
+  LONGS_EQUAL(core::ObserverOptions{}.stuck_after, f.config.observer.stuck_after);
+  const std::vector<core::WallSensorSample> expected = rockwatch::cli::read_wall_sensor_samples(sensors);
+  CHECK_TRUE(expected.size() > 100);
+  LONGS_EQUAL(expected.size(), f.sensors.size());
+  bool accel_seen = false;
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    CHECK_EQUAL(expected[i].utime_us, f.sensors[i].utime_us);
+    DOUBLES_EQUAL(expected[i].x_mid_m, f.sensors[i].x_mid_m, 0.0);
+    DOUBLES_EQUAL(expected[i].a_mid_mps2, f.sensors[i].a_mid_mps2, 0.0);
+    CHECK_EQUAL(expected[i].x_valid, f.sensors[i].x_valid);
+    CHECK_EQUAL(expected[i].a_valid, f.sensors[i].a_valid);
+    CHECK_EQUAL(expected[i].sensor_status, f.sensors[i].sensor_status);
+    accel_seen = accel_seen || f.sensors[i].a_valid;
+  }
+  CHECK_TRUE(accel_seen);
+  // A key value the image cannot take is refused, not guessed.
+  core::WallEngineConfig c;
+  CHECK_FALSE(firmware::apply_engine_input_key(c, std::uint64_t(firmware::EngineInputKey::observer_enabled), 0.5));
+  CHECK_FALSE(firmware::apply_engine_input_key(c, std::uint64_t(firmware::EngineInputKey::observer_reinit_after), 2.5));
+  CHECK_FALSE(firmware::apply_engine_input_key(c, 999, 1.0));
 }
 
 TEST(SimulateEngineInput, MisusesAreRefusedNamingTheOption) {
