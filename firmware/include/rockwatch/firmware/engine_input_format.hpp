@@ -68,101 +68,94 @@ enum class EngineInputKey : std::uint64_t {
   observer_v_min_mps = 33,
 };
 
-// An integer option carried as a double: exact, or false.
-inline bool engine_input_integer(double v, std::int32_t& out) {
+// Every configuration field with its key, in key order: the one list both the writer and the reader use.
+// `visit(key, field)` is called with a double&, core::ModelKind&, bool& or std::int32_t& (const for a const config).
+template <typename Config, typename Visit>
+void visit_engine_input_fields(Config& c, Visit&& visit) {
+  visit(EngineInputKey::wall_b_m, c.wall.b_m);
+  visit(EngineInputKey::wall_h1_m, c.wall.h1_m);
+  visit(EngineInputKey::wall_h2_m, c.wall.h2_m);
+  visit(EngineInputKey::wall_rho_kgpm3, c.wall.rho_kgpm3);
+  visit(EngineInputKey::wall_fp_npm, c.wall.fp_npm);
+  visit(EngineInputKey::wall_a, c.wall.a);
+  visit(EngineInputKey::wall_a_prime, c.wall.a_prime);
+  visit(EngineInputKey::wall_g_mps2, c.wall.g_mps2);
+  visit(EngineInputKey::r_energy, c.r_energy);
+  visit(EngineInputKey::kappa, c.kappa);
+  visit(EngineInputKey::model, c.model);
+  visit(EngineInputKey::dt_s, c.dt_s);
+  visit(EngineInputKey::alarm_lambda_warning, c.alarm.lambda_warning);
+  visit(EngineInputKey::alarm_hold_s, c.alarm.hold_s);
+  visit(EngineInputKey::alarm_energy_margin, c.alarm.energy_margin);
+  visit(EngineInputKey::max_step_s, c.max_step_s);
+  visit(EngineInputKey::observer_enabled, c.observer_enabled);
+  visit(EngineInputKey::observer_x_noise_m, c.observer.x_noise_m);
+  visit(EngineInputKey::observer_a_noise_mps2, c.observer.a_noise_mps2);
+  visit(EngineInputKey::observer_process_accel_mps2, c.observer.process_accel_mps2);
+  visit(EngineInputKey::observer_r_sigma0, c.observer.r_sigma0);
+  visit(EngineInputKey::observer_r_walk, c.observer.r_walk);
+  visit(EngineInputKey::observer_bias_sigma0_m, c.observer.bias_sigma0_m);
+  visit(EngineInputKey::observer_bias_walk_m, c.observer.bias_walk_m);
+  visit(EngineInputKey::observer_gate_chi2, c.observer.gate_chi2);
+  visit(EngineInputKey::observer_reinit_after, c.observer.reinit_after);
+  visit(EngineInputKey::observer_dropout_s, c.observer.dropout_s);
+  visit(EngineInputKey::observer_max_age_s, c.observer.max_age_s);
+  visit(EngineInputKey::observer_x_range_m, c.observer.x_range_m);
+  visit(EngineInputKey::observer_a_range_mps2, c.observer.a_range_mps2);
+  visit(EngineInputKey::observer_stuck_after, c.observer.stuck_after);
+  visit(EngineInputKey::observer_quiet_fraction, c.observer.quiet_fraction);
+  visit(EngineInputKey::observer_v_min_mps, c.observer.v_min_mps);
+}
+
+// A field's value as the file carries it (a double).
+inline double engine_input_value(double v) { return v; }
+inline double engine_input_value(core::ModelKind v) { return double(static_cast<int>(v)); }
+inline double engine_input_value(bool v) { return v ? 1.0 : 0.0; }
+inline double engine_input_value(std::int32_t v) { return double(v); }
+
+// A value from the file into its field; false when the field cannot hold it exactly (a model kind that does not
+// exist, a flag that is not 0 or 1, an integer that is not one).
+inline bool engine_input_set(double& field, double v) {
+  field = v;
+  return true;
+}
+inline bool engine_input_set(core::ModelKind& field, double v) {
+  if (v == double(static_cast<int>(core::ModelKind::linear))) {
+    field = core::ModelKind::linear;
+  } else if (v == double(static_cast<int>(core::ModelKind::full))) {
+    field = core::ModelKind::full;
+  } else {
+    return false;
+  }
+  return true;
+}
+inline bool engine_input_set(bool& field, double v) {
+  if (v != 0.0 && v != 1.0) return false;
+  field = v == 1.0;
+  return true;
+}
+inline bool engine_input_set(std::int32_t& field, double v) {
   if (!(v >= -2147483648.0 && v <= 2147483647.0) || double(static_cast<std::int32_t>(v)) != v) return false;
-  out = static_cast<std::int32_t>(v);
+  field = static_cast<std::int32_t>(v);
   return true;
 }
 
-// Sets one configuration field; false for an unknown key or a value that is not a model kind.
+// Sets one configuration field; false for an unknown key or a value its field cannot hold.
 inline bool apply_engine_input_key(core::WallEngineConfig& c, std::uint64_t key, double v) {
-  switch (static_cast<EngineInputKey>(key)) {
-    case EngineInputKey::wall_b_m: c.wall.b_m = v; return true;
-    case EngineInputKey::wall_h1_m: c.wall.h1_m = v; return true;
-    case EngineInputKey::wall_h2_m: c.wall.h2_m = v; return true;
-    case EngineInputKey::wall_rho_kgpm3: c.wall.rho_kgpm3 = v; return true;
-    case EngineInputKey::wall_fp_npm: c.wall.fp_npm = v; return true;
-    case EngineInputKey::wall_a: c.wall.a = v; return true;
-    case EngineInputKey::wall_a_prime: c.wall.a_prime = v; return true;
-    case EngineInputKey::wall_g_mps2: c.wall.g_mps2 = v; return true;
-    case EngineInputKey::r_energy: c.r_energy = v; return true;
-    case EngineInputKey::kappa: c.kappa = v; return true;
-    case EngineInputKey::model:
-      if (v == double(static_cast<int>(core::ModelKind::linear))) {
-        c.model = core::ModelKind::linear;
-      } else if (v == double(static_cast<int>(core::ModelKind::full))) {
-        c.model = core::ModelKind::full;
-      } else {
-        return false;
-      }
-      return true;
-    case EngineInputKey::dt_s: c.dt_s = v; return true;
-    case EngineInputKey::alarm_lambda_warning: c.alarm.lambda_warning = v; return true;
-    case EngineInputKey::alarm_hold_s: c.alarm.hold_s = v; return true;
-    case EngineInputKey::alarm_energy_margin: c.alarm.energy_margin = v; return true;
-    case EngineInputKey::max_step_s: c.max_step_s = v; return true;
-    case EngineInputKey::observer_enabled:
-      if (v != 0.0 && v != 1.0) return false;
-      c.observer_enabled = v == 1.0;
-      return true;
-    case EngineInputKey::observer_x_noise_m: c.observer.x_noise_m = v; return true;
-    case EngineInputKey::observer_a_noise_mps2: c.observer.a_noise_mps2 = v; return true;
-    case EngineInputKey::observer_process_accel_mps2: c.observer.process_accel_mps2 = v; return true;
-    case EngineInputKey::observer_r_sigma0: c.observer.r_sigma0 = v; return true;
-    case EngineInputKey::observer_r_walk: c.observer.r_walk = v; return true;
-    case EngineInputKey::observer_bias_sigma0_m: c.observer.bias_sigma0_m = v; return true;
-    case EngineInputKey::observer_bias_walk_m: c.observer.bias_walk_m = v; return true;
-    case EngineInputKey::observer_gate_chi2: c.observer.gate_chi2 = v; return true;
-    case EngineInputKey::observer_reinit_after: return engine_input_integer(v, c.observer.reinit_after);
-    case EngineInputKey::observer_dropout_s: c.observer.dropout_s = v; return true;
-    case EngineInputKey::observer_max_age_s: c.observer.max_age_s = v; return true;
-    case EngineInputKey::observer_x_range_m: c.observer.x_range_m = v; return true;
-    case EngineInputKey::observer_a_range_mps2: c.observer.a_range_mps2 = v; return true;
-    case EngineInputKey::observer_stuck_after: return engine_input_integer(v, c.observer.stuck_after);
-    case EngineInputKey::observer_quiet_fraction: c.observer.quiet_fraction = v; return true;
-    case EngineInputKey::observer_v_min_mps: c.observer.v_min_mps = v; return true;
-  }
-  return false;
+  bool known = false, ok = false;
+  visit_engine_input_fields(c, [&](EngineInputKey k, auto& field) {
+    if (static_cast<std::uint64_t>(k) != key) return;
+    known = true;
+    ok = engine_input_set(field, v);
+  });
+  return known && ok;
 }
 
 // Every pair of a configuration, in key order (the writer's list; the reader needs none of them to be present, but
 // the writer always writes all).
 template <typename Sink>
 void for_each_engine_input_key(const core::WallEngineConfig& c, Sink&& sink) {
-  sink(EngineInputKey::wall_b_m, c.wall.b_m);
-  sink(EngineInputKey::wall_h1_m, c.wall.h1_m);
-  sink(EngineInputKey::wall_h2_m, c.wall.h2_m);
-  sink(EngineInputKey::wall_rho_kgpm3, c.wall.rho_kgpm3);
-  sink(EngineInputKey::wall_fp_npm, c.wall.fp_npm);
-  sink(EngineInputKey::wall_a, c.wall.a);
-  sink(EngineInputKey::wall_a_prime, c.wall.a_prime);
-  sink(EngineInputKey::wall_g_mps2, c.wall.g_mps2);
-  sink(EngineInputKey::r_energy, c.r_energy);
-  sink(EngineInputKey::kappa, c.kappa);
-  sink(EngineInputKey::model, double(static_cast<int>(c.model)));
-  sink(EngineInputKey::dt_s, c.dt_s);
-  sink(EngineInputKey::alarm_lambda_warning, c.alarm.lambda_warning);
-  sink(EngineInputKey::alarm_hold_s, c.alarm.hold_s);
-  sink(EngineInputKey::alarm_energy_margin, c.alarm.energy_margin);
-  sink(EngineInputKey::max_step_s, c.max_step_s);
-  sink(EngineInputKey::observer_enabled, c.observer_enabled ? 1.0 : 0.0);
-  sink(EngineInputKey::observer_x_noise_m, c.observer.x_noise_m);
-  sink(EngineInputKey::observer_a_noise_mps2, c.observer.a_noise_mps2);
-  sink(EngineInputKey::observer_process_accel_mps2, c.observer.process_accel_mps2);
-  sink(EngineInputKey::observer_r_sigma0, c.observer.r_sigma0);
-  sink(EngineInputKey::observer_r_walk, c.observer.r_walk);
-  sink(EngineInputKey::observer_bias_sigma0_m, c.observer.bias_sigma0_m);
-  sink(EngineInputKey::observer_bias_walk_m, c.observer.bias_walk_m);
-  sink(EngineInputKey::observer_gate_chi2, c.observer.gate_chi2);
-  sink(EngineInputKey::observer_reinit_after, double(c.observer.reinit_after));
-  sink(EngineInputKey::observer_dropout_s, c.observer.dropout_s);
-  sink(EngineInputKey::observer_max_age_s, c.observer.max_age_s);
-  sink(EngineInputKey::observer_x_range_m, c.observer.x_range_m);
-  sink(EngineInputKey::observer_a_range_mps2, c.observer.a_range_mps2);
-  sink(EngineInputKey::observer_stuck_after, double(c.observer.stuck_after));
-  sink(EngineInputKey::observer_quiet_fraction, c.observer.quiet_fraction);
-  sink(EngineInputKey::observer_v_min_mps, c.observer.v_min_mps);
+  visit_engine_input_fields(c, [&sink](EngineInputKey k, const auto& field) { sink(k, engine_input_value(field)); });
 }
 
 // The step end of input sample k ≥ 1 on the wall sensors' clock [µs], as the analysis computes it
