@@ -2,13 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <exception>
-#include <mutex>
 #include <sstream>
-#include <thread>
 #include <utility>
 
 #include "rockwatch/core/stepper_alarm_chain.hpp"
+#include "parallel_runs.hpp"
 
 namespace rockwatch::sim::study {
 
@@ -224,49 +222,8 @@ void run_study(const StudyPlan& plan, std::vector<RunResult>& results, std::size
   for (const StudyRecord& r : plan.records) longest = std::max(longest, r.ug_mps2.size());
   const bool any_vertical = std::find(plan.vertical.begin(), plan.vertical.end(), true) != plan.vertical.end();
 
-  if (jobs == 0) jobs = std::max<std::size_t>(1, std::thread::hardware_concurrency());
-  const std::size_t n_threads = std::min(jobs, todo.size());
-
-  std::atomic<std::size_t> next{0};
-  std::atomic<bool> failed{false};  // a worker threw something other than AnalysisError: the others stop too
-  std::mutex progress_mutex;
-  std::size_t done = 0;  // guarded by progress_mutex
-  std::exception_ptr failure;  // the first such exception, guarded by progress_mutex
-
-  auto work = [&]() {
-    try {
-      Worker worker(plan, longest, any_vertical);
-      for (;;) {
-        if (failed.load(std::memory_order_relaxed)) return;
-        if (cancel && cancel->load(std::memory_order_relaxed)) return;
-        const std::size_t slot = next.fetch_add(1, std::memory_order_relaxed);
-        if (slot >= todo.size()) return;
-        const std::size_t index = todo[slot];
-        results[index] = worker.run_one(index);
-        const std::lock_guard<std::mutex> lock(progress_mutex);
-        ++done;
-        if (progress) progress(done, todo.size());
-      }
-    } catch (...) {
-      const std::lock_guard<std::mutex> lock(progress_mutex);
-      if (!failure) failure = std::current_exception();
-      failed = true;
-    }
-  };
-
-  // The calling thread is one of the workers: with one job no thread is started at all.
-  std::vector<std::thread> threads;
-  threads.reserve(n_threads - 1);
-  try {
-    for (std::size_t t = 1; t < n_threads; ++t) threads.emplace_back(work);
-  } catch (...) {
-    failed = true;  // could not start a thread: stop those that did, then report it
-    for (std::thread& th : threads) th.join();
-    throw;
-  }
-  work();
-  for (std::thread& th : threads) th.join();
-  if (failure) std::rethrow_exception(failure);
+  run_parallel(todo, jobs, progress, cancel, [&] { return Worker(plan, longest, any_vertical); },
+               [&results](Worker& worker, std::size_t index) { results[index] = worker.run_one(index); });
 }
 
 }  // namespace rockwatch::sim::study
