@@ -143,11 +143,11 @@ struct FixedStepReport {
   bool input_invalid = false;      // G = g + v̈ ≤ 0 at the step end: outside the model, state held
   bool started = false;            // rocking started from rest in this step
   FractionQ1_62 start_fraction{};
-  std::uint16_t impacts_counted = 0;  // 0 or 1: impacts with |ẋ⁻| ≥ v_count
-  std::uint16_t impacts_total = 0;    // 0 or 1
+  std::uint16_t impacts_counted = 0;  // impacts with |ẋ⁻| ≥ v_count (at most kMaxSegmentsPerStep − 1 per step)
+  std::uint16_t impacts_total = 0;    // all impacts
   FractionQ1_62 first_impact_fraction{};
   SpeedQ3_60 first_impact_v_before_mps{};
-  SpeedQ3_60 first_impact_v_after_mps{};  // 0 when put at rest
+  SpeedQ3_60 first_impact_v_after_mps{};  // 0 when put at rest (StepReport keeps √r·ẋ⁻ there: a known difference)
   bool came_to_rest = false;
   bool rest_forced = false;        // a second crossing in the step: put at rest without locating it
   bool exceeded = false;           // |x| rose through x_inst in this step
