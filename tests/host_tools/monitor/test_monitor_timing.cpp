@@ -239,7 +239,11 @@ TEST(MonitorRealtime, UnderRealtimeTheReceiveThreadIsFifoPinnedAndLockedOrWarns)
     LONGS_EQUAL_TEXT(SCHED_FIFO, run.policy, run.err.c_str());
     LONGS_EQUAL(20, run.priority);
     CHECK_TEXT(t.at("memory_locked").get<bool>(), run.err.c_str());
+#if !defined(__SANITIZE_ADDRESS__)
+    // AddressSanitizer intercepts mlockall and ignores it (it would lock the shadow memory): VmLck stays 0 in the
+    // debug build's monitor, which is built with the same sanitizers as this test.
     CHECK_TEXT(run.locked_kib > 0, run.err.c_str());
+#endif
     CHECK_TEXT(t.at("warnings").empty(), run.err.c_str());
     CHECK_TEXT(run.err.find("timing: SCHED_FIFO 20, memory locked, pinned to CPU " + std::to_string(cpu)) !=
                    std::string::npos,
