@@ -75,6 +75,8 @@ const char* monitor_error_message(MonitorError e) {
              "differ from every other channel";
     case MonitorError::restart_window_out_of_range: return "restart_window must be in [1, 1000000000] samples";
     case MonitorError::arithmetic_invalid: return "arithmetic must be fixed_point or double_precision";
+    case MonitorError::clock_tolerance_out_of_range:
+      return "clock_tolerance_us must be in [1, 86400000000] us (up to one day)";
   }
   return "?";
 }
@@ -89,6 +91,9 @@ MonitorError MonitorLoop::init(const MonitorSettings& s, SampleEngine& engine, T
   if (!(s.sensor_range_mps2 > 0.0 && s.sensor_range_mps2 <= 80.0)) return MonitorError::sensor_range_out_of_range;
   if (!(s.late_limit_s > 0.0 && s.late_limit_s <= 60.0)) return MonitorError::late_limit_out_of_range;
   if (s.restart_window < 1 || s.restart_window > 1000000000) return MonitorError::restart_window_out_of_range;
+  if (s.clock_tolerance_us < 1 || s.clock_tolerance_us > kMaxClockTolerance_us) {
+    return MonitorError::clock_tolerance_out_of_range;
+  }
   const MonitorChannels& c = s.channels;
   // The wall-sensor channels exist only with the observer: without it their names are not checked, so that a
   // configuration valid before them stays valid.
@@ -220,7 +225,7 @@ void MonitorLoop::on_wall_sensor(const std::uint8_t* data, std::size_t size, std
   // clock together, and they stay aligned.
   const std::int64_t reference_utime = have_last_ ? last_utime_ : receive_utime;
   const std::int64_t delay_us = sat_sub(reference_utime, m.utime);
-  if (!(delay_us >= -kClockTolerance_us && delay_us <= kClockTolerance_us)) {
+  if (!(delay_us >= -settings_.clock_tolerance_us && delay_us <= settings_.clock_tolerance_us)) {
     ++counters_.time_untrusted;
     ++counters_.sensor_time_untrusted;
     quality_since_status_ |= Status::QUALITY_TIME_UNTRUSTED;
@@ -254,7 +259,7 @@ void MonitorLoop::process_sample(std::int64_t utime, std::int64_t seq, double ug
   // A sample time far from the monitor's clock (a publisher's clock that jumped, a forged or corrupted utime) is not
   // evidence of anything: counted and flagged, and kept out of the time-based restart test below, so one bad stamp
   // cannot make a restarted publisher's samples look like duplicates. Its value is processed as usual.
-  const bool time_trusted = delay_us >= -kClockTolerance_us && delay_us <= kClockTolerance_us;
+  const bool time_trusted = delay_us >= -settings_.clock_tolerance_us && delay_us <= settings_.clock_tolerance_us;
   if (!time_trusted) {
     ++counters_.time_untrusted;
     quality |= Status::QUALITY_TIME_UNTRUSTED;

@@ -22,6 +22,7 @@
 #include "rockwatch/options/command_line.hpp"
 #include "rockwatch/options/engine_options.hpp"
 #include "rockwatch/options/option_values.hpp"
+#include "rockwatch/options/realtime_options.hpp"
 #include "rockwatch/options/usage_error.hpp"
 #include "rockwatch/options/wall_options.hpp"
 #include "rockwatch/sim/analysis.hpp"
@@ -44,7 +45,9 @@ namespace {
 
 struct RawOptions {
   std::string config, lcm_url, arith = "fixed", rate, max_step, offline_in, offline_out, log, receive_path = "own";
+  std::string clock_tolerance;
   std::vector<std::string> accept_from;
+  cli::RealtimeOptionTexts timing;  // --realtime, --cpu, --busy-poll-us
   cli::WallOptionTexts wall;
   std::string r = "exp", model = "linear", kappa;
   cli::AlarmOptionTexts alarm;  // --lambda-w, --alarm-hold, --energy-margin (its arith and alarms are unused)
@@ -65,12 +68,15 @@ const char* const kFooter =
     "  r \"ana\"|\"exp\"|\"impulse\"|number   model \"linear\"   kappa K\n"
     "  alarm {lambda_w, hold_s, energy_margin}   (as --lambda-w, --alarm-hold, --energy-margin)\n"
     "  sample_rate_hz (--rate, 200)   max_step_s (--max-step, 0.001)   max_bridge_samples (10)   sensor_range_mps2 (80)   late_limit_s (0.05)\n"
+    "  clock_tolerance_s (--clock-tolerance, 10): samples stamped further than this from the monitor's clock have a\n"
+    "    time it does not trust (counted, flagged, not used to detect publisher restarts)\n"
     "  channels {accel, accel_batch, wall_state, alarm, status, wall_sensor, wall_estimate}   (ROCKWATCH_ACCEL, ...)\n"
     "  observer {enabled, x_noise_m, a_noise_mps2, process_accel_mps2, gate_chi2, dropout_s, max_age_s}\n"
     "    the wall observer (--observer: enabled with the defaults): fuses wall_sensor_t samples (channel\n"
     "    wall_sensor) with the model, publishes wall_estimate_t (channel wall_estimate) and alarms on the fused state\n"
     "  lcm_url (--lcm-url; default $LCM_DEFAULT_URL, else udpm://239.255.76.67:7667?ttl=0)\n"
     "  accept_from [\"ADDR\" or \"ADDR/PREFIX\", ...]   (--accept-from; sources of input datagrams, default any)\n"
+    "  realtime_priority (--realtime)   cpu (--cpu)   busy_poll_us (--busy-poll-us)   live mode, not in the digest\n"
     "  walls [{name, wall {...}, r, channels {accel, accel_batch, wall_sensor}}, ...]   one monitor, up to 16 walls:\n"
     "    each the settings above with its own wall fields (replacing the top-level ones) and r; it publishes on the\n"
     "    output channels suffixed _NAME (ROCKWATCH_WALL_STATE_north, ROCKWATCH_ALARM_north, ROCKWATCH_STATUS_north;\n"
@@ -114,6 +120,12 @@ void add_options(CLI::App& app, RawOptions& raw) {
                  "sub-steps, the input linear between samples (no added latency); 1/rate gives one step per sample "
                  "(the paper's 5 ms at 200 Hz)")
       ->type_name("S");
+  app.add_option("--clock-tolerance", raw.clock_tolerance,
+                 "How far a sample's time may be from the monitor's clock at reception, ahead or behind [s] (default " +
+                     cli::number_text(firmware::kDefaultClockTolerance_us * 1e-6) +
+                     "; up to 86400): a sample beyond it is counted and flagged (time untrusted) and its time is not "
+                     "used to detect a publisher restart")
+      ->type_name("S");
   app.add_option("--offline-in", raw.offline_in, "Offline mode: read this LCM log instead of listening")
       ->type_name("LOG");
   app.add_option("--offline-out", raw.offline_out, "Offline mode: write the published messages to this LCM log")
@@ -130,6 +142,7 @@ void add_options(CLI::App& app, RawOptions& raw) {
                  "Live mode: own (default: the monitor's checked datagram path) or liblcm (liblcm's receive thread, "
                  "for measuring the two side by side only: it crashes on crafted datagrams)")
       ->type_name("own|liblcm");
+  cli::add_realtime_options(app, raw.timing, "the receive and processing thread (live mode)");
   app.add_flag("--observer", raw.observer,
                "Run the wall observer: fuse the wall sensors (wall_sensor_t) with the model, publish wall_estimate_t "
                "and alarm on the fused state (settings: the file's observer object, else the defaults)");
@@ -177,7 +190,8 @@ struct FileValues {
   std::optional<core::ModelKind> model;
   std::optional<firmware::MonitorArithmetic> arith;
   std::optional<double> kappa, lambda_w, hold_s, energy_margin, sample_rate_hz, max_step_s, sensor_range_mps2,
-      late_limit_s;
+      late_limit_s, clock_tolerance_s;
+  std::optional<long long> realtime_priority, cpu, busy_poll_us;  // range-checked when read
   std::optional<std::int32_t> max_bridge_samples;
   std::optional<std::string> channels[7];
   std::optional<std::string> lcm_url;
@@ -251,7 +265,8 @@ class ConfigReader {
     if (!root.is_object()) fail("the top level", "expected a JSON object {...}, got " + json_type(root));
     check_keys(root, "", {"arith", "wall", "r", "model", "kappa", "alarm", "sample_rate_hz", "max_step_s",
                           "max_bridge_samples", "sensor_range_mps2", "late_limit_s", "channels", "lcm_url",
-                          "accept_from", "observer", "walls"});
+                          "accept_from", "observer", "walls", "clock_tolerance_s", "realtime_priority", "cpu",
+                          "busy_poll_us"});
     FileValues v;
     if (root.contains("wall")) read_wall(root.at("wall"), v);
     if (root.contains("r")) v.r = read_restitution(root.at("r"));
@@ -273,6 +288,18 @@ class ConfigReader {
       v.sensor_range_mps2 = number(root.at("sensor_range_mps2"), "sensor_range_mps2", " [m/s2]");
     }
     if (root.contains("late_limit_s")) v.late_limit_s = number(root.at("late_limit_s"), "late_limit_s", " [s]");
+    if (root.contains("clock_tolerance_s")) {
+      v.clock_tolerance_s = number(root.at("clock_tolerance_s"), "clock_tolerance_s", " [s]");
+    }
+    if (root.contains("realtime_priority")) {
+      v.realtime_priority = cli::check_realtime_priority(
+          key_label("realtime_priority"), whole(root.at("realtime_priority"), "realtime_priority", "a priority in 1..99"));
+    }
+    if (root.contains("cpu")) v.cpu = cli::check_cpu(key_label("cpu"), whole(root.at("cpu"), "cpu", "a CPU number"));
+    if (root.contains("busy_poll_us")) {
+      v.busy_poll_us = cli::check_busy_poll_us(
+          key_label("busy_poll_us"), whole(root.at("busy_poll_us"), "busy_poll_us", "a whole number of microseconds"));
+    }
     if (root.contains("channels")) {
       const json& c = root.at("channels");
       object(c, "channels");
@@ -390,6 +417,19 @@ class ConfigReader {
   std::string string(const json& v, const std::string& key) const {
     if (!v.is_string()) fail(key, "expected a string, got " + json_type(v));
     return v.get<std::string>();
+  }
+
+  // A whole number (1 and 1.0 alike; 1.5, "1" and true refused), within long long.
+  long long whole(const json& v, const std::string& key, const std::string& expected) const {
+    if (v.is_number_integer()) {
+      if (v.is_number_unsigned() && v.get<std::uint64_t>() > 1000000000u) return 1000000001;  // out of every range
+      return v.get<std::int64_t>();
+    }
+    if (v.is_number_float()) {
+      const double d = v.get<double>();
+      if (std::isfinite(d) && d == std::floor(d) && std::fabs(d) <= 1e9) return static_cast<long long>(d);
+    }
+    fail(key, "expected " + expected + " (a whole number), got " + json_type(v));
   }
 
   std::int32_t bridge(const json& v) const {
@@ -627,6 +667,11 @@ json normalised_settings(const MonitorConfig& config) {
   }
   // Many walls: each one's own settings; absent with one wall (the digest of such a configuration stays).
   if (!config.walls.empty()) out["walls"] = walls_json(config.walls);
+  // The clock tolerance decides which times are trusted; absent at the default (the digest of existing configurations
+  // stays).
+  if (s.clock_tolerance_us != firmware::kDefaultClockTolerance_us) {
+    out["clock_tolerance_s"] = static_cast<double>(s.clock_tolerance_us) * 1e-6;
+  }
   // Which sources are accepted changes what the monitor processes; absent when any is (the default digest stays).
   if (!config.accept_from.empty()) {
     json a = json::array();
@@ -744,6 +789,16 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
                 *file.late_limit_s);
     s.late_limit_s = *file.late_limit_s;
   }
+  // The clock tolerance, in whole µs in the loop: at least 1 µs, at most a day.
+  Sourced<double> tolerance = pick(firmware::kDefaultClockTolerance_us * 1e-6, file.clock_tolerance_s,
+                                   file_label("clock_tolerance_s"));
+  if (cli::given(app, "--clock-tolerance")) {
+    tolerance = {cli::parse_positive_number("--clock-tolerance", raw.clock_tolerance, " s"), "--clock-tolerance"};
+  }
+  check_range(tolerance.value >= 1e-6 && tolerance.value <= firmware::kMaxClockTolerance_us * 1e-6,
+              name_of(tolerance.origin, "clock_tolerance_s"), "in [0.000001, 86400] s (1 us to one day)",
+              tolerance.value);
+  s.clock_tolerance_us = std::llround(tolerance.value * 1e6);
 
   // The wall observer: the file's observer object, enabled there or by --observer.
   const bool observer = raw.observer || file.observer_enabled.value_or(false);
@@ -847,6 +902,39 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
     if (cli::given(app, "--log")) throw UsageError("--log needs --receive-path own");
   } else if (raw.receive_path != "own") {
     throw UsageError("--receive-path: expected own or liblcm, got " + cli::quoted(raw.receive_path));
+  }
+  // Timing of the live receive thread (monitor_run.cpp): the command line over the file.
+  TimingSettings& timing = config.timing;
+  if (file.realtime_priority) {
+    timing.priority = static_cast<int>(*file.realtime_priority);
+    timing.priority_origin = file_label("realtime_priority");
+  }
+  if (file.cpu) {
+    timing.cpu = static_cast<int>(*file.cpu);
+    timing.cpu_origin = file_label("cpu");
+  }
+  if (file.busy_poll_us) {
+    timing.busy_poll_us = static_cast<int>(*file.busy_poll_us);
+    timing.busy_poll_origin = file_label("busy_poll_us");
+  }
+  if (cli::given(app, "--realtime")) {
+    timing.priority = cli::parse_realtime_priority("--realtime", raw.timing.realtime);
+    timing.priority_origin = "--realtime";
+  }
+  if (cli::given(app, "--cpu")) {
+    timing.cpu = cli::parse_cpu("--cpu", raw.timing.cpu);
+    timing.cpu_origin = "--cpu";
+  }
+  if (cli::given(app, "--busy-poll-us")) {
+    timing.busy_poll_us = cli::parse_busy_poll_us("--busy-poll-us", raw.timing.busy_poll_us);
+    timing.busy_poll_origin = "--busy-poll-us";
+  }
+  if (timing.any() && in_given) {
+    throw UsageError(timing.first_origin() +
+                     " is for live mode: offline mode reads a log as fast as it can, with no receive thread to schedule");
+  }
+  if (timing.busy_poll_us > 0 && config.receive_path == ReceivePath::liblcm) {
+    throw UsageError(timing.busy_poll_origin + " needs --receive-path own (liblcm owns its socket)");
   }
   config.print_config = raw.print_config;
   if (file.walls) {

@@ -13,6 +13,9 @@
 //   channels {accel, accel_batch, wall_state, alarm, status, wall_sensor, wall_estimate}
 //   observer {enabled, x_noise_m, a_noise_mps2, process_accel_mps2, gate_chi2, dropout_s, max_age_s}
 //                the wall observer (--observer enables it with these or the defaults); in the digest only when on
+//   clock_tolerance_s (--clock-tolerance; default 10): the firmware's MonitorSettings::clock_tolerance_us, in seconds
+//   realtime_priority (--realtime), cpu (--cpu), busy_poll_us (--busy-poll-us): the live receive thread's timing
+//                (TimingSettings; not in the digest: they change when, not what, the monitor computes)
 //   lcm_url      (--lcm-url)
 //   accept_from  (--accept-from) ["ADDR" or "ADDR/PREFIX", ...]: the only sources of input datagrams (default: any)
 //   walls        [{name, wall {...}, r, channels {accel, accel_batch, wall_sensor}}, ...]: one monitor, many walls
@@ -40,6 +43,19 @@ inline constexpr const char* kDefaultLcmUrl = "udpm://239.255.76.67:7667?ttl=0";
 // (--receive-path liblcm: only for measuring the two side by side; liblcm 1.3.1 crashes on crafted datagrams).
 enum class ReceivePath { own, liblcm };
 
+// What the live monitor asks of Linux for its receive and processing thread (rockwatch/process/realtime.hpp), and
+// where each came from ("--realtime", "--config FILE: realtime_priority") for the messages about it.
+struct TimingSettings {
+  int priority = 0;      // SCHED_FIFO priority; 0: ordinary scheduling, memory not locked
+  int cpu = -1;          // pin to this CPU; -1: not pinned
+  int busy_poll_us = 0;  // SO_BUSY_POLL on the receive socket; 0: not set
+  std::string priority_origin, cpu_origin, busy_poll_origin;
+  bool any() const { return priority > 0 || cpu >= 0 || busy_poll_us > 0; }
+  const std::string& first_origin() const {
+    return priority > 0 ? priority_origin : cpu >= 0 ? cpu_origin : busy_poll_origin;
+  }
+};
+
 // One wall of a `walls` configuration (monitor_walls.hpp).
 struct WallMonitorConfig {
   std::string name;                      // [A-Za-z0-9_-], 1 to 24 characters; "wall": the unsuffixed channels
@@ -57,6 +73,7 @@ struct MonitorConfig {
   std::optional<std::string> offline_in, offline_out;  // offline mode: read one LCM log, write another
   ReceivePath receive_path = ReceivePath::own;  // --receive-path (command line only; not in the digest)
   std::vector<SourceNetwork> accept_from;  // --accept-from / accept_from: sources of input datagrams; empty = any
+  TimingSettings timing;                 // --realtime, --cpu, --busy-poll-us (live mode; not in the digest)
   std::optional<std::string> log_path;   // live mode: the monitor's own LCM log of its inputs and outputs (--log)
   bool print_config = false;             // --print-config: print the normalised settings and exit
   std::string rate_origin = "default";   // where sample_rate_hz came from, for the engine's messages

@@ -26,6 +26,7 @@
 #include "rockwatch/firmware/wall_engine.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
+#include "rockwatch/process/realtime.hpp"
 #include "rockwatch/sim/double_wall_engine.hpp"
 #include "service_notify.hpp"
 #include "traffic_log.hpp"
@@ -325,6 +326,54 @@ void human_summary(std::ostream& err, const std::string& first_line, MonitorWall
 }
 
 // ---------------------------------------------------------------------------------------------------------------
+// Timing of the live receive thread (--realtime, --cpu, --busy-poll-us; config realtime_priority, cpu, busy_poll_us).
+
+// Asks for what the settings request, for this (the receive and processing) thread; a refusal is a warning on
+// `err`, never a failure: the monitor goes on as it would without the option. `report`: the summary's "timing".
+std::unique_ptr<process::RealtimeConditions> apply_timing(const TimingSettings& t, UdpReceiver* receiver,
+                                                          json& report, std::ostream& err) {
+  if (!t.any()) return nullptr;
+  process::RealtimeRequest request;
+  request.fifo_priority = t.priority;
+  request.memory_lock = t.priority > 0 ? process::MemoryLock::current_and_future : process::MemoryLock::none;
+  request.cpu = t.cpu;
+  request.minimal_timer_slack = t.priority > 0;
+  auto conditions = std::make_unique<process::RealtimeConditions>(request);
+  const process::RealtimeOutcome& o = conditions->outcome();
+  json warnings = json::array();
+  const auto warn = [&](const std::string& origin, const std::string& problem, const char* goes_on) {
+    const std::string text = origin + ": " + problem + "; " + goes_on;
+    err << kPrefix << "warning: " << text << std::endl;
+    warnings.push_back(text);
+  };
+  if (!o.realtime_problem.empty()) warn(t.priority_origin, o.realtime_problem, "the monitor goes on with ordinary scheduling");
+  if (!o.memory_problem.empty()) warn(t.priority_origin, o.memory_problem, "the monitor goes on with its memory unlocked");
+  if (!o.cpu_problem.empty()) warn(t.cpu_origin, o.cpu_problem, "the monitor goes on on any CPU");
+  bool busy_poll = false;
+  if (t.busy_poll_us > 0 && receiver != nullptr) {
+    std::string problem;
+    busy_poll = receiver->set_busy_poll(t.busy_poll_us, &problem);
+    if (!busy_poll) warn(t.busy_poll_origin, problem, "the monitor goes on without busy polling");
+  }
+  report = {{"realtime_priority", t.priority > 0 ? json(t.priority) : json(nullptr)},
+            {"realtime", o.realtime},
+            {"memory_locked", o.memory_locked},
+            {"cpu", t.cpu >= 0 ? json(t.cpu) : json(nullptr)},
+            {"pinned", o.pinned},
+            {"busy_poll_us", t.busy_poll_us > 0 ? json(t.busy_poll_us) : json(nullptr)},
+            {"busy_poll", busy_poll},
+            {"warnings", warnings}};
+  std::string granted;
+  const auto add = [&](const std::string& item) { granted += (granted.empty() ? "" : ", ") + item; };
+  if (o.realtime) add("SCHED_FIFO " + std::to_string(t.priority));
+  if (o.memory_locked) add("memory locked");
+  if (o.pinned) add("pinned to CPU " + std::to_string(t.cpu));
+  if (busy_poll) add("busy poll " + std::to_string(t.busy_poll_us) + " us");
+  if (!granted.empty()) err << kPrefix << "timing: " << granted << std::endl;
+  return conditions;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
 // Live: LCM in, LCM out.
 
 int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) {
@@ -370,6 +419,11 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
   if (!init_loop(walls, config, transport, out, err)) return kExitUsage;
   firmware::MultiWallMonitor* const loop = walls.monitor.get();
   loop->set_step_clock(&monotonic_ns);
+  // Real-time scheduling, CPU and memory locking once everything above is set up; before liblcm's subscription, so
+  // that with --receive-path liblcm its receive thread (started by the subscription) inherits the policy and CPU.
+  json timing_report;
+  const std::unique_ptr<process::RealtimeConditions> timing =
+      apply_timing(config.timing, via_liblcm ? nullptr : &receiver, timing_report, err);
   LoopInputSink sink(*loop, config.log_path ? &log : nullptr);
   DatagramInput input(config.settings.channels, config.accept_from, sink, config.settings.engine.observer_enabled);
   input.set_input_channels(loop);
@@ -454,6 +508,7 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
   s["receive_path"] = via_liblcm ? "liblcm" : "own";
   s["lcm_messages"] = via_liblcm ? lcm_input->messages() : input.counters().input_messages;
   if (!via_liblcm) s["datagrams"] = datagram_summary(receiver, input);
+  if (config.timing.any()) s["timing"] = timing_report;
   if (config.log_path) {
     s["log"] = {{"path", *config.log_path},          {"events_written", log.events_written()},
                 {"events_lost", log.events_lost()}, {"write_failures", log.write_failures()},
@@ -614,6 +669,12 @@ int run_monitor(int argc, const char* const* argv, std::ostream& out, std::ostre
            {"wall", config->wall_origin},
            {"lcm_url", config->lcm_url},
            {"lcm_url_origin", config->lcm_url_origin}};
+    const TimingSettings& t = config->timing;
+    if (t.any()) {
+      j["timing"] = {{"realtime_priority", t.priority > 0 ? json(t.priority) : json(nullptr)},
+                     {"cpu", t.cpu >= 0 ? json(t.cpu) : json(nullptr)},
+                     {"busy_poll_us", t.busy_poll_us > 0 ? json(t.busy_poll_us) : json(nullptr)}};
+    }
     out << j.dump() << '\n' << std::flush;
     return kExitOk;
   }

@@ -115,6 +115,20 @@ int UdpReceiver::receive(DatagramInput& input, int timeout_ms, std::int64_t (*cl
   return received;
 }
 
+bool UdpReceiver::set_busy_poll(int us, std::string* error) {
+  if (fd_ < 0) {
+    *error = "SO_BUSY_POLL: the socket is not open";
+    return false;
+  }
+  if (::setsockopt(fd_, SOL_SOCKET, SO_BUSY_POLL, &us, sizeof us) != 0) {
+    const int code = errno;
+    *error = std::string("SO_BUSY_POLL ") + std::to_string(us) + " us: " + std::strerror(code) +
+             (code == EPERM ? " (above net.core.busy_read it needs CAP_NET_ADMIN)" : "");
+    return false;
+  }
+  return true;
+}
+
 long long UdpReceiver::receive_buffer_bytes() const {
   int bytes = 0;
   socklen_t size = sizeof bytes;

@@ -36,6 +36,9 @@ class UdpReceiver {
   std::int64_t datagrams() const { return datagrams_; }
   std::int64_t truncated() const { return truncated_; }  // larger than the 64 KiB buffer: cut, then rejected
   long long receive_buffer_bytes() const;                 // what the kernel granted (SO_RCVBUF)
+  // SO_BUSY_POLL: a receive busy-waits up to `us` µs in the driver before sleeping (after open()). False with *error
+  // (above net.core.busy_read it needs CAP_NET_ADMIN).
+  bool set_busy_poll(int us, std::string* error);
 
  private:
   int fd_ = -1;

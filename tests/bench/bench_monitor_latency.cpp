@@ -3,10 +3,13 @@
 // A timing program, not a test: figures go to docs/BENCHMARKS.md.
 //
 //   bench_monitor_latency MONITOR_EXE [--rate HZ] [--seconds S] [--batch N] [--lcm-url URL] [--queue N]
-//                         [--rx-buffer BYTES] [--receive-path own|liblcm]
+//                         [--rx-buffer BYTES] [--receive-path own|liblcm] [--monitor-args "ARG ..."] [--cpu N]
 //
 // --receive-path is handed to the monitor: its own checked datagram path (default) or liblcm's receive thread, so
-// the two can be measured side by side in one session (docs/BENCHMARKS.md).
+// the two can be measured side by side in one session (docs/BENCHMARKS.md). --monitor-args: more arguments for the
+// monitor, split at spaces (e.g. "--realtime 50 --cpu 1"); the monitor's summary "timing" object (what the system
+// granted) is printed on a third line. --cpu N pins this program's threads (publisher and subscriber) to CPU N, after
+// the monitor is started (which keeps its own affinity).
 //
 // It starts the monitor itself (--lcm-url, --rate), waits for its first status message, publishes from a second
 // thread at absolute deadlines (CLOCK_MONOTONIC, TIMER_ABSTIME) — one ground_accel_t per sample, or one
@@ -23,6 +26,8 @@
 // 100000, more than any run's messages; --queue 30 is LCM's default). The monitor and the publisher get --lcm-url as
 // given; this subscriber adds recv_buf_size=2097152 to a udpm:// URL without one (--rx-buffer BYTES, 0 = as given).
 #include <dirent.h>
+#include <fcntl.h>
+#include <sched.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <time.h>
@@ -161,7 +166,7 @@ int main(int argc, char** argv) {
   if (argc < 2) {
     std::fprintf(stderr,
                  "usage: %s MONITOR_EXE [--rate HZ] [--seconds S] [--batch N] [--lcm-url URL] [--queue N] "
-                 "[--rx-buffer BYTES] [--receive-path own|liblcm]\n",
+                 "[--rx-buffer BYTES] [--receive-path own|liblcm] [--monitor-args \"ARG ...\"] [--cpu N]\n",
                  argv[0]);
     return 2;
   }
@@ -172,6 +177,8 @@ int main(int argc, char** argv) {
   long long rx_buffer = 2097152;
   std::string url = "udpm://239.255.76.67:7667?ttl=0";
   std::string receive_path = "own";
+  std::vector<std::string> monitor_args;
+  int cpu = -1;
   for (int i = 2; i + 1 < argc; i += 2) {
     const std::string key = argv[i], value = argv[i + 1];
     if (key == "--queue") queue = std::atoi(value.c_str());
@@ -181,6 +188,10 @@ int main(int argc, char** argv) {
     else if (key == "--batch") batch = std::atoi(value.c_str());
     else if (key == "--lcm-url") url = value;
     else if (key == "--receive-path") receive_path = value;
+    else if (key == "--monitor-args") {
+      std::istringstream words(value);
+      for (std::string w; words >> w;) monitor_args.push_back(w);
+    } else if (key == "--cpu") cpu = std::atoi(value.c_str());
     else {
       std::fprintf(stderr, "unknown option %s\n", key.c_str());
       return 2;
@@ -193,12 +204,34 @@ int main(int argc, char** argv) {
   const auto n = static_cast<std::size_t>(std::llround(rate_hz * seconds));
 
   const std::string rate_text = std::to_string(rate_hz);
+  // The monitor's stdout (alarm lines, the summary) goes to a temporary file: its summary says what timing it got.
+  char summary_path[] = "/tmp/bench_monitor_latency.XXXXXX";
+  const int summary_fd = mkstemp(summary_path);
+  if (summary_fd < 0) {
+    std::perror("mkstemp");
+    return 1;
+  }
+  std::vector<std::string> args{monitor, "--lcm-url", url, "--rate", rate_text, "--receive-path", receive_path};
+  args.insert(args.end(), monitor_args.begin(), monitor_args.end());
+  std::vector<char*> argv_monitor;
+  for (std::string& a : args) argv_monitor.push_back(a.data());
+  argv_monitor.push_back(nullptr);
   const pid_t child = fork();
   if (child == 0) {
-    if (std::freopen("/dev/null", "w", stdout) == nullptr) _exit(127);
-    execl(monitor.c_str(), monitor.c_str(), "--lcm-url", url.c_str(), "--rate", rate_text.c_str(), "--receive-path",
-          receive_path.c_str(), static_cast<char*>(nullptr));
+    if (dup2(summary_fd, STDOUT_FILENO) < 0) _exit(127);
+    execv(monitor.c_str(), argv_monitor.data());
     _exit(127);
+  }
+  close(summary_fd);
+  if (cpu >= 0) {
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    CPU_SET(cpu, &set);
+    if (sched_setaffinity(0, sizeof set, &set) != 0) {  // this thread; the publisher thread inherits it
+      std::perror("--cpu: sched_setaffinity");
+      kill(child, SIGTERM);
+      return 2;
+    }
   }
 
   std::string rx_url = url;
@@ -317,5 +350,19 @@ int main(int argc, char** argv) {
               static_cast<long long>(m.out_of_order), static_cast<long long>(m.late),
               static_cast<long long>(m.samples_processed), queue, static_cast<long long>(receiver.states),
               static_cast<long long>(receiver.duplicates), monitor_kernel_drops, own_kernel_drops, rcvbuf_errors);
+  // The monitor's summary: the last line of its stdout; its "timing" object, if any.
+  std::ifstream summary_in(summary_path);
+  std::string line, last;
+  while (std::getline(summary_in, line)) {
+    if (!line.empty()) last = line;
+  }
+  std::remove(summary_path);
+  const std::size_t at = last.find("\"timing\":{");
+  if (at != std::string::npos) {
+    const std::size_t end = last.find('}', at);
+    std::printf("  monitor timing: %s\n", last.substr(at + 9, end == std::string::npos ? std::string::npos : end - at - 8).c_str());
+  } else if (!monitor_args.empty()) {
+    std::printf("  monitor timing: none in its summary\n");
+  }
   return lost == 0 ? 0 : 3;
 }

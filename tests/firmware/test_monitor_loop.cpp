@@ -727,15 +727,70 @@ TEST(MonitorLoop, ASampleStampedFarAheadDoesNotHideAPublisherRestart) {
 TEST(MonitorLoop, TimeToleranceBothWays) {
   Rig rig;
   rig.stream(0, 9);
-  rig.send(accel(10, 0.0), fw::kClockTolerance_us + 1);  // received 10 s after its stamp: untrusted (and late)
+  rig.send(accel(10, 0.0), fw::kDefaultClockTolerance_us + 1);  // received 10 s after its stamp: untrusted (and late)
   LONGS_EQUAL(1, rig.loop.counters().time_untrusted);
   LONGS_EQUAL(1, rig.loop.counters().late);
-  rig.send(accel(11, 0.0), fw::kClockTolerance_us);  // exactly at the tolerance: trusted, late
-  rig.send(accel(12, 0.0), -fw::kClockTolerance_us);  // stamped 10 s ahead: trusted
+  rig.send(accel(11, 0.0), fw::kDefaultClockTolerance_us);  // exactly at the tolerance: trusted, late
+  rig.send(accel(12, 0.0), -fw::kDefaultClockTolerance_us);  // stamped 10 s ahead: trusted
   LONGS_EQUAL(1, rig.loop.counters().time_untrusted);
-  rig.send(accel(13, 0.0), -fw::kClockTolerance_us - 1);
+  rig.send(accel(13, 0.0), -fw::kDefaultClockTolerance_us - 1);
   LONGS_EQUAL(2, rig.loop.counters().time_untrusted);
   LONGS_EQUAL(Status::QUALITY_TIME_UNTRUSTED, rig.last_state().data_quality);
+}
+
+// The tolerance is a setting (clock_tolerance_us): with 2 ms, a sample received 2 ms after its stamp is trusted and
+// one received 2 ms + 1 µs after is not, both ways; the values are processed all the same, and a publisher restart
+// (seq back, time forward) is still detected — by trusted times only: an untrusted stamp just before it does not count.
+TEST(MonitorLoop, ASmallClockToleranceFlagsJustOutsideAndStillDetectsRestarts) {
+  fw::MonitorSettings s = paper_settings();
+  constexpr std::int64_t kTol = 2000;  // 2 ms
+  s.clock_tolerance_us = kTol;
+  Rig rig(s);
+  rig.stream(0, 9);
+  LONGS_EQUAL(0, rig.loop.counters().time_untrusted);
+  rig.send(accel(10, 0.0), kTol);  // just inside (late: 2 ms is under the 50 ms late limit, so not late either)
+  LONGS_EQUAL(0, rig.loop.counters().time_untrusted);
+  LONGS_EQUAL(0, rig.last_state().data_quality);
+  rig.send(accel(11, 0.0), kTol + 1);  // just outside, behind
+  LONGS_EQUAL(1, rig.loop.counters().time_untrusted);
+  LONGS_EQUAL(Status::QUALITY_TIME_UNTRUSTED, rig.last_state().data_quality);
+  LONGS_EQUAL(11, rig.last_state().input_seq);  // processed by its seq
+  rig.send(accel(12, 0.0), -kTol);  // stamped 2 ms ahead: just inside
+  LONGS_EQUAL(1, rig.loop.counters().time_untrusted);
+  LONGS_EQUAL(0, rig.last_state().data_quality);
+  rig.send(accel(13, 0.0), -kTol - 1);  // just outside, ahead
+  LONGS_EQUAL(2, rig.loop.counters().time_untrusted);
+  LONGS_EQUAL(Status::QUALITY_TIME_UNTRUSTED, rig.last_state().data_quality);
+  // The default would have trusted all four.
+  CHECK_TRUE(kTol + 1 < fw::kDefaultClockTolerance_us);
+
+  // A restarted publisher (seq from 0, its time after the last trusted one), received within the tolerance.
+  ground_accel_t m = accel(0, 0.0);
+  m.utime = kT0 + 400 * kPeriodUs;
+  rig.send(m, kTol / 2);
+  LONGS_EQUAL(1, rig.loop.counters().publisher_restarts);
+  LONGS_EQUAL(Status::QUALITY_PUBLISHER_RESTART, rig.last_state().data_quality);
+  LONGS_EQUAL(0, rig.last_state().input_seq);
+  for (std::int64_t k = 1; k <= 20; ++k) {
+    ground_accel_t n = accel(k, 0.0);
+    n.utime = m.utime + k * kPeriodUs;
+    rig.send(n, kTol / 2);
+  }
+  // A second restart whose first sample arrives just outside the tolerance: its time is not evidence, so it is
+  // taken for a repeat of the earlier seq 0 (a duplicate) ...
+  ground_accel_t late = accel(0, 0.0);
+  late.utime = m.utime + 100 * kPeriodUs;
+  rig.send(late, kTol + 1);
+  LONGS_EQUAL(1, rig.loop.counters().publisher_restarts);
+  LONGS_EQUAL(1, rig.loop.counters().duplicates);
+  LONGS_EQUAL(3, rig.loop.counters().time_untrusted);
+  // ... and the next one, within it, is the restart.
+  ground_accel_t next = accel(1, 0.0);
+  next.utime = late.utime + kPeriodUs;
+  rig.send(next, kTol);
+  LONGS_EQUAL(2, rig.loop.counters().publisher_restarts);
+  LONGS_EQUAL(1, rig.last_state().input_seq);
+  LONGS_EQUAL(Status::QUALITY_PUBLISHER_RESTART, rig.last_state().data_quality);
 }
 
 // The host's receive path reports its totals; the status carries them and flags an increase once.
@@ -1075,6 +1130,20 @@ TEST(MonitorLoop, InitRefusesBadSettingsNamingThem) {
   s = paper_settings();
   s.restart_window = 0;
   check_refused(s, E::restart_window_out_of_range, "restart_window");
+  s = paper_settings();
+  s.clock_tolerance_us = 0;
+  check_refused(s, E::clock_tolerance_out_of_range, "clock_tolerance_us");
+  s.clock_tolerance_us = -1;
+  check_refused(s, E::clock_tolerance_out_of_range, "clock_tolerance_us");
+  s.clock_tolerance_us = fw::kMaxClockTolerance_us + 1;
+  check_refused(s, E::clock_tolerance_out_of_range, "clock_tolerance_us");
+  s.clock_tolerance_us = fw::kMaxClockTolerance_us;
+  {
+    MemoryTransport t;
+    Engines engines;
+    fw::MonitorLoop loop;
+    CHECK_TRUE(loop.init(s, engines(s), t) == E::ok);
+  }
   s = paper_settings();
   s.channels.status[0] = '\0';
   check_refused(s, E::channel_name_invalid, "channel names");

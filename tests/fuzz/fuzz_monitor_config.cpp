@@ -23,6 +23,9 @@ void check_config(const monitor::MonitorConfig& c) {
   ROCKWATCH_FUZZ_CHECK(s.sensor_range_mps2 > 0.0 && s.sensor_range_mps2 <= 80.0);
   ROCKWATCH_FUZZ_CHECK(s.late_limit_s > 0.0 && s.late_limit_s <= 60.0);
   ROCKWATCH_FUZZ_CHECK(s.engine.kappa >= 1.0 && s.engine.kappa < 100.0);
+  ROCKWATCH_FUZZ_CHECK(s.clock_tolerance_us >= 1 && s.clock_tolerance_us <= firmware::kMaxClockTolerance_us);
+  ROCKWATCH_FUZZ_CHECK(c.timing.priority >= 0 && c.timing.priority <= 99);
+  ROCKWATCH_FUZZ_CHECK(c.timing.cpu >= -1 && c.timing.busy_poll_us >= 0 && c.timing.busy_poll_us <= 100000);
   ROCKWATCH_FUZZ_CHECK(!c.lcm_url.empty());
   ROCKWATCH_FUZZ_CHECK(c.normalised.is_object());
 }

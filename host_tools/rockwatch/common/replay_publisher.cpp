@@ -1,9 +1,5 @@
 #include "common/replay_publisher.hpp"
 
-#include <pthread.h>
-#include <sched.h>
-#include <sys/mman.h>
-#include <sys/prctl.h>
 #include <time.h>
 
 #include <cerrno>
@@ -20,6 +16,7 @@
 #include "rockwatch/ground_accel_batch_t.hpp"
 #include "rockwatch/ground_accel_t.hpp"
 #include "rockwatch/options/usage_error.hpp"
+#include "rockwatch/process/realtime.hpp"
 #include "rockwatch/wall_sensor_t.hpp"
 
 namespace rockwatch::cli {
@@ -38,45 +35,27 @@ void sleep_until(std::int64_t deadline_ns, const std::atomic<bool>* cancel) {
   }
 }
 
-// What the paced loop asks of the system while it runs, each only when this process may have it, undone on
-// destruction (the demo goes on in the same process):
+// What the paced loop asks of the system while it runs (rockwatch/process/realtime.hpp), each only when this process
+// may have it, undone when the loop ends (the demo goes on in the same process):
 //  - timer slack 1 ns: the kernel may defer a timer wake-up by the thread's slack (50 us by default) to group
 //    wake-ups (no privilege needed; this thread only; left at 1 ns);
 //  - SCHED_FIFO at kReplayPriority for this thread, if it runs under SCHED_OTHER and the process may (root,
 //    CAP_SYS_NICE or an RLIMIT_RTPRIO allowance): on a busy machine an ordinary thread waits for the CPU behind the
 //    other work, which made the worst deadline of a 1 kHz replay miss by several ms (docs/BENCHMARKS.md). The loop
 //    sleeps until each deadline, so it takes little CPU; the kernel's real-time throttling bounds it in any case.
-//    The priority is low, below a monitor started with `chrt -f 50`;
+//    The priority is low, below a monitor started with `--realtime 50` or `chrt -f 50`;
 //  - mlockall(MCL_CURRENT): the pages mapped now (the prepared samples, the code) stay in memory, no page fault
 //    mid-stream. Not MCL_FUTURE: with a memory-lock limit, later allocations would fail.
-class PacingConditions {
- public:
-  static constexpr int kReplayPriority = 10;
+constexpr int kReplayPriority = 10;
 
-  PacingConditions() {
-    prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
-    if (pthread_getschedparam(pthread_self(), &old_policy_, &old_param_) == 0 && old_policy_ == SCHED_OTHER) {
-      sched_param p{};
-      p.sched_priority = kReplayPriority;
-      realtime_ = pthread_setschedparam(pthread_self(), SCHED_FIFO, &p) == 0;
-    }
-    locked_ = mlockall(MCL_CURRENT) == 0;
-  }
-  ~PacingConditions() {
-    if (locked_) munlockall();
-    if (realtime_) pthread_setschedparam(pthread_self(), old_policy_, &old_param_);
-  }
-  PacingConditions(const PacingConditions&) = delete;
-  PacingConditions& operator=(const PacingConditions&) = delete;
-  bool realtime() const { return realtime_; }
-  bool memory_locked() const { return locked_; }
-
- private:
-  int old_policy_ = SCHED_OTHER;
-  sched_param old_param_{};
-  bool realtime_ = false;
-  bool locked_ = false;
-};
+process::RealtimeRequest pacing_request() {
+  process::RealtimeRequest r;
+  r.fifo_priority = kReplayPriority;
+  r.only_if_ordinary = true;
+  r.memory_lock = process::MemoryLock::current;
+  r.minimal_timer_slack = true;
+  return r;
+}
 
 class Encoder {
  public:
@@ -113,11 +92,11 @@ ReplayOutcome publish_stream(const ReplayStream& s, const PublishPlan& plan, lcm
   batch.sample_period_us = period_us;
   batch.sensor_status = 0;
 
-  std::optional<PacingConditions> conditions;
+  std::optional<process::RealtimeConditions> conditions;
   if (out.paced) {
-    conditions.emplace();
-    out.realtime = conditions->realtime();
-    out.memory_locked = conditions->memory_locked();
+    conditions.emplace(pacing_request());
+    out.realtime = conditions->outcome().realtime;
+    out.memory_locked = conditions->outcome().memory_locked;
   }
   const std::int64_t start_ns = monotonic_ns();
   out.start_utime = realtime_utime();

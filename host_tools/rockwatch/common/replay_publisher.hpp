@@ -2,7 +2,7 @@
 // ground_accel_batch_t) messages, waits for each message's absolute deadline on CLOCK_MONOTONIC
 // (clock_nanosleep TIMER_ABSTIME), publishes it with LCM and/or writes it to an LCM log, and measures lateness.
 // While paced, the thread runs under SCHED_FIFO (low priority) and the process's memory is locked, when the process
-// may have them (replay_publisher.cpp: PacingConditions); both are undone at the end.
+// may have them (replay_publisher.cpp, through rockwatch/process/realtime.hpp); both are undone at the end.
 #pragma once
 
 #include <atomic>

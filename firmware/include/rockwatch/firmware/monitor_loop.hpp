@@ -24,7 +24,7 @@
 //   flagged; each bad component is replaced by the last good value of that component (0 before any).
 // - G = g + v̈ ≤ 0 (or the engine reports its input invalid): counted (lift_off), flagged; the engine holds its
 //   state (SPEC §1) and sets REASON_INPUT_INVALID.
-// - |receive time − sample time| > kClockTolerance_us (10 s): time_untrusted, QUALITY_TIME_UNTRUSTED; processed by
+// - |receive time − sample time| > settings.clock_tolerance_us (default 10 s): time_untrusted, QUALITY_TIME_UNTRUSTED; processed by
 //   its seq, but its time is not used for the restart test above (one sample stamped an hour ahead must not make a
 //   restarted publisher's samples look older than the last one).
 // - receive time − sample time > late_limit_s: counted as late (still processed); for a batch the time of its newest
@@ -35,7 +35,7 @@
 //   decode_errors, QUALITY_DECODE_ERROR in the status; ignored. Messages on other channels: messages_ignored.
 // Wall sensors (settings.engine.observer_enabled; core::WallObserver in the engine): a wall_sensor_t is decoded and
 // checked like a ground message (decode errors and schema_version != 1 counted as decode_errors), a sample stamped more
-// than kClockTolerance_us from the ground stream's time (the last ground sample's utime; before the first one, the
+// than settings.clock_tolerance_us from the ground stream's time (the last ground sample's utime; before the first one, the
 // receive time) is counted (time_untrusted, sensor_time_untrusted) and dropped (its time is what aligns it with the
 // ground stream), the others are pushed into the engine, which queues them until a
 // ground step reaches their utime. Each ground step ends at the ground sample's utime (a step whose ground sample's
@@ -68,9 +68,9 @@
 namespace rockwatch::firmware {
 
 inline constexpr std::size_t kChannelNameMax = 64;  // bytes including the terminating NUL
-// A sample stamped further than this from the monitor's clock at reception (future or past) has a time the monitor
-// does not trust: counted (time_untrusted), flagged (QUALITY_TIME_UNTRUSTED), not used to detect publisher restarts.
-inline constexpr std::int64_t kClockTolerance_us = 10000000;
+// The default of MonitorSettings::clock_tolerance_us (10 s), and its largest accepted value (one day).
+inline constexpr std::int64_t kDefaultClockTolerance_us = 10000000;
+inline constexpr std::int64_t kMaxClockTolerance_us = 86400000000;
 
 struct MonitorChannels {
   char accel[kChannelNameMax] = "ROCKWATCH_ACCEL";
@@ -91,6 +91,11 @@ struct MonitorSettings {
   double sensor_range_mps2 = 80.0;     // |ü|, |v̈| above this are out of range [m/s²] (≤ 80: the engine's input limit)
   double late_limit_s = 0.05;          // received later than this after the sample time: late [s]
   std::int64_t restart_window = 1000;  // seq this far below the last one: the publisher restarted [samples]
+  // A sample stamped further than this from the monitor's clock at reception (future or past) has a time the monitor
+  // does not trust: counted (time_untrusted), flagged (QUALITY_TIME_UNTRUSTED), not used to detect publisher
+  // restarts. [µs], in [1, kMaxClockTolerance_us]. How far the publishers' clocks may be from the monitor's (NTP or
+  // PTP keeps a lab's within milliseconds) plus the longest delivery delay.
+  std::int64_t clock_tolerance_us = kDefaultClockTolerance_us;
   MonitorChannels channels{};
   std::int64_t config_digest = 0;      // published in monitor_status_t (the host computes it from the config file)
 };
@@ -106,6 +111,7 @@ enum class MonitorError : std::uint8_t {
   channel_name_invalid = 6,  // empty, not NUL-terminated, or an input channel equal to another channel
   restart_window_out_of_range = 7,  // restart_window in [1, 10⁹] samples
   arithmetic_invalid = 8,    // not a MonitorArithmetic value, or not the arithmetic of the engine given
+  clock_tolerance_out_of_range = 9,  // clock_tolerance_us in [1, kMaxClockTolerance_us]
 };
 
 const char* monitor_error_message(MonitorError e);
@@ -133,7 +139,7 @@ struct MonitorCounters {
   std::int64_t lift_off = 0, publisher_restarts = 0, decode_errors = 0, saturated = 0, sensor_flags = 0;
   std::int64_t publish_failures = 0, messages_ignored = 0;  // ignored: on channels the monitor does not read
   std::int64_t log_write_failures = 0;  // reported by the host (note_log_write_failure)
-  std::int64_t time_untrusted = 0;  // samples stamped more than kClockTolerance_us from the receive time
+  std::int64_t time_untrusted = 0;  // samples stamped more than clock_tolerance_us from the receive time
   // Reported by the host's receive path (note_datagram_counts): malformed datagrams, and datagrams from sources not
   // accepted.
   std::int64_t datagrams_rejected = 0, datagrams_from_other_sources = 0;
