@@ -34,8 +34,8 @@
 
 namespace rockwatch::monitor {
 
-using cli::number_text;
-using cli::UsageError;
+using options::number_text;
+using options::UsageError;
 using nlohmann::json;
 
 namespace {
@@ -47,10 +47,10 @@ struct RawOptions {
   std::string config, lcm_url, arith = "fixed", rate, max_step, offline_in, offline_out, log, receive_path = "own";
   std::string clock_tolerance;
   std::vector<std::string> accept_from;
-  cli::RealtimeOptionTexts timing;  // --realtime, --cpu, --busy-poll-us
-  cli::WallOptionTexts wall;
+  options::RealtimeOptionTexts timing;  // --realtime, --cpu, --busy-poll-us
+  options::WallOptionTexts wall;
   std::string r = "exp", model = "linear", kappa;
-  cli::AlarmOptionTexts alarm;  // --lambda-w, --alarm-hold, --energy-margin (its arith and alarms are unused)
+  options::AlarmOptionTexts alarm;  // --lambda-w, --alarm-hold, --energy-margin (its arith and alarms are unused)
   bool print_config = false, version = false, observer = false;
 };
 
@@ -106,23 +106,19 @@ void add_options(CLI::App& app, RawOptions& raw) {
                  "Engine arithmetic: fixed (default; the firmware's engine, = `rockwatch simulate --arith fixed`) | "
                  "double (= `rockwatch simulate --arith double`; linear or full model)")
       ->type_name("fixed|double");
-  cli::add_wall_options(app, raw.wall);
-  cli::add_restitution_option(app, raw.r);
+  options::add_wall_options(app, raw.wall);
+  options::add_restitution_option(app, raw.r);
   app.add_option("--model", raw.model, "Equation of motion: linear (default, the paper's; the fixed-point engine's "
                                        "only model) | full (with --arith double)")
       ->type_name("linear|full");
-  cli::add_kappa_option(app, raw.kappa);
-  cli::add_alarm_setting_options(app, raw.alarm, "");
+  options::add_kappa_option(app, raw.kappa);
+  options::add_alarm_setting_options(app, raw.alarm, "");
   app.add_option("--rate", raw.rate, "Expected input sample rate [Hz] (default 200); the alarm runs once per sample")
       ->type_name("HZ");
-  app.add_option("--max-step", raw.max_step,
-                 "Longest integration step [s] (default 0.001): each sample is integrated in ceil(1 / (rate * max-step)) "
-                 "sub-steps, the input linear between samples (no added latency); 1/rate gives one step per sample "
-                 "(the paper's 5 ms at 200 Hz)")
-      ->type_name("S");
+  options::add_max_step_option(app, raw.max_step, "; the sample interval is 1/rate");
   app.add_option("--clock-tolerance", raw.clock_tolerance,
                  "How far a sample's time may be from the monitor's clock at reception, ahead or behind [s] (default " +
-                     cli::number_text(firmware::kDefaultClockTolerance_us * 1e-6) +
+                     options::number_text(firmware::kDefaultClockTolerance_us * 1e-6) +
                      "; up to 86400): a sample beyond it is counted and flagged (time untrusted) and its time is not "
                      "used to detect a publisher restart")
       ->type_name("S");
@@ -142,7 +138,7 @@ void add_options(CLI::App& app, RawOptions& raw) {
                  "Live mode: own (default: the monitor's checked datagram path) or liblcm (liblcm's receive thread, "
                  "for measuring the two side by side only: it crashes on crafted datagrams)")
       ->type_name("own|liblcm");
-  cli::add_realtime_options(app, raw.timing, "the receive and processing thread (live mode)");
+  options::add_realtime_options(app, raw.timing, "the receive and processing thread (live mode)");
   app.add_flag("--observer", raw.observer,
                "Run the wall observer: fuse the wall sensors (wall_sensor_t) with the model, publish wall_estimate_t "
                "and alarm on the fused state (settings: the file's observer object, else the defaults)");
@@ -152,7 +148,7 @@ void add_options(CLI::App& app, RawOptions& raw) {
   app.footer(kFooter);
 }
 
-// As cli::parse_command_line, with this program's name in the hint.
+// As options::parse_command_line, with this program's name in the hint.
 std::optional<std::string> parse_arguments(CLI::App& app, int argc, const char* const* argv) {
   const std::string hint = " (see rockwatch-monitor --help)";
   try {
@@ -163,7 +159,7 @@ std::optional<std::string> parse_arguments(CLI::App& app, int argc, const char* 
     if (dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr && !extras.empty()) {
       const std::string& first = extras.front();
       const bool is_option = first.size() > 1 && first.front() == '-';
-      throw UsageError(std::string(is_option ? "unknown option " : "unexpected argument ") + cli::quoted(first) + hint);
+      throw UsageError(std::string(is_option ? "unknown option " : "unexpected argument ") + options::quoted(first) + hint);
     }
     throw UsageError(e.what() + hint);
   }
@@ -173,7 +169,7 @@ std::optional<std::string> parse_arguments(CLI::App& app, int argc, const char* 
 firmware::MonitorArithmetic parse_arith(const std::string& name, const std::string& text) {
   if (text == "fixed") return firmware::MonitorArithmetic::fixed_point;
   if (text == "double") return firmware::MonitorArithmetic::double_precision;
-  throw UsageError(name + " must be fixed or double (got " + cli::quoted(text) + ")");
+  throw UsageError(name + " must be fixed or double (got " + options::quoted(text) + ")");
 }
 
 const char* arith_name(firmware::MonitorArithmetic a) {
@@ -206,19 +202,19 @@ struct WallField {
   const char* key;     // the file's key under "wall" (core::validate_wall's field name)
   const char* option;  // the command-line option
   double core::WallParameters::*member;
-  std::string cli::WallOptionTexts::*text;
+  std::string options::WallOptionTexts::*text;
   const char* unit;
 };
 
 constexpr WallField kWallFields[8] = {
-    {"b", "--b", &core::WallParameters::b_m, &cli::WallOptionTexts::b, "m"},
-    {"h1", "--h1", &core::WallParameters::h1_m, &cli::WallOptionTexts::h1, "m"},
-    {"h2", "--h2", &core::WallParameters::h2_m, &cli::WallOptionTexts::h2, "m"},
-    {"rho", "--rho", &core::WallParameters::rho_kgpm3, &cli::WallOptionTexts::rho, "kg/m3"},
-    {"fp", "--fp", &core::WallParameters::fp_npm, &cli::WallOptionTexts::fp, "N/m"},
-    {"a", "--a", &core::WallParameters::a, &cli::WallOptionTexts::a, "fraction of b"},
-    {"a_prime", "--a-prime", &core::WallParameters::a_prime, &cli::WallOptionTexts::a_prime, "fraction of b"},
-    {"g", "--g", &core::WallParameters::g_mps2, &cli::WallOptionTexts::g, "m/s2"},
+    {"b", "--b", &core::WallParameters::b_m, &options::WallOptionTexts::b, "m"},
+    {"h1", "--h1", &core::WallParameters::h1_m, &options::WallOptionTexts::h1, "m"},
+    {"h2", "--h2", &core::WallParameters::h2_m, &options::WallOptionTexts::h2, "m"},
+    {"rho", "--rho", &core::WallParameters::rho_kgpm3, &options::WallOptionTexts::rho, "kg/m3"},
+    {"fp", "--fp", &core::WallParameters::fp_npm, &options::WallOptionTexts::fp, "N/m"},
+    {"a", "--a", &core::WallParameters::a, &options::WallOptionTexts::a, "fraction of b"},
+    {"a_prime", "--a-prime", &core::WallParameters::a_prime, &options::WallOptionTexts::a_prime, "fraction of b"},
+    {"g", "--g", &core::WallParameters::g_mps2, &options::WallOptionTexts::g, "m/s2"},
 };
 
 // The last two exist only with the observer.
@@ -244,7 +240,7 @@ std::string json_type(const json& v) {
   if (v.is_null()) return "null";
   if (v.is_boolean()) return "a boolean (" + v.dump() + ")";
   if (v.is_number()) return "a number (" + v.dump() + ")";
-  if (v.is_string()) return "a string (" + cli::quoted(v.get<std::string>()) + ")";
+  if (v.is_string()) return "a string (" + options::quoted(v.get<std::string>()) + ")";
   if (v.is_array()) return "an array";
   if (v.is_object()) return "an object";
   return v.type_name();
@@ -292,12 +288,12 @@ class ConfigReader {
       v.clock_tolerance_s = number(root.at("clock_tolerance_s"), "clock_tolerance_s", " [s]");
     }
     if (root.contains("realtime_priority")) {
-      v.realtime_priority = cli::check_realtime_priority(
+      v.realtime_priority = options::check_realtime_priority(
           key_label("realtime_priority"), whole(root.at("realtime_priority"), "realtime_priority", "a priority in 1..99"));
     }
-    if (root.contains("cpu")) v.cpu = cli::check_cpu(key_label("cpu"), whole(root.at("cpu"), "cpu", "a CPU number"));
+    if (root.contains("cpu")) v.cpu = options::check_cpu(key_label("cpu"), whole(root.at("cpu"), "cpu", "a CPU number"));
     if (root.contains("busy_poll_us")) {
-      v.busy_poll_us = cli::check_busy_poll_us(
+      v.busy_poll_us = options::check_busy_poll_us(
           key_label("busy_poll_us"), whole(root.at("busy_poll_us"), "busy_poll_us", "a whole number of microseconds"));
     }
     if (root.contains("channels")) {
@@ -400,7 +396,7 @@ class ConfigReader {
       bool known = false;
       for (const std::string& a : allowed) known = known || a == it.key();
       if (!known) {
-        throw UsageError(label_ + ": unknown key " + cli::quoted(prefix + it.key()) + " (expected " +
+        throw UsageError(label_ + ": unknown key " + options::quoted(prefix + it.key()) + " (expected " +
                          (prefix.empty() ? "" : "under " + prefix.substr(0, prefix.size() - 1) + ": ") +
                          join(allowed, ", ") + ")");
       }
@@ -484,7 +480,7 @@ class ConfigReader {
     if (v.is_string()) {
       const std::string s = v.get<std::string>();
       if (s != "ana" && s != "exp" && s != "impulse") fail("r", expected + json_type(v));
-      return cli::parse_restitution(key_label("r"), s);
+      return options::parse_restitution(key_label("r"), s);
     }
     if (!v.is_number()) fail("r", expected + json_type(v));
     const double value = v.get<double>();
@@ -496,7 +492,7 @@ class ConfigReader {
 
   core::ModelKind read_model(const json& v) const {
     if (!v.is_string()) fail("model", "expected \"linear\" or \"full\", got " + json_type(v));
-    return cli::parse_model(key_label("model"), v.get<std::string>());
+    return options::parse_model(key_label("model"), v.get<std::string>());
   }
 
   firmware::MonitorArithmetic read_arith(const json& v) const {
@@ -538,8 +534,8 @@ core::WallParameters merge_wall(const CLI::App& app, const RawOptions& raw, cons
                                 const ConfigReader* reader, std::string& origin) {
   bool file_wall = false;
   for (const auto& f : file.wall) file_wall = file_wall || f.has_value();
-  if (!file_wall || cli::given(app, "--wall")) {
-    const cli::WallChoice choice = cli::parse_wall_options(app, raw.wall);
+  if (!file_wall || options::given(app, "--wall")) {
+    const options::WallChoice choice = options::parse_wall_options(app, raw.wall);
     origin = choice.options_given.empty() ? "paper wall" : "paper wall with " + join(choice.options_given, ", ");
     return choice.wall;
   }
@@ -548,8 +544,8 @@ core::WallParameters merge_wall(const CLI::App& app, const RawOptions& raw, cons
   std::vector<std::string> given_names;
   for (int i = 0; i < 8; ++i) {
     const WallField& f = kWallFields[i];
-    if (cli::given(app, f.option)) {
-      wall.*f.member = cli::parse_finite_number(f.option, raw.wall.*f.text);
+    if (options::given(app, f.option)) {
+      wall.*f.member = options::parse_finite_number(f.option, raw.wall.*f.text);
       sources[i] = f.option;
       given_names.emplace_back(f.option);
     } else if (file.wall[i]) {
@@ -581,7 +577,7 @@ void check_wall_computable(const core::WallParameters& wall, const core::Restitu
   options.restitution = r;
   options.model = model;
   try {
-    cli::check_computable(wall, options);
+    options::check_computable(wall, options);
   } catch (const UsageError& e) {
     throw UsageError(std::string(e.what()) + " (wall: " + origin + ")");
   }
@@ -693,11 +689,11 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
   MonitorConfig config;
   FileValues file;
   std::optional<ConfigReader> reader;
-  if (cli::given(app, "--config")) {
+  if (options::given(app, "--config")) {
     if (raw.config.empty()) throw UsageError("--config needs a file name");
     config.config_path = raw.config;
     // Before reading: a FIFO would block, a device such as /dev/zero never ends, a directory is no file.
-    cli::check_input_file("--config", raw.config, "a JSON configuration file");
+    options::check_input_file("--config", raw.config, "a JSON configuration file");
     reader.emplace(raw.config);
     file = reader->read();
   }
@@ -706,10 +702,10 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
   // Arithmetic and model: the fixed-point engine integrates the linear equation of motion only.
   Sourced<firmware::MonitorArithmetic> arith =
       pick(firmware::MonitorArithmetic::fixed_point, file.arith, file_label("arith"));
-  if (cli::given(app, "--arith")) arith = {parse_arith("--arith", raw.arith), "--arith"};
+  if (options::given(app, "--arith")) arith = {parse_arith("--arith", raw.arith), "--arith"};
   config.settings.arithmetic = arith.value;
   Sourced<core::ModelKind> model = pick(core::ModelKind::linear, file.model, file_label("model"));
-  if (cli::given(app, "--model")) model = {cli::parse_model("--model", raw.model), "--model"};
+  if (options::given(app, "--model")) model = {options::parse_model("--model", raw.model), "--model"};
   if (model.value != core::ModelKind::linear && arith.value == firmware::MonitorArithmetic::fixed_point) {
     throw UsageError(name_of(model.origin, "--model") +
                      " full needs --arith double: the fixed-point engine supports the linear model only" +
@@ -719,7 +715,7 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
 
   // Restitution.
   Sourced<core::Restitution> r = pick(core::Restitution{}, file.r, file_label("r"));
-  if (cli::given(app, "--r")) r = {cli::parse_restitution("--r", raw.r), "--r"};
+  if (options::given(app, "--r")) r = {options::parse_restitution("--r", raw.r), "--r"};
   config.restitution = r.value;
 
   // Wall.
@@ -729,8 +725,8 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
   engine.r_energy = core::restitution_energy_ratio(engine.wall, r.value);
 
   // Kappa (the engine takes [1, 100)).
-  Sourced<double> kappa = pick(cli::default_kappa(), file.kappa, file_label("kappa"));
-  if (cli::given(app, "--kappa")) kappa = {cli::parse_kappa("--kappa", raw.kappa), "--kappa"};
+  Sourced<double> kappa = pick(options::default_kappa(), file.kappa, file_label("kappa"));
+  if (options::given(app, "--kappa")) kappa = {options::parse_kappa("--kappa", raw.kappa), "--kappa"};
   check_range(kappa.value >= 1.0, name_of(kappa.origin, "kappa"), ">= 1: collapse cannot come before x_inst",
               kappa.value);
   check_range(kappa.value < 100.0, name_of(kappa.origin, "kappa"), "< 100 (the fixed-point engine's range)",
@@ -742,18 +738,18 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
   Sourced<double> lambda_w = pick(alarm_defaults.lambda_warning, file.lambda_w, file_label("alarm.lambda_w"));
   Sourced<double> hold = pick(alarm_defaults.hold_s, file.hold_s, file_label("alarm.hold_s"));
   Sourced<double> margin = pick(alarm_defaults.energy_margin, file.energy_margin, file_label("alarm.energy_margin"));
-  if (cli::given(app, "--lambda-w")) {
-    lambda_w = {cli::parse_finite_number("--lambda-w", raw.alarm.lambda_w), "--lambda-w"};
+  if (options::given(app, "--lambda-w")) {
+    lambda_w = {options::parse_finite_number("--lambda-w", raw.alarm.lambda_w), "--lambda-w"};
   }
-  if (cli::given(app, "--alarm-hold")) {
-    hold = {cli::parse_finite_number("--alarm-hold", raw.alarm.hold), "--alarm-hold"};
+  if (options::given(app, "--alarm-hold")) {
+    hold = {options::parse_finite_number("--alarm-hold", raw.alarm.hold), "--alarm-hold"};
   }
-  if (cli::given(app, "--energy-margin")) {
-    margin = {cli::parse_finite_number("--energy-margin", raw.alarm.margin), "--energy-margin"};
+  if (options::given(app, "--energy-margin")) {
+    margin = {options::parse_finite_number("--energy-margin", raw.alarm.margin), "--energy-margin"};
   }
-  cli::check_lambda_w(name_of(lambda_w.origin, "lambda_w"), lambda_w.value);
-  cli::check_alarm_hold(name_of(hold.origin, "hold_s"), hold.value);
-  cli::check_energy_margin(name_of(margin.origin, "energy_margin"), margin.value);
+  options::check_lambda_w(name_of(lambda_w.origin, "lambda_w"), lambda_w.value);
+  options::check_alarm_hold(name_of(hold.origin, "hold_s"), hold.value);
+  options::check_energy_margin(name_of(margin.origin, "energy_margin"), margin.value);
   engine.alarm.lambda_warning = lambda_w.value;
   engine.alarm.hold_s = hold.value;
   engine.alarm.energy_margin = margin.value;
@@ -761,15 +757,15 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
   // Timing and input checks.
   firmware::MonitorSettings& s = config.settings;
   Sourced<double> rate = pick(s.sample_rate_hz, file.sample_rate_hz, file_label("sample_rate_hz"));
-  if (cli::given(app, "--rate")) rate = {cli::parse_positive_number("--rate", raw.rate, " Hz"), "--rate"};
+  if (options::given(app, "--rate")) rate = {options::parse_positive_number("--rate", raw.rate, " Hz"), "--rate"};
   check_range(rate.value > 0.0 && rate.value <= 10000.0 && 1.0 / rate.value <= 0.03,
               name_of(rate.origin, "sample_rate_hz"),
               "in (0, 10000] Hz with 1/rate <= 0.03 s, the engine's largest step (so at least 33.34 Hz)", rate.value);
   s.sample_rate_hz = rate.value;
   config.rate_origin = name_of(rate.origin, "sample_rate_hz");
   Sourced<double> max_step = pick(engine.max_step_s, file.max_step_s, file_label("max_step_s"));
-  if (cli::given(app, "--max-step")) {
-    max_step = {cli::parse_positive_number("--max-step", raw.max_step, " s"), "--max-step"};
+  if (options::given(app, "--max-step")) {
+    max_step = {options::parse_positive_number("--max-step", raw.max_step, " s"), "--max-step"};
   }
   check_range(max_step.value > 0.0 && max_step.value <= 0.03 &&
                   core::substeps_per_sample(1.0 / rate.value, max_step.value) != 0,
@@ -792,8 +788,8 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
   // The clock tolerance, in whole µs in the loop: at least 1 µs, at most a day.
   Sourced<double> tolerance = pick(firmware::kDefaultClockTolerance_us * 1e-6, file.clock_tolerance_s,
                                    file_label("clock_tolerance_s"));
-  if (cli::given(app, "--clock-tolerance")) {
-    tolerance = {cli::parse_positive_number("--clock-tolerance", raw.clock_tolerance, " s"), "--clock-tolerance"};
+  if (options::given(app, "--clock-tolerance")) {
+    tolerance = {options::parse_positive_number("--clock-tolerance", raw.clock_tolerance, " s"), "--clock-tolerance"};
   }
   check_range(tolerance.value >= 1e-6 && tolerance.value <= firmware::kMaxClockTolerance_us * 1e-6,
               name_of(tolerance.origin, "clock_tolerance_s"), "in [0.000001, 86400] s (1 us to one day)",
@@ -820,7 +816,7 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
     const std::string key = std::string("channels.") + kChannelKeys[i];
     if (!channel_text_ok(*file.channels[i])) {
       throw UsageError(reader->key_label(key) + " must be 1 to " + std::to_string(firmware::kChannelNameMax - 1) +
-                       " printable ASCII characters without spaces (got " + cli::quoted(*file.channels[i]) + ")");
+                       " printable ASCII characters without spaces (got " + options::quoted(*file.channels[i]) + ")");
     }
     channel_names[i] = *file.channels[i];
   }
@@ -830,7 +826,7 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
       if (channel_names[i] == channel_names[j]) {
         throw UsageError((reader ? reader->key_label(std::string("channels.") + kChannelKeys[i])
                                  : std::string("channels.") + kChannelKeys[i]) +
-                         " is " + cli::quoted(channel_names[i]) + ", the same as channels." + kChannelKeys[j] +
+                         " is " + options::quoted(channel_names[i]) + ", the same as channels." + kChannelKeys[j] +
                          ": every channel must be different");
       }
     }
@@ -849,12 +845,12 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
     config.lcm_url = *file.lcm_url;
     config.lcm_url_origin = file_label("lcm_url");
   }
-  if (cli::given(app, "--lcm-url")) {
+  if (options::given(app, "--lcm-url")) {
     if (raw.lcm_url.empty()) throw UsageError("--lcm-url needs a URL, e.g. udpm://239.255.76.67:7667?ttl=0");
     config.lcm_url = raw.lcm_url;
     config.lcm_url_origin = "--lcm-url";
   }
-  const bool in_given = cli::given(app, "--offline-in"), out_given = cli::given(app, "--offline-out");
+  const bool in_given = options::given(app, "--offline-in"), out_given = options::given(app, "--offline-out");
   if (in_given != out_given) {
     throw UsageError(in_given ? "--offline-in needs --offline-out (the log the published messages go to)"
                               : "--offline-out needs --offline-in (the log to read)");
@@ -863,32 +859,32 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
     if (raw.offline_in.empty()) throw UsageError("--offline-in needs a file name");
     if (raw.offline_out.empty()) throw UsageError("--offline-out needs a file name");
     if (raw.offline_in == raw.offline_out) {
-      throw UsageError("--offline-out must differ from --offline-in (got " + cli::quoted(raw.offline_out) + " for both)");
+      throw UsageError("--offline-out must differ from --offline-in (got " + options::quoted(raw.offline_out) + " for both)");
     }
-    if (cli::given(app, "--lcm-url")) throw UsageError("--lcm-url has no effect in offline mode (--offline-in)");
+    if (options::given(app, "--lcm-url")) throw UsageError("--lcm-url has no effect in offline mode (--offline-in)");
     config.offline_in = raw.offline_in;
     config.offline_out = raw.offline_out;
   }
-  if (cli::given(app, "--log")) {
+  if (options::given(app, "--log")) {
     if (raw.log.empty()) throw UsageError("--log needs a file name");
     if (in_given) throw UsageError("--log is for live mode: offline mode writes its outputs to --offline-out");
     // Not a FIFO (opening it would block until a reader comes) or a directory. A character device is allowed: the
     // monitor never removes its log, and /dev/null (no log) or /dev/full (the full-disk test) are meaningful.
     struct stat st {};
     if (::stat(raw.log.c_str(), &st) == 0 && (S_ISFIFO(st.st_mode) || S_ISDIR(st.st_mode))) {
-      throw UsageError("--log " + raw.log + ": is " + cli::file_kind_text(st.st_mode) +
+      throw UsageError("--log " + raw.log + ": is " + options::file_kind_text(st.st_mode) +
                        ", not a file: give the name of a file to write");
     }
     config.log_path = raw.log;
   }
   if (file.accept_from) config.accept_from = *file.accept_from;
-  if (cli::given(app, "--accept-from")) {
+  if (options::given(app, "--accept-from")) {
     config.accept_from.clear();
     for (const std::string& text : raw.accept_from) {
       SourceNetwork n;
       if (!parse_source_network(text, &n)) {
         throw UsageError("--accept-from: expected an IPv4 address or network such as 192.168.1.20 or 10.0.0.0/24, got " +
-                         cli::quoted(text));
+                         options::quoted(text));
       }
       config.accept_from.push_back(n);
     }
@@ -899,9 +895,9 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
   if (raw.receive_path == "liblcm") {
     config.receive_path = ReceivePath::liblcm;
     if (!config.accept_from.empty()) throw UsageError("--accept-from needs --receive-path own (liblcm reads the datagrams)");
-    if (cli::given(app, "--log")) throw UsageError("--log needs --receive-path own");
+    if (options::given(app, "--log")) throw UsageError("--log needs --receive-path own");
   } else if (raw.receive_path != "own") {
-    throw UsageError("--receive-path: expected own or liblcm, got " + cli::quoted(raw.receive_path));
+    throw UsageError("--receive-path: expected own or liblcm, got " + options::quoted(raw.receive_path));
   }
   // Timing of the live receive thread (monitor_run.cpp): the command line over the file.
   TimingSettings& timing = config.timing;
@@ -917,16 +913,16 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
     timing.busy_poll_us = static_cast<int>(*file.busy_poll_us);
     timing.busy_poll_origin = file_label("busy_poll_us");
   }
-  if (cli::given(app, "--realtime")) {
-    timing.priority = cli::parse_realtime_priority("--realtime", raw.timing.realtime);
+  if (options::given(app, "--realtime")) {
+    timing.priority = options::parse_realtime_priority("--realtime", raw.timing.realtime);
     timing.priority_origin = "--realtime";
   }
-  if (cli::given(app, "--cpu")) {
-    timing.cpu = cli::parse_cpu("--cpu", raw.timing.cpu);
+  if (options::given(app, "--cpu")) {
+    timing.cpu = options::parse_cpu("--cpu", raw.timing.cpu);
     timing.cpu_origin = "--cpu";
   }
-  if (cli::given(app, "--busy-poll-us")) {
-    timing.busy_poll_us = cli::parse_busy_poll_us("--busy-poll-us", raw.timing.busy_poll_us);
+  if (options::given(app, "--busy-poll-us")) {
+    timing.busy_poll_us = options::parse_busy_poll_us("--busy-poll-us", raw.timing.busy_poll_us);
     timing.busy_poll_origin = "--busy-poll-us";
   }
   if (timing.any() && in_given) {

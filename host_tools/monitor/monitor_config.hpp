@@ -1,5 +1,5 @@
 // The settings of `rockwatch-monitor`: a JSON configuration file (--config) merged with the command line, which
-// overrides it. Every value is validated at start; a mistake throws cli::UsageError naming the option or the key path
+// overrides it. Every value is validated at start; a mistake throws options::UsageError naming the option or the key path
 // in the file ("--config FILE: alarm.lambda_w ...") and what was expected.
 //
 // Configuration file keys (all optional; the defaults are the command line's):
@@ -87,7 +87,7 @@ struct MonitorParse {
   std::string text;                     // the help or version text
 };
 
-// Parses the command line (and the --config file it names). Throws cli::UsageError.
+// Parses the command line (and the --config file it names). Throws options::UsageError.
 MonitorParse parse_monitor_arguments(int argc, const char* const* argv);
 
 // The normalised settings as one JSON object with sorted keys, and its FNV-1a 64 digest (over the compact dump).

@@ -23,7 +23,7 @@ json alarm_json(const rockwatch::alarm_event_t& e) {
   j["input_seq"] = e.input_seq;
   j["level"] = level_name(e.level);
   j["previous"] = level_name(e.previous_level);
-  j["reason"] = cli::alarm_reason_list(bits);
+  j["reason"] = options::alarm_reason_list(bits);
   j["reason_bits"] = bits;
   j["x_m"] = e.x_m;
   j["xd_mps"] = e.xd_mps;

@@ -156,7 +156,7 @@ class LogFlusher {
     const std::int64_t lost_before = log_.events_lost();
     if (log_.flush()) {
       if (failing_) {
-        err_ << kPrefix << "note: --log " << cli::quoted(path_) << ": writing again ("
+        err_ << kPrefix << "note: --log " << options::quoted(path_) << ": writing again ("
              << log_.events_lost() << " events lost in all)" << std::endl;
         failing_ = false;
       }
@@ -164,7 +164,7 @@ class LogFlusher {
     }
     loop.note_log_write_failure();
     if (!failing_) {
-      err_ << kPrefix << "warning: --log " << cli::quoted(path_) << ": write failed (" << log_.error() << "); "
+      err_ << kPrefix << "warning: --log " << options::quoted(path_) << ": write failed (" << log_.error() << "); "
            << (log_.events_lost() - lost_before) << " events lost; monitoring goes on, the log is retried every "
            << "second" << std::endl;
       failing_ = true;
@@ -235,7 +235,7 @@ bool init_loop(MonitorWalls& walls, const MonitorConfig& config, firmware::Trans
   if (e == firmware::MonitorError::engine) {
     const firmware::WallEngineError w = walls->wall(at).engine_error();
     if (w == firmware::WallEngineError::fixed_point_setup) {
-      err << "the wall (" << wall_origin << ") at the sample rate " << cli::number_text(config.settings.sample_rate_hz)
+      err << "the wall (" << wall_origin << ") at the sample rate " << options::number_text(config.settings.sample_rate_hz)
           << " Hz (" << config.rate_origin << ") is outside the fixed-point engine's formats: "
           << firmware::wall_engine_error_message(w);
     } else if (w == firmware::WallEngineError::indicator_constants) {
@@ -382,7 +382,7 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
   UdpmEndpoint endpoint;
   std::string problem;
   if (!parse_udpm_url(url, &endpoint, &problem)) {
-    err << kPrefix << "error: " << config.lcm_url_origin << ": " << cli::quoted(config.lcm_url) << ": " << problem
+    err << kPrefix << "error: " << config.lcm_url_origin << ": " << options::quoted(config.lcm_url) << ": " << problem
         << "\n";
     return kExitUsage;
   }
@@ -391,7 +391,7 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
   lcm::LCM lcm(url);
   if (!lcm.good()) {
     err << kPrefix << "error: " << config.lcm_url_origin << ": LCM could not start with "
-        << cli::quoted(url)
+        << options::quoted(url)
         << " (a malformed URL, or no multicast route: see `ip route` for 224.0.0.0/4)\n";
     return kExitUsage;
   }
@@ -400,13 +400,13 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
   const bool via_liblcm = config.receive_path == ReceivePath::liblcm;
   UdpReceiver receiver;
   if (!via_liblcm && !receiver.open(endpoint, &problem)) {
-    err << kPrefix << "error: " << config.lcm_url_origin << ": cannot receive on " << cli::quoted(url) << ": "
+    err << kPrefix << "error: " << config.lcm_url_origin << ": cannot receive on " << options::quoted(url) << ": "
         << problem << "\n";
     return kExitUsage;
   }
   TrafficLog log;
   if (config.log_path && !log.open(*config.log_path)) {
-    err << kPrefix << "error: --log " << cli::quoted(*config.log_path) << ": cannot create the log (" << log.error()
+    err << kPrefix << "error: --log " << options::quoted(*config.log_path) << ": cannot create the log (" << log.error()
         << ")\n";
     return kExitUsage;
   }
@@ -446,7 +446,7 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
       << ch.accel_batch << (observer ? std::string(", ") + ch.wall_sensor : std::string()) << " -> " << ch.wall_state
       << ", " << ch.alarm << ", " << ch.status << (observer ? std::string(", ") + ch.wall_estimate : std::string())
       << (observer ? "; wall observer on" : "") << "; "
-      << cli::number_text(config.settings.sample_rate_hz) << " Hz; config digest "
+      << options::number_text(config.settings.sample_rate_hz) << " Hz; config digest "
       << digest_hex(config.settings.config_digest) << std::endl;
   if (walls.many()) {
     err << kPrefix << walls->size() << " walls:";
@@ -515,7 +515,7 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
                 {"bytes", log.bytes_written()},     {"complete", log_ok && log.events_lost() == 0}};
     if (!log.error().empty()) s["log"]["last_error"] = log.error();
     if (!log_ok) {
-      err << kPrefix << "warning: --log " << cli::quoted(*config.log_path) << ": the final write failed ("
+      err << kPrefix << "warning: --log " << options::quoted(*config.log_path) << ": the final write failed ("
           << log.error() << ")\n";
     }
   }
@@ -525,7 +525,7 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
   std::snprintf(seconds, sizeof seconds, "%.1f", run_time_s);
   human_summary(err, "stopped by " + s["stopped_by"].get<std::string>() + " after " + seconds + " s", walls, statuses);
   if (config.log_path) {
-    err << "  log: " << log.events_written() << " events written to " << cli::quoted(*config.log_path) << ", "
+    err << "  log: " << log.events_written() << " events written to " << options::quoted(*config.log_path) << ", "
         << log.events_lost() << " lost in " << log.write_failures() << " failed writes\n";
   }
   return failed ? kExitRuntime : kExitOk;
@@ -539,27 +539,27 @@ int run_offline(const MonitorConfig& config, std::ostream& out, std::ostream& er
   const std::string& out_path = *config.offline_out;
   struct stat in_stat {};
   if (stat(in_path.c_str(), &in_stat) != 0) {
-    err << kPrefix << "error: --offline-in " << cli::quoted(in_path) << ": " << std::strerror(errno) << '\n';
+    err << kPrefix << "error: --offline-in " << options::quoted(in_path) << ": " << std::strerror(errno) << '\n';
     return kExitUsage;
   }
   if (!S_ISREG(in_stat.st_mode)) {
-    err << kPrefix << "error: --offline-in " << cli::quoted(in_path) << ": not a regular file\n";
+    err << kPrefix << "error: --offline-in " << options::quoted(in_path) << ": not a regular file\n";
     return kExitUsage;
   }
   lcm::LogFile in(in_path, "r");
   if (!in.good()) {
-    err << kPrefix << "error: --offline-in " << cli::quoted(in_path) << ": cannot open the log\n";
+    err << kPrefix << "error: --offline-in " << options::quoted(in_path) << ": cannot open the log\n";
     return kExitUsage;
   }
   const lcm::LogEvent* event = in.readNextEvent();
   if (event == nullptr && in_stat.st_size > 0) {
-    err << kPrefix << "error: --offline-in " << cli::quoted(in_path) << ": not an LCM log (no event found in "
+    err << kPrefix << "error: --offline-in " << options::quoted(in_path) << ": not an LCM log (no event found in "
         << in_stat.st_size << " bytes)\n";
     return kExitUsage;
   }
   lcm::LogFile log_out(out_path, "w");
   if (!log_out.good()) {
-    err << kPrefix << "error: --offline-out " << cli::quoted(out_path) << ": cannot create the log ("
+    err << kPrefix << "error: --offline-out " << options::quoted(out_path) << ": cannot create the log ("
         << std::strerror(errno) << ")\n";
     return kExitUsage;
   }
@@ -610,7 +610,7 @@ int run_offline(const MonitorConfig& config, std::ostream& out, std::ostream& er
   bool complete = true;
   if (!StopSignals::stopped() && read_end >= 0 && read_end < in_stat.st_size) {
     complete = false;
-    err << kPrefix << "warning: --offline-in " << cli::quoted(in_path) << ": the log ends with an unreadable or "
+    err << kPrefix << "warning: --offline-in " << options::quoted(in_path) << ": the log ends with an unreadable or "
         << "truncated event (events end at byte " << read_end << " of " << in_stat.st_size << "); " << events
         << " events processed\n";
   }
@@ -635,7 +635,7 @@ int run_offline(const MonitorConfig& config, std::ostream& out, std::ostream& er
                     (StopSignals::stopped() ? "; stopped by " + StopSignals::stopped_by() : std::string()),
                 walls, statuses);
   if (!write_ok) {
-    err << kPrefix << "error: --offline-out " << cli::quoted(out_path) << ": " << transport.write_failures()
+    err << kPrefix << "error: --offline-out " << options::quoted(out_path) << ": " << transport.write_failures()
         << " events could not be written\n";
     return kExitRuntime;
   }
@@ -653,7 +653,7 @@ int run_monitor(int argc, const char* const* argv, std::ostream& out, std::ostre
       return kExitOk;
     }
     config = std::move(parse.config);
-  } catch (const cli::UsageError& e) {
+  } catch (const options::UsageError& e) {
     err << kPrefix << "error: " << e.what() << '\n';
     return kExitUsage;
   }

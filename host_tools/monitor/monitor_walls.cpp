@@ -18,7 +18,7 @@ namespace rockwatch::monitor {
 
 namespace {
 
-using cli::UsageError;
+using options::UsageError;
 using nlohmann::json;
 
 constexpr std::size_t kMaxWallNameLength = 24;
@@ -67,7 +67,7 @@ class WallsReader {
       if (!known) {
         std::string list;
         for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
-        fail(key, "unknown key " + cli::quoted(it.key()) + " (expected " + list + ")");
+        fail(key, "unknown key " + options::quoted(it.key()) + " (expected " + list + ")");
       }
     }
   }
@@ -142,8 +142,8 @@ void expand_monitor_walls(MonitorConfig& config, const json& walls, const std::s
     if (w.contains("r")) {
       const json& rv = w.at("r");
       try {
-        wall.restitution = rv.is_number() ? cli::parse_restitution("r", cli::number_text(rv.get<double>()))
-                                          : cli::parse_restitution("r", rv.is_string() ? rv.get<std::string>() : rv.dump());
+        wall.restitution = rv.is_number() ? options::parse_restitution("r", options::number_text(rv.get<double>()))
+                                          : options::parse_restitution("r", rv.is_string() ? rv.get<std::string>() : rv.dump());
       } catch (const UsageError&) {
         r.fail(at + ".r", "expected \"ana\", \"exp\", \"impulse\" or a number in [0, 1], got " + rv.dump());
       }
@@ -152,7 +152,7 @@ void expand_monitor_walls(MonitorConfig& config, const json& walls, const std::s
     options.restitution = wall.restitution;
     options.model = wall.settings.engine.model;
     try {
-      cli::check_computable(p, options);
+      options::check_computable(p, options);
     } catch (const UsageError& e) {
       r.fail(at + ".wall", e.what());
     }
@@ -164,7 +164,7 @@ void expand_monitor_walls(MonitorConfig& config, const json& walls, const std::s
     for (char(*field)[firmware::kChannelNameMax] : {&ch.wall_state, &ch.alarm, &ch.status, &ch.wall_estimate}) {
       const std::string name = std::string(*field) + suffix;
       if (!wall_channel_ok(name)) {
-        r.fail(at + ".name", "the channel " + cli::quoted(name) + " is longer than " +
+        r.fail(at + ".name", "the channel " + options::quoted(name) + " is longer than " +
                                  std::to_string(firmware::kChannelNameMax - 1) + " characters: use a shorter name");
       }
       set_name(*field, name);

@@ -20,7 +20,7 @@
 namespace rockwatch::monitor {
 
 // Fills config.walls from the `walls` value (label: "--config FILE: walls" for messages), after every top-level
-// setting is final. Throws cli::UsageError naming walls[i].KEY and what was expected.
+// setting is final. Throws options::UsageError naming walls[i].KEY and what was expected.
 void expand_monitor_walls(MonitorConfig& config, const nlohmann::json& walls, const std::string& label);
 
 // The walls in the normalised settings (and so in the config digest).

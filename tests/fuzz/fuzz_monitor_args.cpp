@@ -1,6 +1,6 @@
 // rockwatch-monitor's command line: monitor::parse_monitor_arguments on argv = {"rockwatch-monitor", the input split
 // at NUL bytes...}. Parsing only: the function never starts a monitor. --config is given a fixed small file instead
-// of a fuzzed path (a path such as /dev/zero would only test the operating system). cli::UsageError is the documented
+// of a fuzzed path (a path such as /dev/zero would only test the operating system). options::UsageError is the documented
 // outcome for bad arguments; anything else escaping is a defect. Seeds: tests/fuzz/corpus/monitor_args.
 #include <cstddef>
 #include <cstdint>
@@ -62,7 +62,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     const monitor::MonitorParse parse = monitor::parse_monitor_arguments(static_cast<int>(argv.size()), argv.data());
     ROCKWATCH_FUZZ_CHECK(parse.config.has_value() || !parse.text.empty());
-  } catch (const cli::UsageError& error) {
+  } catch (const options::UsageError& error) {
     ROCKWATCH_FUZZ_CHECK(error.what()[0] != '\0');
   }
   return 0;

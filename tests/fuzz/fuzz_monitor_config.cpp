@@ -1,6 +1,6 @@
 // rockwatch-monitor's configuration file: monitor::parse_monitor_arguments({"rockwatch-monitor", "--config", FILE})
 // with the input as FILE (JSON parsing, duplicate keys, key and type checks, merging, validation). The documented
-// outcome for a bad file is cli::UsageError; anything else escaping is a defect.
+// outcome for a bad file is options::UsageError; anything else escaping is a defect.
 // Seeds: tests/fuzz/corpus/monitor_config.
 #include <cstddef>
 #include <cstdint>
@@ -46,7 +46,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const monitor::MonitorParse parse = monitor::parse_monitor_arguments(3, argv);
     ROCKWATCH_FUZZ_CHECK(parse.config.has_value());
     check_config(*parse.config);
-  } catch (const cli::UsageError& error) {
+  } catch (const options::UsageError& error) {
     ROCKWATCH_FUZZ_CHECK(error.what()[0] != '\0');
   }
   return 0;

@@ -1,7 +1,7 @@
 // Shared by the fuzz targets: the input as a file (the readers and the config parser take paths) and the check macro.
 //
 // Contract checked by every target: a parser either returns a value that satisfies its documented invariants or
-// throws its documented error type (records::RecordError, cli::UsageError). Any other exception escapes
+// throws its documented error type (records::RecordError, options::UsageError). Any other exception escapes
 // LLVMFuzzerTestOneInput, libFuzzer reports it as a crash ("deadly signal" after std::terminate); a violated
 // invariant calls __builtin_trap(). Sanitizer reports, leaks, timeouts and out-of-memory are reported by libFuzzer.
 #pragma once

@@ -8,7 +8,7 @@
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
 
-namespace rockwatch::cli {
+namespace rockwatch::options {
 
 namespace {
 
@@ -142,4 +142,4 @@ std::string alarm_reason_names(std::uint32_t reasons) {
   return text.empty() ? std::string("none") : text;
 }
 
-}  // namespace rockwatch::cli
+}  // namespace rockwatch::options

@@ -5,7 +5,7 @@
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
 
-namespace rockwatch::cli {
+namespace rockwatch::options {
 
 namespace {
 
@@ -38,4 +38,4 @@ std::optional<std::string> parse_command_line(CLI::App& app, int argc, const cha
 
 bool given(const CLI::App& app, const char* option) { return app.count(option) > 0; }
 
-}  // namespace rockwatch::cli
+}  // namespace rockwatch::options

@@ -5,7 +5,7 @@
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/sim/analysis.hpp"
 
-namespace rockwatch::cli {
+namespace rockwatch::options {
 
 double default_kappa() { return sim::AnalysisOptions{}.kappa; }
 
@@ -23,10 +23,10 @@ void add_kappa_option(CLI::App& app, std::string& text) {
 void add_max_step_option(CLI::App& app, std::string& text, const std::string& extra) {
   app.add_option("--max-step", text,
                  "Longest integration step [s] (default " + number_text(core::kDefaultMaxStep_s) +
-                     "): each record sample is integrated in ceil(dt / max-step) sub-steps, the input linear between "
-                     "samples, the alarm once per sample; the record's dt gives one step per sample (the paper's "
-                     "5 ms at 200 Hz)" + extra)
+                     "): each input sample is integrated in ceil(sample interval / max-step) sub-steps, the input "
+                     "linear between samples (no added latency), the alarm once per sample; the sample interval gives "
+                     "one step per sample (the paper's 5 ms at 200 Hz)" + extra)
       ->type_name("S");
 }
 
-}  // namespace rockwatch::cli
+}  // namespace rockwatch::options

@@ -8,7 +8,7 @@
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
 
-namespace rockwatch::cli {
+namespace rockwatch::options {
 
 namespace {
 
@@ -114,4 +114,4 @@ std::string observer_flag_names(std::uint32_t flags) {
   return text.empty() ? std::string("none") : text;
 }
 
-}  // namespace rockwatch::cli
+}  // namespace rockwatch::options

@@ -17,7 +17,7 @@
 #include "rockwatch/options/usage_error.hpp"
 #include "rockwatch/records/text_format.hpp"
 
-namespace rockwatch::cli {
+namespace rockwatch::options {
 
 namespace {
 
@@ -164,4 +164,4 @@ void check_input_directory(const std::string& option, const std::string& path, c
   }
 }
 
-}  // namespace rockwatch::cli
+}  // namespace rockwatch::options

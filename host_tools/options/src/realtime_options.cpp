@@ -10,7 +10,7 @@
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
 
-namespace rockwatch::cli {
+namespace rockwatch::options {
 
 namespace {
 
@@ -102,4 +102,4 @@ int parse_busy_poll_us(const std::string& name, const std::string& text) {
   return check_busy_poll_us(name, whole_value(name, text, "a whole number of microseconds"));
 }
 
-}  // namespace rockwatch::cli
+}  // namespace rockwatch::options

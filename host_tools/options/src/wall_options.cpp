@@ -10,7 +10,7 @@
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
 
-namespace rockwatch::cli {
+namespace rockwatch::options {
 
 namespace {
 
@@ -98,4 +98,4 @@ void check_computable(const core::WallParameters& wall, const sim::AnalysisOptio
   }
 }
 
-}  // namespace rockwatch::cli
+}  // namespace rockwatch::options

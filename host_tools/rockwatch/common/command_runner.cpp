@@ -8,6 +8,7 @@
 
 #include "common/commands.hpp"
 #include "rockwatch/options/usage_error.hpp"
+#include "common/options_namespace.hpp"
 #include "rockwatch/records/record_error.hpp"
 #include "rockwatch/sim/analysis.hpp"
 #include "rockwatch/sim/measure_error.hpp"

@@ -10,6 +10,7 @@
 #include "common/record_selection.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
+#include "common/options_namespace.hpp"
 #include "rockwatch/records/record.hpp"
 
 namespace rockwatch::cli {

@@ -16,6 +16,7 @@
 #include "rockwatch/ground_accel_batch_t.hpp"
 #include "rockwatch/ground_accel_t.hpp"
 #include "rockwatch/options/usage_error.hpp"
+#include "common/options_namespace.hpp"
 #include "rockwatch/process/realtime.hpp"
 #include "rockwatch/wall_sensor_t.hpp"
 

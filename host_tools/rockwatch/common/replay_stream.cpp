@@ -10,6 +10,7 @@
 #include "common/align.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
+#include "common/options_namespace.hpp"
 #include "rockwatch/sim/synthesis/random_stream.hpp"
 
 namespace rockwatch::cli {

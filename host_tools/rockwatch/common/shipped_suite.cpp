@@ -10,6 +10,7 @@
 
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
+#include "common/options_namespace.hpp"
 #include "rockwatch/records/suite_format.hpp"
 
 #ifndef ROCKWATCH_SOURCE_SUITE_DIR

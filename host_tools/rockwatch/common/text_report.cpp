@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "rockwatch/options/option_values.hpp"
+#include "common/options_namespace.hpp"
 
 namespace rockwatch::cli {
 

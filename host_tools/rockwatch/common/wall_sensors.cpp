@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "rockwatch/options/option_values.hpp"
+#include "common/options_namespace.hpp"
 #include "rockwatch/records/wall_sensor_csv.hpp"
 
 namespace rockwatch::cli {

@@ -4,6 +4,7 @@
 
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
+#include "common/options_namespace.hpp"
 
 namespace rockwatch::cli {
 
@@ -36,7 +37,7 @@ void check_channel_base(const std::string& option, const std::string& base) {
   for (const char c : base) ok = ok && is_base_char(c);
   if (!ok) {
     throw UsageError(option + " must be a channel name of 1 to " + std::to_string(kMaxChannelBaseLength) +
-                     " characters A-Z, a-z, 0-9 and _ (got " + cli::quoted(base) + ")");
+                     " characters A-Z, a-z, 0-9 and _ (got " + options::quoted(base) + ")");
   }
 }
 

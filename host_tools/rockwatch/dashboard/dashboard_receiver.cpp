@@ -4,6 +4,7 @@
 
 #include "common/lcm_multicast.hpp"
 #include "rockwatch/options/usage_error.hpp"
+#include "common/options_namespace.hpp"
 
 namespace rockwatch::cli {
 

@@ -18,6 +18,7 @@
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
 #include "rockwatch/options/wall_options.hpp"
+#include "common/options_namespace.hpp"
 
 namespace rockwatch::cli {
 
@@ -93,7 +94,7 @@ void add_dashboard_options(CLI::App& app, DashboardRawOptions& raw) {
 
 void parse_listen_address(const std::string& option, const std::string& text, std::string& address,
                           unsigned short& port) {
-  const std::string expected = " must be ADDR:PORT, e.g. 127.0.0.1:8080 or [::1]:8080 (got " + cli::quoted(text) + ")";
+  const std::string expected = " must be ADDR:PORT, e.g. 127.0.0.1:8080 or [::1]:8080 (got " + options::quoted(text) + ")";
   std::string host, port_text;
   if (!text.empty() && text.front() == '[') {
     const std::size_t close = text.find(']');
@@ -109,7 +110,7 @@ void parse_listen_address(const std::string& option, const std::string& text, st
   }
   if (host.empty()) throw UsageError(option + expected);
   const std::optional<std::uint64_t> p = whole_number(port_text, 0, 65535);
-  if (!p) throw UsageError(option + ": the port must be a whole number from 0 to 65535 (got " + cli::quoted(port_text) + ")");
+  if (!p) throw UsageError(option + ": the port must be a whole number from 0 to 65535 (got " + options::quoted(port_text) + ")");
   address = host == "localhost" ? "127.0.0.1" : host;
   port = static_cast<unsigned short>(*p);
 }

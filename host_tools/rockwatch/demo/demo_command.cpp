@@ -37,6 +37,7 @@
 #include "rockwatch/core/wall.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
+#include "common/options_namespace.hpp"
 #include "rockwatch/records/suite_format.hpp"
 #include "rockwatch/sim/wall_sensor_synthesis.hpp"
 

@@ -17,6 +17,7 @@
 
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
+#include "common/options_namespace.hpp"
 #include "rockwatch/process/child_process.hpp"
 
 namespace rockwatch::cli {
@@ -50,13 +51,13 @@ std::string file_text(const std::string& path) {
 
 MonitorLocation find_monitor(const std::optional<std::string>& option) {
   if (option) {
-    if (!is_executable(*option)) throw UsageError("--monitor " + cli::quoted(*option) + " is not an executable file");
+    if (!is_executable(*option)) throw UsageError("--monitor " + options::quoted(*option) + " is not an executable file");
     return {*option, "--monitor"};
   }
   const char* variable = std::getenv(kMonitorVariable);
   if (variable != nullptr && *variable != '\0') {
     if (!is_executable(variable)) {
-      throw UsageError(std::string("$") + kMonitorVariable + " is " + cli::quoted(variable) +
+      throw UsageError(std::string("$") + kMonitorVariable + " is " + options::quoted(variable) +
                        ", which is not an executable file: point it at rockwatch-monitor, or unset it");
     }
     return {variable, std::string("$") + kMonitorVariable};

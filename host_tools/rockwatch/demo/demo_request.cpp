@@ -14,6 +14,7 @@
 #include "rockwatch/options/command_line.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
+#include "common/options_namespace.hpp"
 
 namespace rockwatch::cli {
 
@@ -116,7 +117,7 @@ DemoParse parse_demo_arguments(int argc, const char* const* argv) {
   if (given(app, "--set")) {
     const std::optional<std::uint64_t> set = whole_number(raw.set, 1, 100);
     if (!set)
-      throw UsageError("--set must be a whole number from 1 to 100, a set of the suite (got " + cli::quoted(raw.set) +
+      throw UsageError("--set must be a whole number from 1 to 100, a set of the suite (got " + options::quoted(raw.set) +
                        ")");
     q.set = static_cast<int>(*set);
   }
@@ -154,7 +155,7 @@ DemoParse parse_demo_arguments(int argc, const char* const* argv) {
       throw UsageError(
           "--lcm-url must be a UDP multicast URL udpm://GROUP:PORT?ttl=0, which the monitor, another "
           "process, can receive (got " +
-          cli::quoted(raw.lcm_url) + "; default " + kDefaultLcmUrl + ")");
+          options::quoted(raw.lcm_url) + "; default " + kDefaultLcmUrl + ")");
     }
     q.lcm_url = raw.lcm_url;
   }

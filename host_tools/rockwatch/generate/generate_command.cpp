@@ -21,6 +21,7 @@
 #include "generate/generate_request.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
+#include "common/options_namespace.hpp"
 #include "rockwatch/records/record_error.hpp"
 #include "rockwatch/records/suite_format.hpp"
 #include "rockwatch/sim/intensity_measures.hpp"

@@ -12,6 +12,7 @@
 #include "common/text_report.hpp"
 #include "common/tool_version.hpp"
 #include "rockwatch/options/option_values.hpp"
+#include "common/options_namespace.hpp"
 
 namespace rockwatch::cli {
 

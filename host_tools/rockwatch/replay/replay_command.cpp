@@ -24,6 +24,7 @@
 #include "replay/replay_request.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
+#include "common/options_namespace.hpp"
 
 namespace rockwatch::cli {
 

@@ -6,6 +6,7 @@
 #include "common/lcm_multicast.hpp"
 #include "common/replay_lateness.hpp"
 #include "rockwatch/options/option_values.hpp"
+#include "common/options_namespace.hpp"
 
 namespace rockwatch::cli {
 

@@ -15,6 +15,7 @@
 #include "rockwatch/options/command_line.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
+#include "common/options_namespace.hpp"
 
 namespace rockwatch::cli {
 
@@ -140,7 +141,7 @@ void parse_sensor(const CLI::App& app, const RawOptions& raw, SensorModel& s) {
   }
   if (given(app, "--seed")) {
     const std::optional<std::uint64_t> seed = whole_number(raw.seed, 0, UINT64_MAX);
-    if (!seed) throw UsageError("--seed must be a whole number from 0 to 2^64-1 (got " + cli::quoted(raw.seed) + ")");
+    if (!seed) throw UsageError("--seed must be a whole number from 0 to 2^64-1 (got " + options::quoted(raw.seed) + ")");
     s.seed = *seed;
   }
   if (given(app, "--bias-mps2")) s.bias_mps2 = parse_finite_number("--bias-mps2", raw.bias);
@@ -199,7 +200,7 @@ ReplayParse parse_replay_arguments(int argc, const char* const* argv) {
     if (!n) {
       throw UsageError("--batch must be a whole number of samples from 1 to " + std::to_string(kMaxBatchSamples) +
                        " (ground_accel_batch_t holds at most " + std::to_string(kMaxBatchSamples) + "; got " +
-                       cli::quoted(raw.batch) + ")");
+                       options::quoted(raw.batch) + ")");
     }
     q.batch = static_cast<int>(*n);
     if (!whole_period_us(q.rate_hz)) {
@@ -214,7 +215,7 @@ ReplayParse parse_replay_arguments(int argc, const char* const* argv) {
   if (given(app, "--lcm-channel")) {
     if (raw.channel.empty()) throw UsageError("--lcm-channel needs a channel name");
     if (raw.channel.size() > 63) {
-      throw UsageError("--lcm-channel " + cli::quoted(raw.channel) + " is longer than 63 characters, LCM's limit");
+      throw UsageError("--lcm-channel " + options::quoted(raw.channel) + " is longer than 63 characters, LCM's limit");
     }
     q.channel = raw.channel;
   }
@@ -232,10 +233,10 @@ ReplayParse parse_replay_arguments(int argc, const char* const* argv) {
     if (!q.wall_sensors_path) throw UsageError("--wall-sensor-channel needs --wall-sensors");
     if (raw.wall_sensor_channel.empty() || raw.wall_sensor_channel.size() > 63) {
       throw UsageError("--wall-sensor-channel needs a channel name of 1 to 63 characters (got " +
-                       cli::quoted(raw.wall_sensor_channel) + ")");
+                       options::quoted(raw.wall_sensor_channel) + ")");
     }
     if (raw.wall_sensor_channel == q.channel) {
-      throw UsageError("--wall-sensor-channel " + cli::quoted(raw.wall_sensor_channel) +
+      throw UsageError("--wall-sensor-channel " + options::quoted(raw.wall_sensor_channel) +
                        " is the ground channel: give the wall's sensors their own");
     }
     q.wall_sensor_channel = raw.wall_sensor_channel;

@@ -18,6 +18,7 @@
 #include "rockwatch/core/stepper_alarm_chain.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
+#include "common/options_namespace.hpp"
 #include "rockwatch/sim/analysis.hpp"
 #include "rockwatch/sim/wall_sensor_synthesis.hpp"
 #include "simulate/engine_input_file.hpp"

@@ -14,6 +14,7 @@
 #include "rockwatch/options/alarm_options.hpp"
 #include "rockwatch/options/observer_options.hpp"
 #include "rockwatch/options/option_values.hpp"
+#include "common/options_namespace.hpp"
 
 namespace rockwatch::cli {
 

@@ -16,6 +16,7 @@
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
 #include "rockwatch/options/wall_options.hpp"
+#include "common/options_namespace.hpp"
 
 namespace rockwatch::cli {
 

@@ -13,6 +13,7 @@
 #include "common/text_report.hpp"
 #include "rockwatch/core/design_spectrum.hpp"
 #include "rockwatch/options/option_values.hpp"
+#include "common/options_namespace.hpp"
 
 namespace rockwatch::cli {
 

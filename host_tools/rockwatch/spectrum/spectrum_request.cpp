@@ -14,6 +14,7 @@
 #include "rockwatch/options/command_line.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
+#include "common/options_namespace.hpp"
 
 namespace rockwatch::cli {
 
@@ -186,7 +187,7 @@ SpectrumParse parse_spectrum_arguments(int argc, const char* const* argv) {
     // write fig.png while the tool reports fig.
     const std::string suffix = raw.plot.size() >= 4 ? raw.plot.substr(raw.plot.size() - 4) : std::string();
     if (suffix != ".png" && suffix != ".PNG") {
-      throw UsageError("--plot must name a .png file, the image written (got " + cli::quoted(raw.plot) + ")");
+      throw UsageError("--plot must name a .png file, the image written (got " + options::quoted(raw.plot) + ")");
     }
     check_output_file("--plot", raw.plot);
     q.plot_path = raw.plot;

@@ -16,6 +16,7 @@
 #include "rockwatch/core/static_check.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
+#include "common/options_namespace.hpp"
 #include "static/static_report.hpp"
 #include "static/static_request.hpp"
 #include "static/static_sweep.hpp"

@@ -8,6 +8,7 @@
 #include "common/text_report.hpp"
 #include "rockwatch/core/design_spectrum.hpp"
 #include "rockwatch/options/option_values.hpp"
+#include "common/options_namespace.hpp"
 #include "static/static_report.hpp"
 
 namespace rockwatch::cli {

@@ -18,6 +18,7 @@
 #include "common/signal_interrupt.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
+#include "common/options_namespace.hpp"
 #include "rockwatch/sim/study/batch_study.hpp"
 #include "study/study_files.hpp"
 #include "study/study_observer.hpp"

@@ -10,6 +10,7 @@
 #include "common/output_file.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
+#include "common/options_namespace.hpp"
 #include "study/study_runs_csv.hpp"
 
 namespace rockwatch::cli {

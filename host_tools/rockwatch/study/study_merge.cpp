@@ -23,6 +23,7 @@
 #include "rockwatch/options/command_line.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
+#include "common/options_namespace.hpp"
 #include "study/study_files.hpp"
 #include "study/study_plan.hpp"
 #include "study/study_request.hpp"
@@ -105,7 +106,7 @@ int merge(const std::string& out, bool force, const std::vector<std::string>& di
   std::vector<Shard> shards;
   for (const std::string& dir : dirs) {
     if (same_directory(dir, out)) {
-      throw UsageError("--out " + cli::quoted(out) + " is one of the shards: merge into another directory");
+      throw UsageError("--out " + options::quoted(out) + " is one of the shards: merge into another directory");
     }
     shards.push_back(read_shard(dir));
   }

@@ -1,6 +1,7 @@
 #include "study/study_mpi.hpp"
 
 #include "rockwatch/options/usage_error.hpp"
+#include "common/options_namespace.hpp"
 
 #ifdef ROCKWATCH_HAVE_MPI
 

@@ -10,6 +10,7 @@
 #include "common/text_report.hpp"
 #include "rockwatch/core/restitution.hpp"
 #include "rockwatch/options/option_values.hpp"
+#include "common/options_namespace.hpp"
 #include "study/study_plan.hpp"
 
 namespace rockwatch::cli {

@@ -17,6 +17,7 @@
 #include "common/text_report.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
+#include "common/options_namespace.hpp"
 #include "rockwatch/records/record.hpp"
 #include "rockwatch/records/record_error.hpp"
 #include "rockwatch/records/suite_format.hpp"

@@ -21,6 +21,7 @@
 #include "rockwatch/options/observer_options.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
+#include "common/options_namespace.hpp"
 #include "study/study_files.hpp"
 #include "study/study_runs_csv.hpp"
 #include "study/study_scale_options.hpp"

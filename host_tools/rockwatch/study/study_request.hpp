@@ -9,6 +9,7 @@
 
 #include "rockwatch/core/wall_observer.hpp"
 #include "rockwatch/options/wall_options.hpp"
+#include "common/options_namespace.hpp"
 #include "rockwatch/records/record.hpp"
 #include "rockwatch/sim/analysis.hpp"
 #include "rockwatch/sim/study/batch_study.hpp"

@@ -8,6 +8,7 @@
 #include "rockwatch/options/command_line.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
+#include "common/options_namespace.hpp"
 
 namespace rockwatch::cli {
 
@@ -73,7 +74,7 @@ void parse_scale_options(const CLI::App& app, const ScaleOptionTexts& texts, Stu
   }
   if (shard) {
     const std::string expected = "--shard must be K/N, two whole numbers with 1 <= K <= N <= " +
-                                 std::to_string(kMaxShards) + ", e.g. 3/8 (got " + cli::quoted(texts.shard) + ")";
+                                 std::to_string(kMaxShards) + ", e.g. 3/8 (got " + options::quoted(texts.shard) + ")";
     const std::vector<std::string> parts = split_fields(texts.shard, '/');
     if (parts.size() != 2) throw UsageError(expected);
     const std::optional<std::uint64_t> n = whole_number(parts[1], 1, kMaxShards);

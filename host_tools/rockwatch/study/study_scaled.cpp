@@ -26,6 +26,7 @@
 #include "common/text_report.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
+#include "common/options_namespace.hpp"
 #include "study/study_files.hpp"
 #include "study/study_plot.hpp"
 #include "study/study_progress.hpp"
@@ -441,7 +442,7 @@ std::size_t read_scaled_runs(ScaledStudy& s, const std::string& path, const std:
   const std::string expected_header = (s.portfolio ? "wall," : "") + runs_csv_header(s.plan);
   std::string line;
   if (!std::getline(in, line) || line != expected_header) {
-    throw UsageError(path + ":1: expected the header " + expected_header + " (got " + cli::quoted(line) +
+    throw UsageError(path + ":1: expected the header " + expected_header + " (got " + options::quoted(line) +
                      "): the file belongs to another study");
   }
   std::map<std::string, std::size_t> wall_of;
@@ -458,7 +459,7 @@ std::size_t read_scaled_runs(ScaledStudy& s, const std::string& path, const std:
     if (s.portfolio) {
       const auto it = wall_of.find(fields.front());
       if (it == wall_of.end()) {
-        throw UsageError(where + ": wall " + cli::quoted(fields.front()) + " is not in " + *s.request.walls_file);
+        throw UsageError(where + ": wall " + options::quoted(fields.front()) + " is not in " + *s.request.walls_file);
       }
       wall = it->second;
       fields.erase(fields.begin());
@@ -492,7 +493,7 @@ double checkpoint_interval_s() {
     if (value >= 0.0) return value;
   } catch (const UsageError&) {
   }
-  throw UsageError("ROCKWATCH_STUDY_CHECKPOINT_S must be a number of seconds >= 0 (got " + cli::quoted(text) + ")");
+  throw UsageError("ROCKWATCH_STUDY_CHECKPOINT_S must be a number of seconds >= 0 (got " + options::quoted(text) + ")");
 }
 
 void write_scaled_checkpoint(ScaledStudy& s) {

@@ -10,6 +10,7 @@
 #include "common/tool_version.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
+#include "common/options_namespace.hpp"
 #include "study/study_files.hpp"
 #include "study/study_plan.hpp"
 

@@ -12,6 +12,7 @@
 #include "rockwatch/core/restitution.hpp"
 #include "rockwatch/options/alarm_options.hpp"
 #include "rockwatch/options/option_values.hpp"
+#include "common/options_namespace.hpp"
 
 namespace rockwatch::cli {
 

@@ -10,6 +10,7 @@
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
 #include "rockwatch/options/wall_options.hpp"
+#include "common/options_namespace.hpp"
 
 namespace rockwatch::cli {
 
@@ -22,10 +23,10 @@ bool id_character(char c) {
 
 // An id goes into CSV fields, JSON and file names unquoted: a plain token.
 void check_wall_id(const std::string& where, const std::string& id) {
-  if (id.empty() || id.size() > 64) throw UsageError(where + ": id must be 1 to 64 characters (got " + cli::quoted(id) + ")");
+  if (id.empty() || id.size() > 64) throw UsageError(where + ": id must be 1 to 64 characters (got " + options::quoted(id) + ")");
   for (const char c : id) {
     if (!id_character(c)) {
-      throw UsageError(where + ": id must hold only letters, digits, '_', '-' and '.' (got " + cli::quoted(id) + ")");
+      throw UsageError(where + ": id must hold only letters, digits, '_', '-' and '.' (got " + options::quoted(id) + ")");
     }
   }
 }
@@ -36,7 +37,7 @@ void read_field(const std::string& where, const char* name, const std::string& t
     value = parse_finite_number(name, text);
   } catch (const UsageError&) {
     throw UsageError(where + ": " + name + " must be a finite number or empty for the paper's value (got " +
-                     cli::quoted(text) + ")");
+                     options::quoted(text) + ")");
   }
 }
 
@@ -58,7 +59,7 @@ std::vector<PortfolioWall> read_wall_portfolio(const std::string& path, double g
     if (line.empty() || line[0] == '#') continue;
     if (!header_seen) {
       if (line != kWallsHeader) {
-        throw UsageError(where + ": expected the header " + std::string(kWallsHeader) + " (got " + cli::quoted(line) + ")");
+        throw UsageError(where + ": expected the header " + std::string(kWallsHeader) + " (got " + options::quoted(line) + ")");
       }
       header_seen = true;
       continue;

@@ -34,7 +34,6 @@ using rockwatch::test::record_path;
 using rockwatch::test::run_rockwatch;
 using rockwatch::test::TempDir;
 namespace sim = rockwatch::sim;
-namespace cli = rockwatch::cli;
 
 namespace {
 

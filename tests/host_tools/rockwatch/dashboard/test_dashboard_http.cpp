@@ -198,7 +198,7 @@ TEST(DashboardRoutes, ListenAddresses) {
   STRCMP_EQUAL("::1", address.c_str());
   for (const char* bad : {"", "8080", "127.0.0.1", ":80", "127.0.0.1:", "127.0.0.1:65536", "127.0.0.1:-1",
                           "127.0.0.1:8e3", "[::1]80", "::1:80"}) {
-    CHECK_THROWS(rockwatch::cli::UsageError, rockwatch::cli::parse_listen_address("--http", bad, address, port));
+    CHECK_THROWS(rockwatch::options::UsageError, rockwatch::cli::parse_listen_address("--http", bad, address, port));
   }
 }
 
@@ -300,9 +300,9 @@ TEST(DashboardServer, AnAddressInUseIsAUsageError) {
   settings.port = 0;
   rockwatch::cli::DashboardServer first(snapshots, rockwatch::cli::embedded_dashboard_assets(), settings);
   settings.port = first.port();
-  CHECK_THROWS(rockwatch::cli::UsageError,
+  CHECK_THROWS(rockwatch::options::UsageError,
                rockwatch::cli::DashboardServer(snapshots, rockwatch::cli::embedded_dashboard_assets(), settings));
   settings.address = "not-an-address";
-  CHECK_THROWS(rockwatch::cli::UsageError,
+  CHECK_THROWS(rockwatch::options::UsageError,
                rockwatch::cli::DashboardServer(snapshots, rockwatch::cli::embedded_dashboard_assets(), settings));
 }

@@ -31,7 +31,7 @@
 
 #include <CppUTest/TestHarness.h>
 
-using rockwatch::cli::split_fields;
+using rockwatch::options::split_fields;
 using rockwatch::test::describe;
 using rockwatch::test::kG;
 using rockwatch::test::ProcessResult;

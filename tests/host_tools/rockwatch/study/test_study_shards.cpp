@@ -27,7 +27,7 @@
 
 #include <CppUTest/TestHarness.h>
 
-using rockwatch::cli::split_fields;
+using rockwatch::options::split_fields;
 using rockwatch::test::describe;
 using rockwatch::test::EnvOverride;
 using rockwatch::test::expect_command_rejected;

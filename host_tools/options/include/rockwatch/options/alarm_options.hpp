@@ -12,7 +12,7 @@
 #include "rockwatch/core/alarm.hpp"
 #include "rockwatch/sim/analysis.hpp"
 
-namespace rockwatch::cli {
+namespace rockwatch::options {
 
 struct AlarmOptionTexts {
   std::string arith = "double";
@@ -56,4 +56,4 @@ const char* arithmetic_name(sim::Arithmetic arithmetic);
 std::vector<std::string> alarm_reason_list(std::uint32_t reasons);
 std::string alarm_reason_names(std::uint32_t reasons);
 
-}  // namespace rockwatch::cli
+}  // namespace rockwatch::options

@@ -7,7 +7,7 @@
 
 #include <CLI/CLI.hpp>
 
-namespace rockwatch::cli {
+namespace rockwatch::options {
 
 // Parses argv into `app`. Returns the help text when --help was asked for, nothing otherwise; throws UsageError
 // for a parse error, ending in " (see rockwatch COMMAND --help)". `command` is "simulate", "static", ...
@@ -16,4 +16,4 @@ std::optional<std::string> parse_command_line(CLI::App& app, int argc, const cha
 
 bool given(const CLI::App& app, const char* option);
 
-}  // namespace rockwatch::cli
+}  // namespace rockwatch::options

@@ -6,7 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
-namespace rockwatch::cli {
+namespace rockwatch::options {
 
 // The collapse factor when --kappa is not given (sim::AnalysisOptions's).
 double default_kappa();
@@ -21,4 +21,4 @@ void add_kappa_option(CLI::App& app, std::string& text);
 // integrated in ceil(dt / max_step) sub-steps with the input linear between samples. `extra` ends the help.
 void add_max_step_option(CLI::App& app, std::string& text, const std::string& extra = "");
 
-}  // namespace rockwatch::cli
+}  // namespace rockwatch::options

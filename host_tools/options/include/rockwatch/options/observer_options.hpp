@@ -12,7 +12,7 @@
 
 #include "rockwatch/core/wall_observer.hpp"
 
-namespace rockwatch::cli {
+namespace rockwatch::options {
 
 struct ObserverOptionTexts {
   std::string x_noise, a_noise, process, gate;
@@ -43,4 +43,4 @@ core::ObserverOptions parse_observer_options(const CLI::App& app, const Observer
 std::vector<std::string> observer_flag_list(std::uint32_t flags);
 std::string observer_flag_names(std::uint32_t flags);
 
-}  // namespace rockwatch::cli
+}  // namespace rockwatch::options

@@ -10,7 +10,7 @@
 #include "rockwatch/core/model.hpp"
 #include "rockwatch/core/restitution.hpp"
 
-namespace rockwatch::cli {
+namespace rockwatch::options {
 
 // The whole text must be one finite decimal number; "1.5x", "nan" and "inf" are rejected. Throws UsageError.
 double parse_finite_number(const std::string& option, const std::string& text);
@@ -51,4 +51,4 @@ const char* file_kind_text(unsigned mode);
 // Shortest text that reads back as the same double ("0.05", not "0.050000000000000003").
 std::string number_text(double value);
 
-}  // namespace rockwatch::cli
+}  // namespace rockwatch::options

@@ -9,7 +9,7 @@
 
 #include <CLI/CLI.hpp>
 
-namespace rockwatch::cli {
+namespace rockwatch::options {
 
 struct RealtimeOptionTexts {
   std::string realtime, cpu, busy_poll_us;
@@ -33,4 +33,4 @@ int check_realtime_priority(const std::string& name, long long value);
 int check_cpu(const std::string& name, long long value);
 int check_busy_poll_us(const std::string& name, long long value);
 
-}  // namespace rockwatch::cli
+}  // namespace rockwatch::options

@@ -4,11 +4,11 @@
 
 #include <stdexcept>
 
-namespace rockwatch::cli {
+namespace rockwatch::options {
 
 class UsageError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
 
-}  // namespace rockwatch::cli
+}  // namespace rockwatch::options

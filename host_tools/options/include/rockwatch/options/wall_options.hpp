@@ -11,7 +11,7 @@
 #include "rockwatch/core/wall.hpp"
 #include "rockwatch/sim/analysis.hpp"
 
-namespace rockwatch::cli {
+namespace rockwatch::options {
 
 // The options as typed; parse_wall_options converts and checks them, so every message has one form.
 struct WallOptionTexts {
@@ -36,4 +36,4 @@ WallChoice parse_wall_options(const CLI::App& app, const WallOptionTexts& texts)
 // constants into inf/NaN, which would come out as null results rather than an error. Throws UsageError.
 void check_computable(const core::WallParameters& wall, const sim::AnalysisOptions& options);
 
-}  // namespace rockwatch::cli
+}  // namespace rockwatch::options
