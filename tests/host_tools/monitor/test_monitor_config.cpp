@@ -15,29 +15,20 @@
 #include "lcm_transport.hpp"
 #include "monitor_config.hpp"
 #include "monitor_test_support.hpp"
+#include "monitor_expect.hpp"
 
 #include <CppUTest/TestHarness.h>
 
 using nlohmann::json;
+using rockwatch::test::describe;
 using rockwatch::test::ProcessResult;
 using rockwatch::test::run_monitor;
 using rockwatch::test::TempDir;
 
 namespace {
 
-std::string describe(const ProcessResult& r) {
-  return "exit " + std::to_string(r.exit_status) + " signal " + std::to_string(r.signal) + "\nstdout:\n" + r.out +
-         "\nstderr:\n" + r.err;
-}
-
 void expect_rejected(const std::vector<std::string>& args, const std::vector<std::string>& mentions) {
-  const ProcessResult r = run_monitor(args);
-  const std::string what = describe(r);
-  CHECK_EQUAL_TEXT(0, r.signal, what.c_str());
-  CHECK_EQUAL_TEXT(2, r.exit_status, what.c_str());
-  CHECK_TEXT(r.out.empty(), what.c_str());
-  CHECK_TEXT(r.err.rfind("rockwatch-monitor: error: ", 0) == 0, what.c_str());
-  for (const std::string& m : mentions) CHECK_TEXT(r.err.find(m) != std::string::npos, (m + " in\n" + what).c_str());
+  rockwatch::test::expect_monitor_rejected(args, mentions);
 }
 
 // A configuration file with `text` rejected with a message naming each of `mentions`.
@@ -55,22 +46,8 @@ void expect_config_rejected(const std::string& text, const std::vector<std::stri
   expect_rejected(args, all_mentions);
 }
 
-// --print-config with a configuration file (empty text: none) and options.
-json printed_config(const std::string& text, const std::vector<std::string>& extra_args) {
-  const TempDir dir;
-  std::vector<std::string> args{"--print-config"};
-  if (!text.empty()) {
-    const std::string path = dir.file("monitor.json");
-    rockwatch::test::write_file(path, text);
-    args.insert(args.end(), {"--config", path});
-  }
-  args.insert(args.end(), extra_args.begin(), extra_args.end());
-  const ProcessResult r = run_monitor(args);
-  const std::string what = describe(r);
-  CHECK_EQUAL_TEXT(0, r.exit_status, what.c_str());
-  const std::vector<json> lines = rockwatch::test::json_lines(r.out);
-  CHECK_EQUAL_TEXT(1u, lines.size(), what.c_str());
-  return lines.front();
+json printed_config(const std::string& text, const std::vector<std::string>& extra) {
+  return rockwatch::test::monitor_printed_config(text, extra);
 }
 
 }  // namespace

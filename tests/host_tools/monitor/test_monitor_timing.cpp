@@ -21,6 +21,7 @@
 
 #include "monitor_live_support.hpp"
 #include "monitor_test_support.hpp"
+#include "monitor_expect.hpp"
 #include "rockwatch/ground_accel_t.hpp"
 
 #include <CppUTest/TestHarness.h>
@@ -31,19 +32,6 @@ using rockwatch::test::TempDir;
 
 namespace {
 
-std::string describe_run(const ProcessResult& r) {
-  return "exit " + std::to_string(r.exit_status) + " signal " + std::to_string(r.signal) + "\nstdout:\n" + r.out +
-         "\nstderr:\n" + r.err;
-}
-
-void expect_timing_rejected(const std::vector<std::string>& args, const std::vector<std::string>& mentions) {
-  const ProcessResult r = rockwatch::test::run_monitor(args);
-  const std::string what = describe_run(r);
-  CHECK_EQUAL_TEXT(2, r.exit_status, what.c_str());
-  CHECK_TEXT(r.out.empty(), what.c_str());
-  CHECK_TEXT(r.err.rfind("rockwatch-monitor: error: ", 0) == 0, what.c_str());
-  for (const std::string& m : mentions) CHECK_TEXT(r.err.find(m) != std::string::npos, (m + " in\n" + what).c_str());
-}
 
 // A configuration file (`text`) refused with a message naming the file and each of `mentions`.
 void expect_timing_config_rejected(const std::string& text, const std::vector<std::string>& mentions) {
@@ -52,21 +40,11 @@ void expect_timing_config_rejected(const std::string& text, const std::vector<st
   rockwatch::test::write_file(path, text);
   std::vector<std::string> all{"--config " + path};
   all.insert(all.end(), mentions.begin(), mentions.end());
-  expect_timing_rejected({"--config", path, "--print-config"}, all);
+  rockwatch::test::expect_monitor_rejected({"--config", path, "--print-config"}, all);
 }
 
 json printed(const std::string& text, const std::vector<std::string>& extra) {
-  const TempDir dir;
-  std::vector<std::string> args{"--print-config"};
-  if (!text.empty()) {
-    const std::string path = dir.file("timing.json");
-    rockwatch::test::write_file(path, text);
-    args.insert(args.end(), {"--config", path});
-  }
-  args.insert(args.end(), extra.begin(), extra.end());
-  const ProcessResult r = rockwatch::test::run_monitor(args);
-  CHECK_EQUAL_TEXT(0, r.exit_status, describe_run(r).c_str());
-  return rockwatch::test::json_lines(r.out).at(0);
+  return rockwatch::test::monitor_printed_config(text, extra);
 }
 
 // The first CPU this process may run on (the monitor must be pinned to one it may use).
@@ -160,11 +138,11 @@ TimedRun run_timed(const std::string& program, const std::vector<std::string>& a
 TEST_GROUP(MonitorClockTolerance){};
 
 TEST(MonitorClockTolerance, BadValuesNameTheOptionOrKeyAndTheRange) {
-  expect_timing_rejected({"--clock-tolerance", "0"}, {"--clock-tolerance", "> 0 s", "got 0"});
-  expect_timing_rejected({"--clock-tolerance", "-2"}, {"--clock-tolerance", "> 0 s"});
-  expect_timing_rejected({"--clock-tolerance", "86401"}, {"--clock-tolerance", "86400", "got 86401"});
-  expect_timing_rejected({"--clock-tolerance", "1e-7"}, {"--clock-tolerance", "0.000001"});
-  expect_timing_rejected({"--clock-tolerance", "soon"}, {"--clock-tolerance", "'soon'"});
+  rockwatch::test::expect_monitor_rejected({"--clock-tolerance", "0"}, {"--clock-tolerance", "> 0 s", "got 0"});
+  rockwatch::test::expect_monitor_rejected({"--clock-tolerance", "-2"}, {"--clock-tolerance", "> 0 s"});
+  rockwatch::test::expect_monitor_rejected({"--clock-tolerance", "86401"}, {"--clock-tolerance", "86400", "got 86401"});
+  rockwatch::test::expect_monitor_rejected({"--clock-tolerance", "1e-7"}, {"--clock-tolerance", "0.000001"});
+  rockwatch::test::expect_monitor_rejected({"--clock-tolerance", "soon"}, {"--clock-tolerance", "'soon'"});
   expect_timing_config_rejected(R"({"clock_tolerance_s": 0})", {"clock_tolerance_s", "got 0"});
   expect_timing_config_rejected(R"({"clock_tolerance_s": -1})", {"clock_tolerance_s", "got -1"});
   expect_timing_config_rejected(R"({"clock_tolerance_s": 1e6})", {"clock_tolerance_s", "86400"});
@@ -188,16 +166,16 @@ TEST(MonitorClockTolerance, InTheSettingsAndTheDigestOnlyWhenNotTheDefault) {
 TEST_GROUP(MonitorTimingOptions){};
 
 TEST(MonitorTimingOptions, BadValuesNameTheOptionOrKey) {
-  expect_timing_rejected({"--realtime", "0"}, {"--realtime", "1..99", "got 0"});
-  expect_timing_rejected({"--realtime", "100"}, {"--realtime", "got 100"});
-  expect_timing_rejected({"--realtime", "high"}, {"--realtime", "'high'"});
-  expect_timing_rejected({"--cpu", "-1"}, {"--cpu", "'-1'"});
-  expect_timing_rejected({"--cpu", "1.5"}, {"--cpu", "'1.5'"});
-  expect_timing_rejected({"--cpu", "1023"}, {"--cpu", "got 1023"});
-  expect_timing_rejected({"--busy-poll-us", "0"}, {"--busy-poll-us", "got 0"});
-  expect_timing_rejected({"--busy-poll-us", "100001"}, {"--busy-poll-us", "100000"});
-  expect_timing_rejected({"--busy-poll-us", "50", "--receive-path", "liblcm"}, {"--busy-poll-us", "--receive-path own"});
-  expect_timing_rejected({"--offline-in", "a.lcmlog", "--offline-out", "b.lcmlog", "--realtime", "50"},
+  rockwatch::test::expect_monitor_rejected({"--realtime", "0"}, {"--realtime", "1..99", "got 0"});
+  rockwatch::test::expect_monitor_rejected({"--realtime", "100"}, {"--realtime", "got 100"});
+  rockwatch::test::expect_monitor_rejected({"--realtime", "high"}, {"--realtime", "'high'"});
+  rockwatch::test::expect_monitor_rejected({"--cpu", "-1"}, {"--cpu", "'-1'"});
+  rockwatch::test::expect_monitor_rejected({"--cpu", "1.5"}, {"--cpu", "'1.5'"});
+  rockwatch::test::expect_monitor_rejected({"--cpu", "1023"}, {"--cpu", "got 1023"});
+  rockwatch::test::expect_monitor_rejected({"--busy-poll-us", "0"}, {"--busy-poll-us", "got 0"});
+  rockwatch::test::expect_monitor_rejected({"--busy-poll-us", "100001"}, {"--busy-poll-us", "100000"});
+  rockwatch::test::expect_monitor_rejected({"--busy-poll-us", "50", "--receive-path", "liblcm"}, {"--busy-poll-us", "--receive-path own"});
+  rockwatch::test::expect_monitor_rejected({"--offline-in", "a.lcmlog", "--offline-out", "b.lcmlog", "--realtime", "50"},
                          {"--realtime", "live mode"});
   expect_timing_config_rejected(R"({"realtime_priority": 0})", {"realtime_priority", "got 0"});
   expect_timing_config_rejected(R"({"realtime_priority": 50.5})", {"realtime_priority", "whole number"});
