@@ -59,6 +59,8 @@ json counters_json(const firmware::MonitorCounters& c) {
 
 json observer_json(const core::ObserverOptions& o, const core::ObserverSample& last, const core::ObserverCounters& c,
                   const firmware::MonitorCounters& loop) {
+  json counters = json::object();
+  core::visit_observer_counters(c, [&counters](const char* name, std::int64_t value) { counters[name] = value; });
   return json{{"settings",
                {{"x_noise_m", o.x_noise_m},
                 {"a_noise_mps2", o.a_noise_mps2},
@@ -75,23 +77,7 @@ json observer_json(const core::ObserverOptions& o, const core::ObserverSample& l
               {"sensor_time_untrusted", loop.sensor_time_untrusted},
               {"sensor_duplicates", loop.sensor_duplicates},
               {"estimates_published", loop.estimates_published},
-              {"counters",
-               {{"samples", c.samples},
-                {"x_updates", c.x_updates},
-                {"a_updates", c.a_updates},
-                {"rejected", c.rejected},
-                {"not_finite", c.not_finite},
-                {"out_of_range", c.out_of_range},
-                {"stuck", c.stuck},
-                {"motion_while_quiet", c.motion_while_quiet},
-                {"jumps", c.jumps},
-                {"misaligned", c.misaligned},
-                {"stale", c.stale},
-                {"queue_overflow", c.queue_overflow},
-                {"reinitialised", c.reinitialised},
-                {"sensor_flags", c.sensor_flags},
-                {"impacts", c.impacts},
-                {"dropouts", c.dropouts}}}};
+              {"counters", counters}};
 }
 
 void AlarmPrinter::on_alarm(const rockwatch::alarm_event_t& event) {

@@ -147,22 +147,9 @@ nlohmann::ordered_json observer_json(const SimulateRequest& q, const sim::Observ
   j["steps_sensor_lost"] = s.steps_sensor_lost;
   j["flags_seen"] = observer_flag_list(s.flags_seen);
   const core::ObserverCounters& c = s.counters;
-  j["counters"] = {{"samples", c.samples},
-                   {"x_updates", c.x_updates},
-                   {"a_updates", c.a_updates},
-                   {"rejected", c.rejected},
-                   {"not_finite", c.not_finite},
-                   {"out_of_range", c.out_of_range},
-                   {"stuck", c.stuck},
-                   {"motion_while_quiet", c.motion_while_quiet},
-                   {"jumps", c.jumps},
-                   {"misaligned", c.misaligned},
-                   {"stale", c.stale},
-                   {"queue_overflow", c.queue_overflow},
-                   {"reinitialised", c.reinitialised},
-                   {"sensor_flags", c.sensor_flags},
-                   {"impacts", c.impacts},
-                   {"dropouts", c.dropouts}};
+  nlohmann::ordered_json counters = nlohmann::ordered_json::object();
+  core::visit_observer_counters(c, [&counters](const char* name, std::int64_t value) { counters[name] = value; });
+  j["counters"] = counters;
   const core::ObserverOptions& o = q.analysis.observer;
   j["settings"] = {{"x_noise_m", o.x_noise_m},
                    {"a_noise_mps2", o.a_noise_mps2},

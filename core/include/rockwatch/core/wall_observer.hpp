@@ -151,6 +151,28 @@ struct ObserverCounters {
   std::int64_t dropouts = 0;         // transitions into sensor_lost
 };
 
+// Every counter with its published name, in the published order: the one list the reports (the monitor's summary,
+// `rockwatch simulate --json`) are written from. `visit(const char* name, std::int64_t value)`.
+template <typename Visit>
+void visit_observer_counters(const ObserverCounters& c, Visit&& visit) {
+  visit("samples", c.samples);
+  visit("x_updates", c.x_updates);
+  visit("a_updates", c.a_updates);
+  visit("rejected", c.rejected);
+  visit("not_finite", c.not_finite);
+  visit("out_of_range", c.out_of_range);
+  visit("stuck", c.stuck);
+  visit("motion_while_quiet", c.motion_while_quiet);
+  visit("jumps", c.jumps);
+  visit("misaligned", c.misaligned);
+  visit("stale", c.stale);
+  visit("queue_overflow", c.queue_overflow);
+  visit("reinitialised", c.reinitialised);
+  visit("sensor_flags", c.sensor_flags);
+  visit("impacts", c.impacts);
+  visit("dropouts", c.dropouts);
+}
+
 // a − b for sample times [µs], saturated: times come from the network and may be anything (no undefined overflow).
 inline std::int64_t time_difference_us(std::int64_t a, std::int64_t b) {
   std::int64_t d = 0;
