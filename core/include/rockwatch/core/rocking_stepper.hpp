@@ -80,7 +80,8 @@ struct StepReport {
   std::uint16_t impacts_total = 0;    // all impacts
   Scalar first_impact_fraction{};     // the first impact of the step: when,
   Scalar first_impact_v_before_mps{}; //   ẋ⁻ [m/s]
-  Scalar first_impact_v_after_mps{};  //   and ẋ⁺ = √r·ẋ⁻ [m/s], also when the impact puts the wall at rest (FixedStepReport writes 0 there)
+  Scalar first_impact_v_after_mps{};  //   and ẋ⁺ = √r·ẋ⁻ [m/s], also when the impact puts the wall at rest
+                                      //   (FixedStepReport writes 0 there)
   bool came_to_rest = false;
   bool exceeded = false;          // |x| rose through x_inst in this step (first time in the step)
   Scalar exceed_fraction{};
