@@ -165,7 +165,7 @@ class ObservedSteps {
   template <typename OnSubstep>
   void step(Engine& engine, typename Engine::Input ug, typename Engine::Input vg, double t0_s, double dt_s,
             OnSubstep&& on_substep) {
-    const std::int64_t t_us = static_cast<std::int64_t>(std::llround((t0_s + dt_s) * 1e6));
+    const std::int64_t t_us = core::observed_step_end_us(t0_s, dt_s);
     while (next_ < samples_.size() && samples_[next_].utime_us <= t_us) observer_.push(samples_[next_++]);
     r_before_step_ = observer_.r_estimate();
     const core::ObserverStepReport outcome =

@@ -167,8 +167,7 @@ class SensorStream {
   }
   bool has_next() const { return have_; }
   const core::WallSensorSample& next() const { return next_; }
-  bool error() const { return error_; }
-  // Reads the following sample (false at the end or on a truncated section, which error() then tells).
+  // Reads the following sample; false only for a truncated section (at the end: true, and has_next() false).
   bool advance() {
     have_ = false;
     if (left_ == 0) return true;
@@ -176,7 +175,6 @@ class SensorStream {
     double x = 0.0, a = 0.0;
     if (!in_->read_u64(utime) || !in_->read_double(x) || !in_->read_double(a) || !in_->read_u64(valid) ||
         !in_->read_u64(status)) {
-      error_ = true;
       return false;
     }
     --left_;
@@ -196,7 +194,6 @@ class SensorStream {
   std::uint64_t left_ = 0;
   core::WallSensorSample next_{};
   bool have_ = false;
-  bool error_ = false;
 };
 SensorStream g_sensor_stream;
 
@@ -335,11 +332,11 @@ std::uint32_t run_replay(std::uint32_t (*stack_used_bytes)()) {
       out.text("\n");
       continue;
     }
-    const std::int64_t t_us = firmware::engine_input_step_end_us(k, config.dt_s);
+    const std::int64_t t_us = core::observed_step_end_us(double(k - 1) * config.dt_s, config.dt_s);
     while (observed && sensors.has_next() && sensors.next().utime_us <= t_us) {
       g_seam.push_sensor(sensors.next());
       g_direct.push_sensor(sensors.next());
-      if (!sensors.advance() && sensors.error()) {
+      if (!sensors.advance()) {
         return fail(replay_status::input_format, "the input's wall-sensor samples are truncated");
       }
     }
@@ -375,7 +372,7 @@ std::uint32_t run_replay(std::uint32_t (*stack_used_bytes)()) {
   }
   // The samples after the last step's end were never due; then the file must end.
   while (sensors.has_next()) {
-    if (!sensors.advance() && sensors.error()) {
+    if (!sensors.advance()) {
       return fail(replay_status::input_format, "the input's wall-sensor samples are truncated");
     }
   }

@@ -59,7 +59,8 @@ void write_engine_input(std::ostream& out, const core::WallEngineConfig& config,
     put_u64(out, static_cast<std::uint64_t>(s.utime_us));
     put_double(out, s.x_mid_m);
     put_double(out, s.a_mid_mps2);
-    put_u64(out, (s.x_valid ? firmware::kEngineInputSensorValidX : 0) | (s.a_valid ? firmware::kEngineInputSensorValidA : 0));
+    put_u64(out, (s.x_valid ? firmware::kEngineInputSensorValidX : 0) |
+                     (s.a_valid ? firmware::kEngineInputSensorValidA : 0));
     put_u64(out, static_cast<std::uint64_t>(static_cast<std::int64_t>(s.sensor_status)));
   }
 }

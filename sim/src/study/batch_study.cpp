@@ -209,21 +209,11 @@ void run_study(const StudyPlan& plan, std::vector<RunResult>& results, std::size
                         std::to_string(total));
   }
 
-  // The runs still to do, in run order (built once: one allocation per call, none per run).
-  std::vector<std::size_t> todo;
-  todo.reserve(total - static_cast<std::size_t>(std::count_if(results.begin(), results.end(),
-                                                               [](const RunResult& r) { return r.done; })));
-  for (std::size_t i = 0; i < total; ++i) {
-    if (!results[i].done) todo.push_back(i);
-  }
-  if (todo.empty()) return;
-
   std::size_t longest = 0;
   for (const StudyRecord& r : plan.records) longest = std::max(longest, r.ug_mps2.size());
   const bool any_vertical = std::find(plan.vertical.begin(), plan.vertical.end(), true) != plan.vertical.end();
 
-  run_parallel(todo, jobs, progress, cancel, [&] { return Worker(plan, longest, any_vertical); },
-               [&results](Worker& worker, std::size_t index) { results[index] = worker.run_one(index); });
+  run_pending(results, jobs, progress, cancel, [&] { return Worker(plan, longest, any_vertical); });
 }
 
 }  // namespace rockwatch::sim::study

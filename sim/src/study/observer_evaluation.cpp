@@ -183,17 +183,10 @@ void run_observer_evaluation(const StudyPlan& plan, const ObserverEvaluationPlan
     throw AnalysisError("observer results hold " + std::to_string(results.size()) + " runs, the evaluation has " +
                         std::to_string(total));
   }
-  std::vector<std::size_t> todo;
-  for (std::size_t i = 0; i < total; ++i) {
-    if (!results[i].done) todo.push_back(i);
-  }
-  if (todo.empty()) return;
-
   std::size_t longest = 0;
   for (const StudyRecord& r : plan.records) longest = std::max(longest, r.ug_mps2.size());
   const bool any_vertical = std::find(plan.vertical.begin(), plan.vertical.end(), true) != plan.vertical.end();
-  run_parallel(todo, jobs, progress, cancel, [&] { return Worker(plan, evaluation, longest, any_vertical); },
-               [&results](Worker& worker, std::size_t index) { results[index] = worker.run_one(index); });
+  run_pending(results, jobs, progress, cancel, [&] { return Worker(plan, evaluation, longest, any_vertical); });
 }
 
 }  // namespace rockwatch::sim::study

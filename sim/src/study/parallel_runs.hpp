@@ -1,5 +1,5 @@
 // The study's worker pool, shared by the batch study (batch_study.cpp) and the observer evaluation
-// (observer_evaluation.cpp): runs the given run indices on `jobs` threads, each with a worker of its own (the
+// (observer_evaluation.cpp): runs the runs not yet done on `jobs` threads, each with a worker of its own (the
 // per-thread buffers: one allocation per thread, none per run), the calling thread being one of them.
 #pragma once
 
@@ -66,6 +66,21 @@ void run_parallel(const std::vector<std::size_t>& todo, std::size_t jobs, const 
   work();
   for (std::thread& th : threads) th.join();
   if (failure) std::rethrow_exception(failure);
+}
+
+// Every run of `results` not yet `done`, in run order: results[i] = worker.run_one(i) on the pool above (the list of
+// runs to do is built once: one allocation per call, none per run).
+template <typename Result, typename MakeWorker>
+void run_pending(std::vector<Result>& results, std::size_t jobs, const ProgressFn& progress,
+                 const std::atomic<bool>* cancel, MakeWorker&& make_worker) {
+  std::vector<std::size_t> todo;
+  todo.reserve(static_cast<std::size_t>(
+      std::count_if(results.begin(), results.end(), [](const Result& r) { return !r.done; })));
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    if (!results[i].done) todo.push_back(i);
+  }
+  run_parallel(todo, jobs, progress, cancel, make_worker,
+               [&results](auto& worker, std::size_t index) { results[index] = worker.run_one(index); });
 }
 
 }  // namespace rockwatch::sim::study

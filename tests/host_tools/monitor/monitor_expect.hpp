@@ -1,5 +1,5 @@
-// Shared assertion for the monitor's refusals: no signal, exit status 2, nothing on stdout, and a message on stderr that
-// starts with "rockwatch-monitor: error: " and names each of `mentions`.
+// Shared assertions of the monitor's test suites. Refusals: no signal, exit status 2, nothing on stdout, and a
+// message on stderr that starts with "rockwatch-monitor: error: " and names each of `mentions`.
 #pragma once
 
 #include <string>

@@ -173,6 +173,13 @@ void visit_observer_counters(const ObserverCounters& c, Visit&& visit) {
   visit("dropouts", c.dropouts);
 }
 
+// The end of an input sample that starts t0_s after the record's start, on the wall sensors' clock [µs]: what an
+// analysis steps the observer to (sim::analyse) and what the Cortex-M4 replay computes for the same sample, so both
+// push the same sensor samples before each step.
+inline std::int64_t observed_step_end_us(double t0_s, double dt_s) {
+  return static_cast<std::int64_t>(std::llround((t0_s + dt_s) * 1e6));
+}
+
 // a − b for sample times [µs], saturated: times come from the network and may be anything (no undefined overflow).
 inline std::int64_t time_difference_us(std::int64_t a, std::int64_t b) {
   std::int64_t d = 0;

@@ -11,14 +11,13 @@
 //     the record, up to where simulate stopped (collapse, or the verdict after the record).
 //   uint64 n_sensor, then n_sensor wall-sensor samples (kEngineInputSensorFields fields each: int64 utime_us, double
 //     x_mid_m, double a_mid_mps2, uint64 valid (bit 0 x, bit 1 a), int64 sensor_status): what `simulate
-//     --wall-sensors` gave its observer (0 without). Sample k ≥ 1 ends at utime llround(k·dt_s·1e6) µs on the
-//     sensors' clock; before stepping it, the sensor samples with utime ≤ that are pushed (WallEngine::push_sensor),
-//     as the analysis does.
+//     --wall-sensors` gave its observer (0 without). Sample k ≥ 1 ends at core::observed_step_end_us((k − 1)·dt_s, dt_s)
+//     on the sensors' clock; before stepping it, the sensor samples with utime ≤ that are pushed
+//     (WallEngine::push_sensor), as the analysis does.
 // A key the reader does not know is an error (the file is newer than the image): keys are never renumbered or reused.
 // Version 1 (RWENGIN1, without the sensor section) is no longer read: the image and the tool come from one tree.
 #pragma once
 
-#include <cmath>
 #include <cstdint>
 
 #include "rockwatch/core/sample_engine.hpp"
@@ -158,10 +157,5 @@ void for_each_engine_input_key(const core::WallEngineConfig& c, Sink&& sink) {
   visit_engine_input_fields(c, [&sink](EngineInputKey k, const auto& field) { sink(k, engine_input_value(field)); });
 }
 
-// The step end of input sample k ≥ 1 on the wall sensors' clock [µs], as the analysis computes it
-// (sim/src/analysis.cpp, ObservedSteps::step: t0 = (k − 1)·dt, end t0 + dt).
-inline std::int64_t engine_input_step_end_us(std::uint64_t k, double dt_s) {
-  return static_cast<std::int64_t>(std::llround((double(k - 1) * dt_s + dt_s) * 1e6));
-}
 
 }  // namespace rockwatch::firmware

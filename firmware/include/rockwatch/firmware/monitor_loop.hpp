@@ -24,9 +24,9 @@
 //   flagged; each bad component is replaced by the last good value of that component (0 before any).
 // - G = g + v̈ ≤ 0 (or the engine reports its input invalid): counted (lift_off), flagged; the engine holds its
 //   state (SPEC §1) and sets REASON_INPUT_INVALID.
-// - |receive time − sample time| > settings.clock_tolerance_us (default 10 s): time_untrusted, QUALITY_TIME_UNTRUSTED; processed by
-//   its seq, but its time is not used for the restart test above (one sample stamped an hour ahead must not make a
-//   restarted publisher's samples look older than the last one).
+// - |receive time − sample time| > settings.clock_tolerance_us (default 10 s): time_untrusted,
+//   QUALITY_TIME_UNTRUSTED; processed by its seq, but its time is not used for the restart test above (one sample
+//   stamped an hour ahead must not make a restarted publisher's samples look older than the last one).
 // - receive time − sample time > late_limit_s: counted as late (still processed); for a batch the time of its newest
 //   sample counts for all its samples (a batch cannot be sent before its last sample). Only processed samples are
 //   checked for lateness, sensor flags, range and lift-off; dropped ones count only as duplicate / out of order.
@@ -35,10 +35,10 @@
 //   decode_errors, QUALITY_DECODE_ERROR in the status; ignored. Messages on other channels: messages_ignored.
 // Wall sensors (settings.engine.observer_enabled; core::WallObserver in the engine): a wall_sensor_t is decoded and
 // checked like a ground message (decode errors and schema_version != 1 counted as decode_errors), a sample stamped more
-// than settings.clock_tolerance_us from the ground stream's time (the last ground sample's utime; before the first one, the
-// receive time) is counted (time_untrusted, sensor_time_untrusted) and dropped (its time is what aligns it with the
-// ground stream), the others are pushed into the engine, which queues them until a
-// ground step reaches their utime. Each ground step ends at the ground sample's utime (a step whose ground sample's
+// than settings.clock_tolerance_us from the ground stream's time (the last ground sample's utime; before the first
+// one, the receive time) is counted (time_untrusted, sensor_time_untrusted) and dropped (its time is what aligns it
+// with the ground stream), the others are pushed into the engine, which queues them until a ground step reaches their
+// utime. Each ground step ends at the ground sample's utime (a step whose ground sample's
 // time is not trusted ends one period after the previous step). Every processed sample then also publishes a
 // wall_estimate_t; the alarm reasons say which state the alarm saw — REASON_MEASURED (a sensor corrected it within the
 // dropout time) or REASON_PREDICTED (the model alone) — and REASON_SENSOR_FAULT plus QUALITY_SENSOR_FAULT mark a

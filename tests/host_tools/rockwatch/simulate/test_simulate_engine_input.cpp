@@ -171,8 +171,8 @@ TEST(SimulateEngineInput, CarriesTheObserverSettingsAndTheWallSensorSamples) {
   const ProcessResult t = run_rockwatch(truth);
   CHECK_EQUAL_TEXT(0, t.exit_status, describe(t).c_str());
   std::vector<std::string> fused = record;
-  for (const char* a : {"--wall-sensors", sensors.c_str(), "--observer-gate-chi2", "25", "--observer-process-mps2", "0.3",
-                        "--engine-input-out", path.c_str()}) {
+  for (const char* a : {"--wall-sensors", sensors.c_str(), "--observer-gate-chi2", "25", "--observer-process-mps2",
+                        "0.3", "--engine-input-out", path.c_str()}) {
     fused.push_back(a);
   }
   const ProcessResult r = run_rockwatch(fused);
