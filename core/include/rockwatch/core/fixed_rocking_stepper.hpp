@@ -2,7 +2,7 @@
 // as RockingStepper<double> — Newmark (β = 1/4, γ = 1/2), input linear inside the step, start at the threshold,
 // impacts and collapse located inside the step, rest after an impact — with the work of a sample bounded: each
 // event located by a fixed number of Newton iterations that always run, and a per-sample budget of segments shared by
-// the sample's sub-steps (FixedEventBudget, StepperAlarmChain).
+// the sample's sub-steps (EventBudget, StepperAlarmChain).
 //
 // Formats: 64-bit state and coefficients (Fixed64, exact 128-bit intermediates); docs/FIXED_POINT.md gives the
 // ranges measured over the shipped suite and the real records, and what saturates first:
@@ -18,27 +18,25 @@
 // The equation is divided through by p1 at initialisation (p1 is constant in the linear model):
 //   ẍ = f − k x,  f = p6/p1 = −s(F_fp,s + F_g G) − F_u ü,  k = p4/p1 = K_fp,s + K_g G + s K_u ü.
 //
-// Why a second stepper and not RockingStepper<Scalar> on a fixed type: RockingStepper's step is a loop of
-// advance_segment calls (up to kMaxSegmentsPerStep segments per step, each impact located by regula falsi to
-// convergence, up to kRootIterations): data-dependent work, which the firmware cannot have, and iteration counts
-// that would differ in fixed point anyway. Changing either stepper to the other's arrangement changes its results,
-// and both are pinned bit for bit (golden files, `rockwatch simulate --arith double|fixed`, the monitor). What is
-// shared: the model and its set-up (make_stepper_setup in double, StepperSetup, SPEC §1–4), the report's meaning
-// (StepReport/FixedStepReport: same fields and fractions of the step), the indicators' definitions and the
-// stepper → indicators → alarm composition (stepper_alarm_chain.hpp).
-//
-// Differences from the double engine, all at the scale of a step and measured in docs/FIXED_POINT.md:
-// - at most kMaxSegmentsPerStep segments per step and the sample's budget of further segments (FixedEventBudget):
-//   beyond them the wall is put at rest (`rest_forced`): impacts that close together mean settling speeds; the
-//   double engine allows 64 segments per step.
-// - the event is located by kLocateIterations Newton steps on the exact Newmark residual (a cubic in the
-//   sub-step), from the secant; the double engine iterates to convergence.
+// The segment logic (events, impact and rest rules, the bounds on segments) is the one of every stepper
+// (rocking_segments.hpp, shared with RockingStepper<double>); this file is its fixed-point arithmetic. Why not
+// RockingStepper<Scalar> on a fixed type: its regula falsi iterates to convergence (data-dependent work, which the
+// firmware cannot have, and iteration counts that would differ in fixed point), and its Newmark step goes through the
+// full model's coefficients; here the linear equation is divided by p1 once and each event is located by
+// kLocateIterations Newton steps on the exact Newmark residual (a cubic in the sub-step), from the secant. Both
+// arithmetics are pinned bit for bit (golden files, `rockwatch simulate --arith double|fixed`, the monitor); the
+// differences that remain are of arithmetic and of bounds, measured in docs/FIXED_POINT.md:
+// - at most kMaxSegmentsPerStep segments per step and the sample's budget of further segments (EventBudget,
+//   kSampleBudget): beyond them the wall is put at rest (`rest_forced`); the double engine allows 64 segments per
+//   step and no sample budget.
+// - events located by a fixed number of Newton steps; the double engine iterates to convergence.
 #pragma once
 
 #include <cstdint>
 
 #include "rockwatch/core/fixed_point.hpp"
 #include "rockwatch/core/fixed_point64.hpp"
+#include "rockwatch/core/rocking_segments.hpp"
 #include "rockwatch/core/rocking_stepper.hpp"
 
 namespace rockwatch::core {
@@ -138,50 +136,34 @@ inline FixedSetupError make_fixed_setup(const StepperSetup<double>& s, FixedStep
   return FixedSetupError::ok;
 }
 
-// What happened inside one step (fractions of the step in [0, 1]); mirrors StepReport.
-struct FixedStepReport {
-  bool input_invalid = false;      // G = g + v̈ ≤ 0 at the step end: outside the model, state held
-  bool started = false;            // rocking started from rest in this step
-  FractionQ1_62 start_fraction{};
-  std::uint16_t impacts_counted = 0;  // impacts with |ẋ⁻| ≥ v_count (at most kMaxSegmentsPerStep − 1 per step)
-  std::uint16_t impacts_total = 0;    // all impacts
-  FractionQ1_62 first_impact_fraction{};
-  SpeedQ3_60 first_impact_v_before_mps{};
-  SpeedQ3_60 first_impact_v_after_mps{};  // 0 when put at rest (StepReport keeps √r·ẋ⁻ there: a known difference)
-  bool came_to_rest = false;
-  bool rest_forced = false;        // a second crossing in the step: put at rest without locating it
-  bool exceeded = false;           // |x| rose through x_inst in this step
-  FractionQ1_62 exceed_fraction{};
-  bool collapsed = false;          // |x| reached κ·x_inst; the stepper stops
-  FractionQ1_62 collapse_fraction{};
-  bool saturated = false;          // a state quantity reached the end of its format: results unreliable
-  // Work done, for the constant-iteration proofs and worst-case accounting (tests/sim/test_fixed_engine.cpp):
-  std::uint16_t segments = 0;           // trials to the step end (≤ kMaxSegmentsPerStep)
-  std::uint16_t events_located = 0;     // impacts, collapse and x_inst passages located inside the step
-  std::uint16_t locate_iterations = 0;  // always events_located · kLocateIterations
+// What happened inside one step, in the fixed-point formats (fractions of the step in [0, 1]).
+using FixedStepReport = StepReport<FractionQ1_62, SpeedQ3_60>;
+
+// The fixed-point formats and bounds of RockingSegments.
+struct FixedRockingStepperTypes {
+  using Length = LengthQ1_62;
+  using Speed = SpeedQ3_60;
+  using Accel = AccelQ7_56;
+  using Fraction = FractionQ1_62;
+  // Segments (impacts + 1) handled inside one step; more means settling speeds and the wall is put at rest.
+  static constexpr int kMaxSegmentsPerStep = 16;
 };
 
-// The work one sample may spend on events, shared by its sub-steps (StepperAlarmChain passes one per sample): what
-// bounds the worst sample. Each sub-step's first segment is free; a further segment of the same sub-step (after an
-// impact or a start) takes one `extra_segments`. Spent: a sub-step that would need another segment puts the wall at
-// rest (`rest_forced`: impacts that close together mean settling speeds).
-struct FixedEventBudget {
-  int extra_segments = 0;
-};
+class FixedRockingStepper : public RockingSegments<FixedRockingStepper, FixedRockingStepperTypes> {
+  using Base = RockingSegments<FixedRockingStepper, FixedRockingStepperTypes>;
+  friend Base;
 
-class FixedRockingStepper {
  public:
+  using Report = FixedStepReport;
   // Newton iterations on the event residual, always all of them for a located event (constant work per event). 8
   // keep the default study's agreement with the double engine (recall 1.0, verdicts 99.94 %); 4 and 6 lose it
   // (docs/BENCHMARKS.md, "Sub-steps, the worst sample and the alarm"). Was 12.
   static constexpr int kLocateIterations = 8;
-  // Segments (impacts + 1) handled inside one step; more means settling speeds and the wall is put at rest.
-  static constexpr int kMaxSegmentsPerStep = 16;
   // The event budget of one sample (StepperAlarmChain), whatever its number of sub-steps: 32 further segments, which
   // bounds a sample of settling chatter (impacts microseconds apart) at 5 + 32 segments instead of 5 × 16 at 200 Hz.
   // Tighter budgets, or events beyond a budget located with fewer iterations, cost the agreement with the double
   // engine (measured in docs/BENCHMARKS.md); a cheaper location for chatter is what would allow them.
-  static constexpr FixedEventBudget kSampleBudget{32};
+  static constexpr EventBudget kSampleBudget{32};
 
   FixedSetupError init(const StepperSetup<double>& setup) {
     const FixedSetupError e = make_fixed_setup(setup, setup_);
@@ -191,204 +173,112 @@ class FixedRockingStepper {
 
   // Wall at rest, vertical, with the given input at the current instant.
   void reset(AccelQ7_56 ug_mps2, AccelQ7_56 vg_mps2) {
-    x_ = LengthQ1_62{};
-    xd_ = SpeedQ3_60{};
-    xdd_ = AccelQ7_56{};
-    side_ = Side::positive;
-    moving_ = false;
-    collapsed_ = false;
+    rest_vertical();
     coefficients(ug_mps2, vg_mps2, f_prev_, k_prev_);
   }
 
   // Places the wall in motion (tests, restarts). Side follows x, or ẋ when x = 0.
   void set_state(LengthQ1_62 x_m, SpeedQ3_60 xd_mps, AccelQ7_56 ug_mps2, AccelQ7_56 vg_mps2) {
     reset(ug_mps2, vg_mps2);
-    x_ = x_m;
-    xd_ = xd_mps;
-    if (x_m != LengthQ1_62{}) {
-      side_ = x_m > LengthQ1_62{} ? Side::positive : Side::negative;
-    } else {
-      side_ = xd_mps < SpeedQ3_60{} ? Side::negative : Side::positive;
-    }
-    moving_ = x_m != LengthQ1_62{} || xd_mps != SpeedQ3_60{};
+    place(x_m, xd_mps);
     const int i = side_index(side_);
-    xdd_ = f_prev_[i] - wide_mul<AccelQ7_56>(k_prev_[i], x_);
+    state_.xdd_mps2 = f_prev_[i] - wide_mul<AccelQ7_56>(k_prev_[i], state_.x_m);
   }
 
   // Advances one step of setup dt to the given input at the step end, with a budget of its own (kSampleBudget).
   FixedStepReport step(AccelQ7_56 ug_mps2, AccelQ7_56 vg_mps2) {
-    FixedEventBudget budget = kSampleBudget;
+    EventBudget budget = kSampleBudget;
     return step(ug_mps2, vg_mps2, budget);
   }
 
-  // The same, spending from a budget shared with the other sub-steps of the sample (FixedEventBudget).
-  FixedStepReport step(AccelQ7_56 ug_mps2, AccelQ7_56 vg_mps2, FixedEventBudget& budget) {
+  // The same, spending from a budget shared with the other sub-steps of the sample (EventBudget).
+  FixedStepReport step(AccelQ7_56 ug_mps2, AccelQ7_56 vg_mps2, EventBudget& budget) {
     FixedStepReport report;
-    AccelQ7_56 f_end[2];
-    StiffQ8_55 k_end[2];
-    const bool valid = coefficients(ug_mps2, vg_mps2, f_end, k_end);
-    if (collapsed_ || !valid) {
+    const bool valid = coefficients(ug_mps2, vg_mps2, f_end_, k_end_);
+    if (!collapsed_ && valid) {
+      run_segments(report, budget);
+      report.saturated = state_.x_m.saturated() || state_.xd_mps.saturated() || state_.xdd_mps2.saturated();
+    } else {
       report.input_invalid = !valid;
-      keep_coefficients(f_end, k_end);
-      return report;
     }
-    MotionPoint at{x_, xd_, xdd_, FractionQ1_62{}, side_};
-    bool finished = false;
-    for (int segment = 0; segment < kMaxSegmentsPerStep && !finished; ++segment) {
-      if (segment > 0) {
-        if (budget.extra_segments <= 0) break;
-        --budget.extra_segments;
-      }
-      if (!moving_ && !try_start(f_end, at, report)) break;
-      finished = advance_segment(f_end, k_end, at, report);
+    for (int i = 0; i < 2; ++i) {
+      f_prev_[i] = f_end_[i];
+      k_prev_[i] = k_end_[i];
     }
-    if (!finished && moving_) {
-      // Impacts closer together than a step / kMaxSegmentsPerStep: settling speeds. Rest; the start logic
-      // takes over if the ground drives the wall out.
-      put_at_rest();
-      report.came_to_rest = true;
-      report.rest_forced = true;
-    }
-    report.saturated = x_.saturated() || xd_.saturated() || xdd_.saturated();
-    keep_coefficients(f_end, k_end);
     return report;
   }
 
   // The velocity ratio at impact √r from now on (the observer's estimate of the real wall's restitution).
   void set_sqrt_r(FractionQ1_62 sqrt_r) { setup_.sqrt_r = sqrt_r; }
 
-  LengthQ1_62 x_m() const { return x_; }
-  SpeedQ3_60 xd_mps() const { return xd_; }
-  AccelQ7_56 xdd_mps2() const { return xdd_; }
-  Side side() const { return side_; }
-  bool moving() const { return moving_; }
-  bool collapsed() const { return collapsed_; }
+  LengthQ1_62 x_m() const { return state_.x_m; }
+  SpeedQ3_60 xd_mps() const { return state_.xd_mps; }
+  AccelQ7_56 xdd_mps2() const { return state_.xdd_mps2; }
   const FixedStepperSetup& setup() const { return setup_; }
 
  private:
-  // A state inside the current step: θ is the fraction of the step already done.
-  struct MotionPoint {
-    LengthQ1_62 x_m;
-    SpeedQ3_60 xd_mps;
-    AccelQ7_56 xdd_mps2;
-    FractionQ1_62 theta;
+  // The rest of the step from a point, on its side: where it starts, its length, and f, k at its start and their
+  // change to its end.
+  struct Segment {
+    MotionState<LengthQ1_62, SpeedQ3_60, AccelQ7_56> from;
+    FractionQ1_62 theta;         // the fraction of the step already done
     Side side;
-  };
-  struct Trial {
-    LengthQ1_62 x_m;
-    SpeedQ3_60 xd_mps;
-    AccelQ7_56 xdd_mps2;
-  };
-  // The rest of the step from a point, on its side: length, and f, k at its start and their change to its end.
-  struct SubStep {
     DurationQ0_63 h_s;           // H_r = (1 − θ)·dt
     Duration2Qm12_75 quarter_h2;  // H_r²/4
     AccelQ7_56 f_start, f_delta;
     StiffQ8_55 k_start, k_delta;
   };
-
-  // At rest from `at.theta`: if s·f rises above zero before the step end (input linear in time, so s·f is affine
-  // in θ), start rocking towards s at the crossing. Returns true if moving.
-  bool try_start(const AccelQ7_56 f_end[2], MotionPoint& at, FixedStepReport& report) {
-    for (int candidate = 0; candidate < 2; ++candidate) {
-      const Side s = candidate == 0 ? Side::positive : Side::negative;
-      const int i = side_index(s);
-      const AccelQ7_56 drive_end = s == Side::positive ? f_end[i] : -f_end[i];
-      if (!(drive_end > AccelQ7_56{})) continue;
-      const AccelQ7_56 f_now = f_at(f_end, s, at.theta);
-      const AccelQ7_56 drive_now = s == Side::positive ? f_now : -f_now;
-      FractionQ1_62 theta = at.theta;
-      if (drive_now < AccelQ7_56{}) {
-        theta = theta + wide_mul<FractionQ1_62>(FractionQ1_62(1) - theta,
-                                                 wide_div<FractionQ1_62>(-drive_now, drive_end - drive_now));
-      }
-      at = MotionPoint{LengthQ1_62{}, SpeedQ3_60{}, f_at(f_end, s, theta), theta, s};
-      x_ = LengthQ1_62{};
-      xd_ = SpeedQ3_60{};
-      xdd_ = at.xdd_mps2;
-      side_ = s;
-      moving_ = true;
-      if (!report.started) {
-        report.started = true;
-        report.start_fraction = theta;
-      }
-      return true;
-    }
-    return false;
-  }
-
-  // From `at` to the step end on its side, stopping at the first impact or at collapse. Returns true when the
-  // step is finished (end reached, collapsed or at rest), false after an impact that leaves the wall moving.
-  bool advance_segment(const AccelQ7_56 f_end[2], const StiffQ8_55 k_end[2], MotionPoint& at,
-                       FixedStepReport& report) {
-    ++report.segments;
-    const SubStep whole = sub_step(at, f_end, k_end);
-    const Trial end = trial(at, whole, FractionQ1_62(1));
-    const int si = side_index(at.side);
-    const LengthQ1_62 x0 = signed_x(at.side, at.x_m), x1 = signed_x(at.side, end.x_m);
-    const bool on_hinge_inward = x0 == LengthQ1_62{} && signed_v(at.side, at.xd_mps) < SpeedQ3_60{};
-    if (x1 < LengthQ1_62{} || on_hinge_inward) {
-      const FractionQ1_62 tau = on_hinge_inward ? FractionQ1_62{} : locate(at, whole, LengthQ1_62{}, report);
-      const Trial event = trial(at, whole, tau);
-      const FractionQ1_62 theta = at.theta + wide_mul<FractionQ1_62>(tau, FractionQ1_62(1) - at.theta);
-      const SpeedQ3_60 v_before = on_hinge_inward ? at.xd_mps : event.xd_mps;
-      const SpeedQ3_60 v_after = wide_mul<SpeedQ3_60>(setup_.sqrt_r, v_before);
-      if (report.impacts_total == 0) {
-        report.first_impact_fraction = theta;
-        report.first_impact_v_before_mps = v_before;
-        report.first_impact_v_after_mps = v_after;
-      }
-      ++report.impacts_total;
-      if (abs(v_before) >= setup_.v_count_mps) ++report.impacts_counted;
-      const Side s = opposite(at.side);
-      at = MotionPoint{LengthQ1_62{}, v_after, f_at(f_end, s, theta), theta, s};
-      x_ = LengthQ1_62{};
-      xd_ = v_after;
-      xdd_ = at.xdd_mps2;
-      side_ = s;
-      const AccelQ7_56 drive = s == Side::positive ? at.xdd_mps2 : -at.xdd_mps2;
-      if (abs(v_after) < setup_.v_rest_mps && !(drive > AccelQ7_56{})) {
-        put_at_rest();
-        report.came_to_rest = true;
-        if (report.impacts_total == 1) report.first_impact_v_after_mps = SpeedQ3_60{};
-      }
-      return false;
-    }
-    const LengthQ1_62 inst = setup_.x_inst_m[si];
-    const LengthQ1_62 limit = setup_.x_collapse_m[si];
-    if (x0 < inst && x1 >= inst && !report.exceeded) {
-      report.exceeded = true;
-      const FractionQ1_62 tau = locate(at, whole, inst, report);
-      report.exceed_fraction = at.theta + wide_mul<FractionQ1_62>(tau, FractionQ1_62(1) - at.theta);
-    }
-    if (x1 >= limit) {
-      const FractionQ1_62 tau = locate(at, whole, limit, report);
-      const Trial event = trial(at, whole, tau);
-      x_ = at.side == Side::positive ? limit : -limit;
-      xd_ = event.xd_mps;
-      xdd_ = event.xdd_mps2;
-      moving_ = false;
-      collapsed_ = true;
-      report.collapsed = true;
-      report.collapse_fraction = at.theta + wide_mul<FractionQ1_62>(tau, FractionQ1_62(1) - at.theta);
-      return true;
-    }
-    x_ = end.x_m;
-    xd_ = end.xd_mps;
-    xdd_ = end.xdd_mps2;
-    side_ = at.side;
-    return true;
-  }
-
-  void put_at_rest() {
-    x_ = LengthQ1_62{};
-    xd_ = SpeedQ3_60{};
-    xdd_ = AccelQ7_56{};
-    moving_ = false;
-  }
+  using Trial = MotionState<LengthQ1_62, SpeedQ3_60, AccelQ7_56>;
+  // An event inside a segment: τ, the fraction of the segment, and θ, of the step.
+  struct Located {
+    FractionQ1_62 tau;
+    FractionQ1_62 theta;
+  };
 
   static LengthQ1_62 signed_x(Side s, LengthQ1_62 x) { return s == Side::positive ? x : -x; }
   static SpeedQ3_60 signed_v(Side s, SpeedQ3_60 v) { return s == Side::positive ? v : -v; }
+
+  // s·f at x = 0 at fraction θ of the step: > 0 means the ground drives the wall out towards s (f = p6/p1, p1 > 0).
+  AccelQ7_56 drive(Side s, FractionQ1_62 theta) const {
+    const AccelQ7_56 f = f_at(s, theta);
+    return s == Side::positive ? f : -f;
+  }
+  AccelQ7_56 drive_at_end(Side s) const {
+    const AccelQ7_56 f = f_end_[side_index(s)];
+    return s == Side::positive ? f : -f;
+  }
+
+  // s·f is affine in θ (input linear in time), so the crossing is exact up to rounding.
+  FractionQ1_62 start_crossing(FractionQ1_62 theta, AccelQ7_56 now, AccelQ7_56 end) const {
+    return theta + wide_mul<FractionQ1_62>(FractionQ1_62(1) - theta, wide_div<FractionQ1_62>(-now, end - now));
+  }
+
+  AccelQ7_56 accel_at_hinge(Side s, FractionQ1_62 theta) const { return f_at(s, theta); }
+
+  SpeedQ3_60 rebound(SpeedQ3_60 v_mps) const { return wide_mul<SpeedQ3_60>(setup_.sqrt_r, v_mps); }
+
+  Segment begin_segment(FractionQ1_62 theta) const {
+    const int i = side_index(side_);
+    Segment s;
+    s.from = state_;
+    s.theta = theta;
+    s.side = side_;
+    s.h_s = wide_mul<DurationQ0_63>(FractionQ1_62(1) - theta, setup_.dt_s);
+    s.quarter_h2 = Duration2Qm12_75::from_raw(fixed64_detail::mul_round(s.h_s.raw(), s.h_s.raw(), 2 * 63 + 2 - 75));
+    s.f_start = f_at(side_, theta);
+    s.f_delta = f_end_[i] - s.f_start;
+    s.k_start = k_prev_[i] + wide_mul<StiffQ8_55>(theta, k_end_[i] - k_prev_[i]);
+    s.k_delta = k_end_[i] - s.k_start;
+    return s;
+  }
+
+  Trial end_of(const Segment& s) const { return trial(s, FractionQ1_62(1)); }
+  Trial state_at(const Segment& s, Located at) const { return trial(s, at.tau); }
+
+  Located locate(const Segment& s, const Trial&, LengthQ1_62 level, FixedStepReport& report) const {
+    const FractionQ1_62 tau = locate_tau(s, level, report);
+    return Located{tau, s.theta + wide_mul<FractionQ1_62>(tau, FractionQ1_62(1) - s.theta)};
+  }
 
   // f and k of both sides for an input; false when G = g + v̈ ≤ 0.
   // Scaling and overflow: products of GainQ4_59 by AccelQ7_56 (|G| < 256 with g < 100 and |v̈| < 128) stay
@@ -407,39 +297,17 @@ class FixedRockingStepper {
     return gravity > AccelQ7_56{};
   }
 
-  void keep_coefficients(const AccelQ7_56 f[2], const StiffQ8_55 k[2]) {
-    for (int i = 0; i < 2; ++i) {
-      f_prev_[i] = f[i];
-      k_prev_[i] = k[i];
-    }
-  }
-
   // f on side s at fraction θ of the step (input linear in time).
-  AccelQ7_56 f_at(const AccelQ7_56 f_end[2], Side s, FractionQ1_62 theta) const {
+  AccelQ7_56 f_at(Side s, FractionQ1_62 theta) const {
     const int i = side_index(s);
-    return f_prev_[i] + wide_mul<AccelQ7_56>(theta, f_end[i] - f_prev_[i]);
+    return f_prev_[i] + wide_mul<AccelQ7_56>(theta, f_end_[i] - f_prev_[i]);
   }
 
-  SubStep sub_step(const MotionPoint& p, const AccelQ7_56 f_end[2], const StiffQ8_55 k_end[2]) const {
-    const int i = side_index(p.side);
-    SubStep s;
-    s.h_s = wide_mul<DurationQ0_63>(FractionQ1_62(1) - p.theta, setup_.dt_s);
-    s.quarter_h2 = Duration2Qm12_75::from_raw(fixed64_detail::mul_round(s.h_s.raw(), s.h_s.raw(), 2 * 63 + 2 - 75));
-    s.f_start = f_at(f_end, p.side, p.theta);
-    s.f_delta = f_end[i] - s.f_start;
-    s.k_start = k_start_at(k_end, i, p.theta);
-    s.k_delta = k_end[i] - s.k_start;
-    return s;
-  }
-
-  StiffQ8_55 k_start_at(const StiffQ8_55 k_end[2], int i, FractionQ1_62 theta) const {
-    return k_prev_[i] + wide_mul<StiffQ8_55>(theta, k_end[i] - k_prev_[i]);
-  }
-
-  // Newmark from p over the fraction τ of its sub-step, with f and k at the sub-step's end.
+  // Newmark from the segment's start over the fraction τ of the segment, with f and k at its end.
   // Scaling and overflow: H ẋ < 0.24 m and H²/4 (ẍ₀ + f) < 0.06 m for |ẍ| < 128 and H ≤ 30 ms; D = 1 + H²k/4
   // is within 1 ± 0.06 for |k| < 256, so x₁ = N/D saturates only when the wall is far beyond collapse.
-  Trial trial(const MotionPoint& p, const SubStep& s, FractionQ1_62 tau) const {
+  Trial trial(const Segment& s, FractionQ1_62 tau) const {
+    const Trial& p = s.from;
     const DurationQ0_63 h = wide_mul<DurationQ0_63>(tau, s.h_s);
     const Duration2Qm12_75 quarter_h2 = Duration2Qm12_75::from_raw(fixed64_detail::mul_round(h.raw(), h.raw(), 2 * 63 + 2 - 75));
     const AccelQ7_56 f = s.f_start + wide_mul<AccelQ7_56>(tau, s.f_delta);
@@ -463,15 +331,16 @@ class FixedRockingStepper {
   // Scaling and overflow: |c0| < 4 m, |c1| < 0.24 m, |c2|, |c3| < 0.06 m for H ≤ 30 ms, so the Horner sums
   // (τ ≤ 1) stay below 2 m; Q1.62 resolves a micrometre-scale residual to 1e-13 of itself. r' → 0 saturates the
   // quotient, which is then clamped to the bracket.
-  FractionQ1_62 locate(const MotionPoint& p, const SubStep& s, LengthQ1_62 level, FixedStepReport& report) const {
+  FractionQ1_62 locate_tau(const Segment& s, LengthQ1_62 level, FixedStepReport& report) const {
+    const Trial& p = s.from;
     ++report.events_located;
-    const bool pos = p.side == Side::positive;
+    const bool pos = s.side == Side::positive;
     const AccelQ7_56 level_k0 = wide_mul<AccelQ7_56>(s.k_start, level);
     const AccelQ7_56 level_dk = wide_mul<AccelQ7_56>(s.k_delta, level);
     const AccelQ7_56 a2 = (pos ? p.xdd_mps2 + s.f_start : -(p.xdd_mps2 + s.f_start)) - level_k0;
     const AccelQ7_56 a3 = (pos ? s.f_delta : -s.f_delta) - level_dk;
-    const LengthQ1_62 c0 = signed_x(p.side, p.x_m) - level;
-    const LengthQ1_62 c1 = wide_mul<LengthQ1_62>(s.h_s, signed_v(p.side, p.xd_mps));
+    const LengthQ1_62 c0 = signed_x(s.side, p.x_m) - level;
+    const LengthQ1_62 c1 = wide_mul<LengthQ1_62>(s.h_s, signed_v(s.side, p.xd_mps));
     const LengthQ1_62 c2 = wide_mul<LengthQ1_62>(s.quarter_h2, a2);
     const LengthQ1_62 c3 = wide_mul<LengthQ1_62>(s.quarter_h2, a3);
     // A start on the level (on the hinge after a start from rest) has the root τ = 0: divide it out, as the
@@ -529,14 +398,10 @@ class FixedRockingStepper {
   }
 
   FixedStepperSetup setup_{};
-  LengthQ1_62 x_{};
-  SpeedQ3_60 xd_{};
-  AccelQ7_56 xdd_{};
-  Side side_ = Side::positive;
-  bool moving_ = false;
-  bool collapsed_ = false;
-  AccelQ7_56 f_prev_[2]{};  // f and k of both sides at the start of the next step
+  AccelQ7_56 f_prev_[2]{};  // f and k of both sides at the start of the step (the previous input)
   StiffQ8_55 k_prev_[2]{};
+  AccelQ7_56 f_end_[2]{};   // and at its end (this step's input)
+  StiffQ8_55 k_end_[2]{};
 };
 
 }  // namespace rockwatch::core

@@ -13,11 +13,12 @@
 
 namespace rockwatch::core {
 
-template <typename Scalar>
+// The state of the wall, in one scalar (double) or in a format per quantity (the fixed-point stepper's).
+template <typename Length, typename Speed = Length, typename Accel = Length>
 struct MotionState {
-  Scalar x_m;       // mid-height hinge displacement x [m]
-  Scalar xd_mps;    // ẋ [m/s]
-  Scalar xdd_mps2;  // ẍ [m/s²]
+  Length x_m;       // mid-height hinge displacement x [m]
+  Speed xd_mps;     // ẋ [m/s]
+  Accel xdd_mps2;   // ẍ [m/s²]
 };
 
 inline constexpr int kFullModelNewtonIterations = 2;

@@ -39,10 +39,8 @@ struct AlarmChainTraits<RockingStepper<double>> {
     return true;
   }
   using Fraction = double;
-  // The double stepper locates every event to convergence: no per-sample budget.
-  struct Budget {};
-  static Budget sample_budget() { return Budget{}; }
-  static Report step(RockingStepper<double>& s, Input ug, Input vg, Budget&) { return s.step(ug, vg); }
+  // The double stepper locates every event to convergence: no per-sample budget beyond its segments per step.
+  static EventBudget sample_budget() { return EventBudget::unlimited(); }
   // Sub-step j of n (1 ≤ j ≤ n) of the input linear from `from` to `to`: the expression sim::analyse has always
   // used on its integration grid, and `to` itself at j = n.
   static Input interpolate(Input from, Input to, int j, int n, const Fraction*) {
@@ -51,9 +49,6 @@ struct AlarmChainTraits<RockingStepper<double>> {
   static Fraction fraction(int j, int n) { return double(j) / double(n); }
   // A fraction f of sub-step j (1-based) of n as a fraction of the whole sample.
   static Fraction sample_fraction(Fraction f, int j, int n, const Fraction*) { return (double(j - 1) + f) / double(n); }
-  static void merge_extra(Report& total, const Report& sub) {
-    total.segment_cap_reached = total.segment_cap_reached || sub.segment_cap_reached;
-  }
 };
 
 template <>
@@ -69,10 +64,8 @@ struct AlarmChainTraits<FixedRockingStepper> {
     return make_fixed_instability_constants(setup, a, out);
   }
   using Fraction = FractionQ1_62;
-  // One event budget per sample, shared by its sub-steps: what bounds the worst sample (FixedEventBudget).
-  using Budget = FixedEventBudget;
-  static Budget sample_budget() { return FixedRockingStepper::kSampleBudget; }
-  static Report step(FixedRockingStepper& s, Input ug, Input vg, Budget& budget) { return s.step(ug, vg, budget); }
+  // One event budget per sample, shared by its sub-steps: what bounds the worst sample (EventBudget).
+  static EventBudget sample_budget() { return FixedRockingStepper::kSampleBudget; }
   // (1 − θ_j)·from + θ_j·to with θ_j = j/n (theta: the chain's table θ_0..θ_n), `to` itself at j = n.
   // Scaling and overflow: a convex combination of two Q7.56 inputs stays within their range (no difference is
   // formed, so inputs of opposite sign near ±128 m/s² cannot overflow); one rounding per product.
@@ -87,13 +80,6 @@ struct AlarmChainTraits<FixedRockingStepper> {
   static Fraction sample_fraction(Fraction f, int j, int n, const Fraction* theta) {
     if (n == 1) return f;
     return theta[j - 1] + wide_mul<FractionQ1_62>(f, theta[1]);
-  }
-  static void merge_extra(Report& total, const Report& sub) {
-    total.rest_forced = total.rest_forced || sub.rest_forced;
-    total.saturated = total.saturated || sub.saturated;
-    total.segments = static_cast<std::uint16_t>(total.segments + sub.segments);
-    total.events_located = static_cast<std::uint16_t>(total.events_located + sub.events_located);
-    total.locate_iterations = static_cast<std::uint16_t>(total.locate_iterations + sub.locate_iterations);
   }
 };
 
@@ -168,16 +154,16 @@ class StepperAlarmChain {
   // on_substep(j, report, ug, vg) runs after each sub-step j = 1..n with that sub-step's report and input.
   template <typename OnSubstep>
   void step_motion(Input ug_mps2, Input vg_mps2, Output& out, OnSubstep&& on_substep) {
-    typename Traits::Budget budget = Traits::sample_budget();
+    EventBudget budget = Traits::sample_budget();
     if (substeps_ == 1) {
-      out.step = Traits::step(stepper_, ug_mps2, vg_mps2, budget);
+      out.step = stepper_.step(ug_mps2, vg_mps2, budget);
       on_substep(1, out.step, ug_mps2, vg_mps2);
     } else {
       out.step = Report{};
       for (int j = 1; j <= substeps_ && !stepper_.collapsed(); ++j) {
         const Input ug = Traits::interpolate(ug_last_, ug_mps2, j, substeps_, theta_);
         const Input vg = Traits::interpolate(vg_last_, vg_mps2, j, substeps_, theta_);
-        const Report sub = Traits::step(stepper_, ug, vg, budget);
+        const Report sub = stepper_.step(ug, vg, budget);
         on_substep(j, sub, ug, vg);
         merge(out.step, sub, j);
       }
@@ -267,7 +253,11 @@ class StepperAlarmChain {
       total.collapsed = true;
       total.collapse_fraction = Traits::sample_fraction(sub.collapse_fraction, j, substeps_, theta_);
     }
-    Traits::merge_extra(total, sub);
+    total.rest_forced = total.rest_forced || sub.rest_forced;
+    total.saturated = total.saturated || sub.saturated;
+    total.segments = static_cast<std::uint16_t>(total.segments + sub.segments);
+    total.events_located = static_cast<std::uint16_t>(total.events_located + sub.events_located);
+    total.locate_iterations = static_cast<std::uint16_t>(total.locate_iterations + sub.locate_iterations);
   }
 
   Stepper stepper_{};

@@ -1,0 +1,239 @@
+// The one segment logic of the two-block rocking stepper (SPEC §3–4), for every arithmetic: a step is a sequence of
+// segments on one side, each integrated to the step end and cut at the first event inside it —
+//   on the hinge moving inwards, or x crossing 0 → an impact: ẋ⁺ = √r·ẋ⁻ into the other side, or rest when
+//     |ẋ⁺| < v_rest and the ground does not drive the wall out towards the new side (SPEC §3);
+//   |x| rising through x_inst → the exceedance is located (the segment goes on);
+//   |x| reaching κ·x_inst → collapse, located; the stepper stops;
+// and at rest, the start of motion where the ground's drive s·p6 crosses zero (input linear in the step, so the
+// crossing is exact). The segments of a step are bounded: kMaxSegmentsPerStep per step and, across the sub-steps of
+// one input sample, an EventBudget of further segments; beyond them the wall is put at rest (`rest_forced`: impacts
+// that close together mean settling speeds).
+//
+// The arithmetic is the derived stepper's (CRTP, the Kernel below): RockingStepper<Scalar> (double: Newmark through
+// the model's coefficients, events by Illinois regula falsi to convergence) and FixedRockingStepper (64-bit fixed
+// point: the equation divided by p1, events by a fixed number of Newton steps on the exact Newmark residual). What
+// a kernel provides, all const:
+//   Segment begin_segment(Fraction θ)              the current state at θ, and what the kernel needs to integrate
+//                                                  from it to the step end on the current side
+//   State end_of(const Segment&)                   the state at the step end
+//   Located locate(const Segment&, const State& end, Length level, Report&)
+//                                                  where s·x reaches `level` in the segment (located.theta: the
+//                                                  fraction of the step), counting its work in the report
+//   State state_at(const Segment&, const Located&) the state there
+//   Drive drive(Side s, Fraction θ), drive_at_end(Side s)
+//                                                  the ground's drive towards s at x = 0 (s·p6, or s·p6/p1)
+//   Fraction start_crossing(Fraction θ, Drive now, Drive end)
+//                                                  where the drive, affine in θ, crosses 0 between θ and 1
+//   Accel accel_at_hinge(Side s, Fraction θ)       ẍ at x = 0 on side s
+//   Speed rebound(Speed v)                         √r·v
+// and its setup (x_inst_m, x_collapse_m, v_rest_mps, v_count_mps per the stepper's formats).
+//
+// Core rules: header-only, no heap, no exceptions, no I/O; the loops are bounded by kMaxSegmentsPerStep.
+#pragma once
+
+#include <climits>
+#include <cstdint>
+
+#include "rockwatch/core/model.hpp"
+#include "rockwatch/core/newmark.hpp"
+
+namespace rockwatch::core {
+
+// What happened inside one step, in the stepper's formats (Fraction: of the step, in [0, 1]; Speed: m/s).
+template <typename Fraction, typename Speed = Fraction>
+struct StepReport {
+  bool input_invalid = false;     // G = g + v̈ ≤ 0 at the step end: outside the model, state held
+  bool started = false;           // rocking started from rest in this step
+  Fraction start_fraction{};
+  std::uint16_t impacts_counted = 0;  // impacts with |ẋ⁻| ≥ v_count
+  std::uint16_t impacts_total = 0;    // all impacts
+  Fraction first_impact_fraction{};   // the first impact of the step: when,
+  Speed first_impact_v_before_mps{};  //   ẋ⁻ [m/s]
+  Speed first_impact_v_after_mps{};   //   and ẋ⁺ = √r·ẋ⁻ [m/s], also when the impact puts the wall at rest
+  bool came_to_rest = false;
+  bool rest_forced = false;       // the step's segments (or the sample's budget) ran out: put at rest (settling)
+  bool exceeded = false;          // |x| rose through x_inst in this step (first time in the step)
+  Fraction exceed_fraction{};
+  bool collapsed = false;         // |x| reached κ·x_inst; the stepper stops
+  Fraction collapse_fraction{};
+  bool saturated = false;         // fixed point: a state quantity reached the end of its format (results unreliable)
+  // Work done, for the constant-iteration proofs and worst-case accounting (tests/sim/test_fixed_engine.cpp):
+  std::uint16_t segments = 0;           // segments integrated to the step end (≤ kMaxSegmentsPerStep)
+  std::uint16_t events_located = 0;     // impacts, collapse and x_inst passages located inside the step
+  std::uint16_t locate_iterations = 0;  // iterations of the event locator
+};
+
+// The segments one sample may spend beyond the first of each sub-step, shared by its sub-steps (StepperAlarmChain
+// passes one per sample): what bounds the worst sample of the fixed-point engine. Spent: a sub-step that would need
+// another segment puts the wall at rest (`rest_forced`). unlimited() for the double engine, which is bounded by
+// kMaxSegmentsPerStep alone.
+struct EventBudget {
+  int extra_segments = 0;
+  static constexpr EventBudget unlimited() { return EventBudget{INT_MAX}; }
+};
+
+template <typename Derived, typename Types>
+class RockingSegments {
+ public:
+  using Length = typename Types::Length;
+  using Speed = typename Types::Speed;
+  using Accel = typename Types::Accel;
+  using Fraction = typename Types::Fraction;
+  using State = MotionState<Length, Speed, Accel>;
+  using Report = StepReport<Fraction, Speed>;
+  // Segments (impacts + 1) handled inside one step.
+  static constexpr int kMaxSegmentsPerStep = Types::kMaxSegmentsPerStep;
+
+  Side side() const { return side_; }
+  bool moving() const { return moving_; }
+  bool collapsed() const { return collapsed_; }
+
+ protected:
+  // The wall at rest, vertical.
+  void rest_vertical() {
+    state_ = State{Length{}, Speed{}, Accel{}};
+    side_ = Side::positive;
+    moving_ = false;
+    collapsed_ = false;
+  }
+
+  // After rest_vertical(): the wall at x, ẋ (side follows x, or ẋ when x = 0); ẍ is the caller's.
+  void place(Length x_m, Speed xd_mps) {
+    state_.x_m = x_m;
+    state_.xd_mps = xd_mps;
+    if (x_m != Length{}) {
+      side_ = x_m > Length{} ? Side::positive : Side::negative;
+    } else {
+      side_ = xd_mps < Speed{} ? Side::negative : Side::positive;
+    }
+    moving_ = x_m != Length{} || xd_mps != Speed{};
+  }
+
+  // The segments of one step, from θ = 0 to the step end (or collapse), spending from `budget`.
+  void run_segments(Report& report, EventBudget& budget) {
+    Fraction theta{};  // position inside the step, fraction of the step
+    bool finished = false;
+    for (int segment = 0; segment < kMaxSegmentsPerStep && !finished; ++segment) {
+      if (segment > 0) {
+        if (budget.extra_segments <= 0) break;
+        --budget.extra_segments;
+      }
+      if (!moving_ && !try_start(theta, report)) break;
+      finished = advance_segment(theta, report);
+    }
+    if (!finished && moving_) {
+      // Impacts closer together than the step allows: settling speeds. Rest; the start logic takes over if the
+      // ground drives the wall out.
+      put_at_rest(report);
+      report.rest_forced = true;
+    }
+  }
+
+  State state_{};
+  Side side_ = Side::positive;
+  bool moving_ = false;
+  bool collapsed_ = false;
+
+ private:
+  const Derived& kernel() const { return static_cast<const Derived&>(*this); }
+
+  Length signed_x(Side s, Length x) const { return s == Side::positive ? x : -x; }
+  Speed signed_v(Side s, Speed v) const { return s == Side::positive ? v : -v; }
+
+  // At rest from θ: if the ground's drive towards a side is positive at the step end, start rocking towards it
+  // where the drive crosses zero (at θ if it already is positive). Returns true if moving.
+  bool try_start(Fraction& theta, Report& report) {
+    for (int candidate = 0; candidate < 2; ++candidate) {
+      const Side s = candidate == 0 ? Side::positive : Side::negative;
+      const auto drive_end = kernel().drive_at_end(s);
+      if (!(drive_end > decltype(drive_end){})) continue;
+      const auto drive_now = kernel().drive(s, theta);
+      if (drive_now < decltype(drive_now){}) theta = kernel().start_crossing(theta, drive_now, drive_end);
+      side_ = s;
+      moving_ = true;
+      state_ = State{Length{}, Speed{}, kernel().accel_at_hinge(s, theta)};
+      if (!report.started) {
+        report.started = true;
+        report.start_fraction = theta;
+      }
+      return true;
+    }
+    return false;
+  }
+
+  // From θ to the step end on the current side, stopping at the first impact or at collapse. Returns true when the
+  // step is finished (end reached or collapsed), false after an impact.
+  bool advance_segment(Fraction& theta, Report& report) {
+    ++report.segments;
+    const Side s = side_;
+    const Length x0 = signed_x(s, state_.x_m);
+    if (x0 == Length{} && signed_v(s, state_.xd_mps) < Speed{}) {
+      impact(theta, state_.xd_mps, report);  // sitting on the hinge and moving across it
+      return false;
+    }
+    if (!(theta < Fraction(1))) return true;
+    const auto segment = kernel().begin_segment(theta);
+    const State end = kernel().end_of(segment);
+    const Length x1 = signed_x(s, end.x_m);
+    if (x1 < Length{}) {
+      // Crossed x = 0 inside the step: locate the crossing and apply the impact there (SPEC §3, §4.1).
+      const auto at = kernel().locate(segment, end, Length{}, report);
+      theta = at.theta;
+      impact(theta, kernel().state_at(segment, at).xd_mps, report);
+      return false;
+    }
+    const int i = side_index(s);
+    const Length inst = kernel().setup().x_inst_m[i];
+    const Length limit = kernel().setup().x_collapse_m[i];
+    if (x0 < inst && x1 >= inst && !report.exceeded) {
+      report.exceeded = true;
+      report.exceed_fraction = kernel().locate(segment, end, inst, report).theta;
+    }
+    if (x1 >= limit) {
+      const auto at = kernel().locate(segment, end, limit, report);
+      state_ = kernel().state_at(segment, at);
+      state_.x_m = s == Side::positive ? limit : -limit;
+      report.collapsed = true;
+      report.collapse_fraction = at.theta;
+      collapsed_ = true;
+      moving_ = false;
+      return true;
+    }
+    state_ = end;
+    return true;
+  }
+
+  // Impact at x = 0 at θ with velocity v_before: ẋ⁺ = √r ẋ⁻ into the other side, ẍ⁺ from its equation of motion,
+  // or rest when the wall barely moves and the ground does not drive it out (SPEC §3).
+  void impact(Fraction theta, Speed v_before, Report& report) {
+    const Speed v_after = kernel().rebound(v_before);
+    if (report.impacts_total == 0) {
+      report.first_impact_fraction = theta;
+      report.first_impact_v_before_mps = v_before;
+      report.first_impact_v_after_mps = v_after;
+    }
+    if (report.impacts_total < UINT16_MAX) ++report.impacts_total;
+    const Speed speed_before = v_before < Speed{} ? -v_before : v_before;
+    if (speed_before >= kernel().setup().v_count_mps && report.impacts_counted < UINT16_MAX) {
+      ++report.impacts_counted;
+    }
+    side_ = opposite(side_);
+    const Speed speed_after = v_after < Speed{} ? -v_after : v_after;
+    if (speed_after < kernel().setup().v_rest_mps) {
+      const auto drive = kernel().drive(side_, theta);
+      if (!(drive > decltype(drive){})) {
+        put_at_rest(report);
+        return;
+      }
+    }
+    state_ = State{Length{}, v_after, kernel().accel_at_hinge(side_, theta)};
+  }
+
+  void put_at_rest(Report& report) {
+    state_ = State{Length{}, Speed{}, Accel{}};
+    moving_ = false;
+    report.came_to_rest = true;
+  }
+};
+
+}  // namespace rockwatch::core
