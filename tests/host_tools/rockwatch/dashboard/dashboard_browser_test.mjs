@@ -177,20 +177,28 @@ try {
   const transitionRows = await page.$$('[data-testid="transitions"][data-wall="wall"] tr[data-level]');
   check(transitionRows.length >= 4, `the transitions list has rows (${transitionRows.length})`);
 
-  // /ws: at most 30 updates per second per wall (consecutive updates of a wall >= 1/30 s apart on the server's
-  // clock; and on the page's clock, no 1-s window with more than 30 + 1 for delivery jitter).
+  // /ws: at most 30 updates per second per wall, on the server's clock (consecutive updates of a wall >= 1/30 s
+  // apart, and no 1-s window with more than 30). The page's clock is reported, not checked: a browser whose event loop
+  // stalls (a loaded CI machine) receives the same updates in bursts (a stop's CI saw 46 in one second of the page's
+  // clock while the server's spacing held at >= 33.36 ms).
   const updates = (await page.evaluate(() => window.__updates)).filter((u) => u.wall === 'wall');
   let minGap = Infinity;
   for (let i = 1; i < updates.length; ++i) minGap = Math.min(minGap, updates[i].server_s - updates[i - 1].server_s);
-  let worstWindow = 0;
-  for (let i = 0, j = 0; i < updates.length; ++i) {
-    while (updates[i].client_ms - updates[j].client_ms >= 1000) ++j;
-    worstWindow = Math.max(worstWindow, i - j + 1);
-  }
+  const worstWindowOn = (clock, second) => {
+    let worst = 0;
+    for (let i = 0, j = 0; i < updates.length; ++i) {
+      while (clock(updates[i]) - clock(updates[j]) >= second) ++j;
+      worst = Math.max(worst, i - j + 1);
+    }
+    return worst;
+  };
+  const worstWindow = worstWindowOn((u) => u.server_s, 1.0 - 1e-4);  // (the spacing check allows 1e-6 s per gap)
+  const worstReceived = worstWindowOn((u) => u.client_ms, 1000);
   const spanS = updates.length > 1 ? updates[updates.length - 1].server_s - updates[0].server_s : 0;
   check(updates.length > 60, `/ws streamed updates of wall "wall" (${updates.length} in ${spanS.toFixed(2)} s)`);
   check(minGap >= 1 / 30 - 1e-6, `/ws: consecutive updates at least 1/30 s apart on the server (min ${(minGap * 1000).toFixed(2)} ms)`);
-  check(worstWindow <= 31, `/ws: at most 30 updates in any second as received (worst ${worstWindow})`);
+  check(worstWindow <= 30, `/ws: at most 30 updates in any second on the server's clock (worst ${worstWindow})`);
+  log(`/ws: at most ${worstReceived} updates in one second of the page's clock (delivery bunching; not checked)`);
   check((updates.length - 1) / spanS <= 30.0 + 1e-9, `/ws: mean rate ${((updates.length - 1) / spanS).toFixed(2)} per second <= 30`);
 
   // A page opened after the collapse: COLLAPSED from its first render (the store latched it).
