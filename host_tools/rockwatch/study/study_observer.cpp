@@ -81,21 +81,6 @@ nlohmann::ordered_json spread_json(const Spread& s) {
           {"runs", s.n}};
 }
 
-nlohmann::ordered_json alarm_score_json(const AlarmOutcome& a) {
-  nlohmann::ordered_json j;
-  j["recall"] = number_or_null(a.recall);
-  j["false_alarm_rate"] = number_or_null(a.false_alarm_rate);
-  j["lead_time_s_median"] = number_or_null(a.lead_time_s_median);
-  j["lead_time_s_p05"] = number_or_null(a.lead_time_s_p05);
-  j["lead_time_s_min"] = number_or_null(a.lead_time_s_min);
-  j["counts"] = {{"runs", a.runs},
-                 {"collapsed", a.collapsed},
-                 {"collapsed_flagged", a.collapsed_flagged},
-                 {"survivors", a.survivors},
-                 {"survivors_flagged", a.survivors_flagged}};
-  return j;
-}
-
 nlohmann::ordered_json score_json(const ObserverScore& s) {
   nlohmann::ordered_json j;
   j["runs"] = s.runs;

@@ -98,17 +98,7 @@ nlohmann::ordered_json runs_json(const std::vector<std::size_t>& runs) {
 
 nlohmann::ordered_json alarm_json(const study::StudyPlan& plan, const AlarmOutcome& a) {
   const core::AlarmSettings& s = plan.analysis.alarm;
-  nlohmann::ordered_json j;
-  j["recall"] = number_or_null(a.recall);
-  j["false_alarm_rate"] = number_or_null(a.false_alarm_rate);
-  j["lead_time_s_median"] = number_or_null(a.lead_time_s_median);
-  j["lead_time_s_p05"] = number_or_null(a.lead_time_s_p05);
-  j["lead_time_s_min"] = number_or_null(a.lead_time_s_min);
-  j["counts"] = {{"runs", a.runs},
-                 {"collapsed", a.collapsed},
-                 {"collapsed_flagged", a.collapsed_flagged},
-                 {"survivors", a.survivors},
-                 {"survivors_flagged", a.survivors_flagged}};
+  nlohmann::ordered_json j = alarm_score_json(a);
   j["settings"] = {{"lambda_warning", s.lambda_warning}, {"hold_s", s.hold_s}, {"energy_margin", s.energy_margin}};
   j["alarm_engine"] = arithmetic_name(plan.analysis.arithmetic);
   j["definitions"] = {
@@ -245,6 +235,21 @@ AlarmOutcome alarm_outcome(const std::vector<study::RunResult>& results) {
   a.lead_time_s_p05 = quantile_type7(a.lead_times_s, 0.05);
   if (!a.lead_times_s.empty()) a.lead_time_s_min = a.lead_times_s.front();
   return a;
+}
+
+nlohmann::ordered_json alarm_score_json(const AlarmOutcome& a) {
+  nlohmann::ordered_json j;
+  j["recall"] = number_or_null(a.recall);
+  j["false_alarm_rate"] = number_or_null(a.false_alarm_rate);
+  j["lead_time_s_median"] = number_or_null(a.lead_time_s_median);
+  j["lead_time_s_p05"] = number_or_null(a.lead_time_s_p05);
+  j["lead_time_s_min"] = number_or_null(a.lead_time_s_min);
+  j["counts"] = {{"runs", a.runs},
+                 {"collapsed", a.collapsed},
+                 {"collapsed_flagged", a.collapsed_flagged},
+                 {"survivors", a.survivors},
+                 {"survivors_flagged", a.survivors_flagged}};
+  return j;
 }
 
 FixedComparison fixed_comparison(const study::StudyPlan& plan, const std::vector<study::RunResult>& results) {

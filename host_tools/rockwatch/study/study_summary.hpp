@@ -79,6 +79,9 @@ struct StudyOutcome {
 std::optional<double> quantile_type7(const std::vector<double>& ascending, double p);
 
 AlarmOutcome alarm_outcome(const std::vector<sim::study::RunResult>& results);
+// The outcome's scores as JSON: recall, false_alarm_rate, lead times, counts (summary.json "alarm" and the observer
+// evaluation's per-arm scores).
+nlohmann::ordered_json alarm_score_json(const AlarmOutcome& a);
 FixedComparison fixed_comparison(const sim::study::StudyPlan& plan, const std::vector<sim::study::RunResult>& results);
 
 // `results` must be complete (every run done).
