@@ -3,6 +3,7 @@
 # appearing after configuration (`npm ci` run after `cmake`) or changing re-embeds the page without a reconfigure.
 # Run as: cmake -DSTAMP=file -DFILES=a!b!... -P dashboard_assets_stamp.cmake
 cmake_minimum_required(VERSION 3.25)
+include(${CMAKE_CURRENT_LIST_DIR}/write_if_changed.cmake)
 
 string(REPLACE "!" ";" file_list "${FILES}")
 set(text "")
@@ -16,10 +17,4 @@ foreach(file IN LISTS file_list)
   endif()
 endforeach()
 
-if(EXISTS "${STAMP}")
-  file(READ "${STAMP}" previous)
-  if(previous STREQUAL text)
-    return()
-  endif()
-endif()
-file(WRITE "${STAMP}" "${text}")
+write_if_changed("${STAMP}" "${text}")

@@ -5,6 +5,7 @@
 # Run as: cmake -DOUTPUT=file.cpp -DASSETS=url|type|file;... -DSOURCE_DIR=dir -P embed_dashboard_assets.cmake
 # (ASSETS entries separated by '!', fields by '|').
 cmake_minimum_required(VERSION 3.25)
+include(${CMAKE_CURRENT_LIST_DIR}/write_if_changed.cmake)
 
 string(REPLACE "!" ";" asset_list "${ASSETS}")
 set(arrays "")
@@ -54,10 +55,4 @@ const EmbeddedAsset* embedded_dashboard_assets() { return kAssets; }
 }  // namespace rockwatch::cli
 ")
 
-if(EXISTS "${OUTPUT}")
-  file(READ "${OUTPUT}" previous)
-  if(previous STREQUAL text)
-    return()
-  endif()
-endif()
-file(WRITE "${OUTPUT}" "${text}")
+write_if_changed("${OUTPUT}" "${text}")

@@ -2,6 +2,7 @@
 # tree. Byte arrays, not raw string literals: no length limit, no delimiter that a script could contain.
 # Run as: cmake -DOUTPUT=file.cpp -DSCRIPTS=a.py|b.py -P embed_plot_scripts.cmake  ('|' separates the scripts)
 cmake_minimum_required(VERSION 3.25)
+include(${CMAKE_CURRENT_LIST_DIR}/write_if_changed.cmake)
 
 string(REPLACE "|" ";" script_list "${SCRIPTS}")
 set(arrays "")
@@ -41,11 +42,4 @@ const EmbeddedPlotScript* embedded_plot_scripts() { return kScripts; }
 }  // namespace rockwatch::cli
 ")
 
-# Rewrite only on change, so an unchanged script does not recompile the tool.
-if(EXISTS "${OUTPUT}")
-  file(READ "${OUTPUT}" previous)
-  if(previous STREQUAL text)
-    return()
-  endif()
-endif()
-file(WRITE "${OUTPUT}" "${text}")
+write_if_changed("${OUTPUT}" "${text}")
