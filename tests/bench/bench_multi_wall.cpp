@@ -1,7 +1,8 @@
 // firmware::MultiWallMonitor: the time of one ground message (decode, every wall's engine step, encode and publish of
 // each wall's wall_state_t) for 1, 4 and 16 walls on a shared ground channel, the fixed-point engine at 200 Hz, a wall
 // rocking (0.15 g at 2 Hz: impacts, the alarm busy, no collapse). The per-wall cost per sample is the slope; the walls
-// one core follows at a rate R is 1 / (R x that), bounded by kMaxMonitorWalls (docs/BENCHMARKS.md, issue 18).
+// one core follows at a rate R is 1 / (R x that), bounded by kMaxMonitorWalls (docs/BENCHMARKS.md, "Scale:
+// portfolios, shards, MPI").
 #include <benchmark/benchmark.h>
 
 #include <cmath>

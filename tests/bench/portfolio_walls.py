@@ -1,7 +1,8 @@
 #!/usr/bin/python3
-"""A synthetic wall portfolio for `rockwatch study --walls` benchmarks (docs/BENCHMARKS.md, issue 18): N walls drawn
-with a fixed seed from the design paper's parametric range: b 0.10-0.21 m, storey height 2.6-4.0 m split evenly
-into h1 and h2, density 1700-1900 kg/m3, overburden 0 (half the walls) or 1-6 kN/m with eccentricities 0-1.
+"""A synthetic wall portfolio for `rockwatch study --walls` benchmarks (docs/BENCHMARKS.md, "Scale: portfolios,
+shards, MPI"): N walls drawn with a fixed seed from the design paper's parametric range: b 0.10-0.21 m, storey height
+2.6-4.0 m split evenly into h1 and h2, density 1700-1900 kg/m3, overburden 0 (half the walls) or 1-6 kN/m with
+eccentricities 0-1.
 
     tests/bench/portfolio_walls.py 1000 > walls1000.csv
 """

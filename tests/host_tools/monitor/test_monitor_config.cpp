@@ -321,7 +321,7 @@ TEST(MonitorAdapterHelpers, ReceiveBufferIsAddedToUdpmUrlsThatNameNone) {
   LONGS_EQUAL(0, static_cast<long>(requested_receive_buffer("memq://")));
 }
 
-// Issue 8, invalid values and hangs: the options test_monitor_config did not reach yet.
+// Invalid values and hangs (docs/RELIABILITY.md): the options the groups above do not reach.
 TEST_GROUP(MonitorInvalidValues){};
 
 TEST(MonitorInvalidValues, RateArithAndLogValuesNameTheOption) {

@@ -101,8 +101,9 @@ inline std::optional<double> double_t_collapse_s(const RunResult& r) {
 // equal sub-steps of at most the plan's max step [s].
 double integration_step_s(const StudyPlan& plan, const StudyRecord& record);
 
-// The --dt-check reference's max step: the finer of half the plan's and 0.5 ms (the converged step of issue 17's
-// figures: at 0.5 ms the survivors' max |x| changes by less than 0.1 % in the median when the step is halved) [s].
+// The --dt-check reference's max step: the finer of half the plan's and 0.5 ms (the converged step of the figures in
+// docs/BENCHMARKS.md, "Sub-steps": at 0.5 ms the survivors' max |x| changes by less than 0.1 % in the median when the
+// step is halved) [s].
 double dt_check_step_s(const StudyPlan& plan);
 
 // Throws AnalysisError for an inconsistent plan (no records/levels/cases, a record without samples or peak,
