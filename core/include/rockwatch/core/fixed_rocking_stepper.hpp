@@ -154,7 +154,6 @@ class FixedRockingStepper : public RockingSegments<FixedRockingStepper, FixedRoc
   friend Base;
 
  public:
-  using Report = FixedStepReport;
   // Newton iterations on the event residual, always all of them for a located event (constant work per event). 8
   // keep the default study's agreement with the double engine (recall 1.0, verdicts 99.94 %); 4 and 6 lose it
   // (docs/BENCHMARKS.md, "Sub-steps, the worst sample and the alarm"). Was 12.
@@ -234,9 +233,6 @@ class FixedRockingStepper : public RockingSegments<FixedRockingStepper, FixedRoc
     FractionQ1_62 tau;
     FractionQ1_62 theta;
   };
-
-  static LengthQ1_62 signed_x(Side s, LengthQ1_62 x) { return s == Side::positive ? x : -x; }
-  static SpeedQ3_60 signed_v(Side s, SpeedQ3_60 v) { return s == Side::positive ? v : -v; }
 
   // s·f at x = 0 at fraction θ of the step: > 0 means the ground drives the wall out towards s (f = p6/p1, p1 > 0).
   AccelQ7_56 drive(Side s, FractionQ1_62 theta) const {

@@ -20,9 +20,9 @@
 //                                                  where s·x reaches `level` in the segment (located.theta: the
 //                                                  fraction of the step), counting its work in the report
 //   State state_at(const Segment&, const Located&) the state there
-//   Drive drive(Side s, Fraction θ), drive_at_end(Side s)
+//   Accel drive(Side s, Fraction θ), drive_at_end(Side s)
 //                                                  the ground's drive towards s at x = 0 (s·p6, or s·p6/p1)
-//   Fraction start_crossing(Fraction θ, Drive now, Drive end)
+//   Fraction start_crossing(Fraction θ, Accel now, Accel end)
 //                                                  where the drive, affine in θ, crosses 0 between θ and 1
 //   Accel accel_at_hinge(Side s, Fraction θ)       ẍ at x = 0 on side s
 //   Speed rebound(Speed v)                         √r·v
@@ -129,6 +129,10 @@ class RockingSegments {
     }
   }
 
+  // s·x and s·ẋ: the motion as seen from side s (positive away from the hinge on that side).
+  static Length signed_x(Side s, Length x) { return s == Side::positive ? x : -x; }
+  static Speed signed_v(Side s, Speed v) { return s == Side::positive ? v : -v; }
+
   State state_{};
   Side side_ = Side::positive;
   bool moving_ = false;
@@ -137,18 +141,15 @@ class RockingSegments {
  private:
   const Derived& kernel() const { return static_cast<const Derived&>(*this); }
 
-  Length signed_x(Side s, Length x) const { return s == Side::positive ? x : -x; }
-  Speed signed_v(Side s, Speed v) const { return s == Side::positive ? v : -v; }
-
   // At rest from θ: if the ground's drive towards a side is positive at the step end, start rocking towards it
   // where the drive crosses zero (at θ if it already is positive). Returns true if moving.
   bool try_start(Fraction& theta, Report& report) {
     for (int candidate = 0; candidate < 2; ++candidate) {
       const Side s = candidate == 0 ? Side::positive : Side::negative;
-      const auto drive_end = kernel().drive_at_end(s);
-      if (!(drive_end > decltype(drive_end){})) continue;
-      const auto drive_now = kernel().drive(s, theta);
-      if (drive_now < decltype(drive_now){}) theta = kernel().start_crossing(theta, drive_now, drive_end);
+      const Accel drive_end = kernel().drive_at_end(s);
+      if (!(drive_end > Accel{})) continue;
+      const Accel drive_now = kernel().drive(s, theta);
+      if (drive_now < Accel{}) theta = kernel().start_crossing(theta, drive_now, drive_end);
       side_ = s;
       moving_ = true;
       state_ = State{Length{}, Speed{}, kernel().accel_at_hinge(s, theta)};
@@ -220,8 +221,7 @@ class RockingSegments {
     side_ = opposite(side_);
     const Speed speed_after = v_after < Speed{} ? -v_after : v_after;
     if (speed_after < kernel().setup().v_rest_mps) {
-      const auto drive = kernel().drive(side_, theta);
-      if (!(drive > decltype(drive){})) {
+      if (!(kernel().drive(side_, theta) > Accel{})) {
         put_at_rest(report);
         return;
       }

@@ -93,7 +93,7 @@ class RockingStepper : public RockingSegments<RockingStepper<Scalar>, RockingSte
   friend Base;
 
  public:
-  using Report = StepReport<Scalar>;
+  using typename Base::Report;
   // Iterations of the bracketed root finder that locates impacts and collapse inside a step.
   static constexpr int kRootIterations = 64;
 
@@ -206,22 +206,19 @@ class RockingStepper : public RockingSegments<RockingStepper<Scalar>, RockingSte
   MotionState<Scalar> end_of(const Segment& g) const { return trial(g, Scalar(1)); }
   MotionState<Scalar> state_at(const Segment& g, Located at) const { return trial(g, at.theta); }
 
-  Scalar signed_x(Side side, Scalar x_m) const { return side == Side::positive ? x_m : -x_m; }
-
   // θ in (θ_from, 1] where s·x(θ) reaches `level`, by Illinois regula falsi on the Newmark step from the segment's
   // start, bracketed by the segment's ends. When the segment starts on the hinge (right after an impact) and the
   // level is the hinge, the function is divided by the sub-step so the root at the start point does not shadow the
   // one we want.
-  Located locate(const Segment& g, const MotionState<Scalar>& end, Scalar level,
-                 StepReport<Scalar>& report) const {
+  Located locate(const Segment& g, const MotionState<Scalar>& end, Scalar level, Report& report) const {
     ++report.events_located;
-    const Scalar x0 = signed_x(g.side, g.from.x_m);
-    const Scalar x1 = signed_x(g.side, end.x_m);
+    const Scalar x0 = Base::signed_x(g.side, g.from.x_m);
+    const Scalar x1 = Base::signed_x(g.side, end.x_m);
     const bool divide_by_h = level == Scalar(0) && g.from.x_m == Scalar(0);
     Scalar lo = g.theta_from, hi = Scalar(1);
     Scalar g_lo = x0 - level, g_hi = x1 - level;
     if (divide_by_h) {
-      g_lo = signed_x(g.side, g.from.xd_mps) * setup_.dt_s;  // limit of s·x(θ)/(θ − θ_from) at θ_from, times dt
+      g_lo = Base::signed_v(g.side, g.from.xd_mps) * setup_.dt_s;  // limit of s·x(θ)/(θ − θ_from) at θ_from, times dt
       g_hi = x1 / (Scalar(1) - g.theta_from);
     }
     int side_kept = 0;
@@ -232,7 +229,7 @@ class RockingStepper : public RockingSegments<RockingStepper<Scalar>, RockingSte
       if (mid == lo || mid == hi) break;
       ++report.locate_iterations;
       const MotionState<Scalar> s = trial(g, mid);
-      Scalar value = signed_x(g.side, s.x_m) - level;
+      Scalar value = Base::signed_x(g.side, s.x_m) - level;
       if (divide_by_h) value = value / (mid - g.theta_from);
       if (value == Scalar(0)) return Located{mid};
       if ((value > Scalar(0)) == (g_hi > Scalar(0))) {

@@ -27,7 +27,6 @@ struct AlarmChainTraits;
 template <>
 struct AlarmChainTraits<RockingStepper<double>> {
   using Input = double;
-  using Report = StepReport<double>;
   using Constants = InstabilityConstants<double>;
   using Indicators = InstabilityIndicators<double>;
   static FixedSetupError init_stepper(RockingStepper<double>& s, const StepperSetup<double>& setup) {
@@ -54,7 +53,6 @@ struct AlarmChainTraits<RockingStepper<double>> {
 template <>
 struct AlarmChainTraits<FixedRockingStepper> {
   using Input = AccelQ7_56;
-  using Report = FixedStepReport;
   using Constants = FixedInstabilityConstants;
   using Indicators = FixedInstabilityIndicators;
   static FixedSetupError init_stepper(FixedRockingStepper& s, const StepperSetup<double>& setup) {
@@ -85,7 +83,7 @@ struct AlarmChainTraits<FixedRockingStepper> {
 
 template <typename Stepper>
 struct AlarmChainOutput {
-  typename AlarmChainTraits<Stepper>::Report step{};              // what the stepper did inside the step
+  typename Stepper::Report step{};                                // what the stepper did inside the step
   typename AlarmChainTraits<Stepper>::Indicators indicators{};    // conditions, predicted time, energy ratio
   AlarmUpdate alarm{};                                            // level after the step, reasons, transition flag
 };
@@ -124,7 +122,7 @@ class StepperAlarmChain {
  public:
   using Traits = AlarmChainTraits<Stepper>;
   using Input = typename Traits::Input;
-  using Report = typename Traits::Report;
+  using Report = typename Stepper::Report;
   using Fraction = typename Traits::Fraction;
   using Output = AlarmChainOutput<Stepper>;
 

@@ -157,5 +157,4 @@ void for_each_engine_input_key(const core::WallEngineConfig& c, Sink&& sink) {
   visit_engine_input_fields(c, [&sink](EngineInputKey k, const auto& field) { sink(k, engine_input_value(field)); });
 }
 
-
 }  // namespace rockwatch::firmware
