@@ -147,6 +147,9 @@ struct FixedRockingStepperTypes {
   using Fraction = FractionQ1_62;
   // Segments (impacts + 1) handled inside one step; more means settling speeds and the wall is put at rest.
   static constexpr int kMaxSegmentsPerStep = 16;
+  // What each piece of work costs on a Cortex-M4 [instructions], upper bounds measured on the emulated M4
+  // (scripts/m4-replay.sh; docs/BENCHMARKS.md, "Bounded work per call"): the meter of a call (core/work_meter.hpp).
+  static constexpr WorkCosts kWork{700, 1300, 9600, 2600};
 };
 
 class FixedRockingStepper : public RockingSegments<FixedRockingStepper, FixedRockingStepperTypes> {
@@ -192,20 +195,33 @@ class FixedRockingStepper : public RockingSegments<FixedRockingStepper, FixedRoc
 
   // The same, spending from a budget shared with the other sub-steps of the sample (EventBudget).
   FixedStepReport step(AccelQ7_56 ug_mps2, AccelQ7_56 vg_mps2, EventBudget& budget) {
-    FixedStepReport report;
-    const bool valid = coefficients(ug_mps2, vg_mps2, f_end_, k_end_);
-    if (!collapsed_ && valid) {
-      run_segments(report, budget);
-      report.saturated = state_.x_m.saturated() || state_.xd_mps.saturated() || state_.xdd_mps2.saturated();
+    WorkMeter meter = WorkMeter::unlimited();
+    begin_step(ug_mps2, vg_mps2);
+    continue_step(budget, meter);
+    return report_;
+  }
+
+  // The same in pieces paid from a meter (core/work_meter.hpp): begin_step(), then continue_step() until it returns
+  // true; step_report() is then the step's report, bit-identical to step()'s.
+  void begin_step(AccelQ7_56 ug_mps2, AccelQ7_56 vg_mps2) {
+    report_ = FixedStepReport{};
+    step_valid_ = coefficients(ug_mps2, vg_mps2, f_end_, k_end_);
+    begin_segments();
+  }
+  bool continue_step(EventBudget& budget, WorkMeter& meter) {
+    if (!collapsed_ && step_valid_) {
+      if (!run_segments(report_, budget, meter)) return false;
+      report_.saturated = state_.x_m.saturated() || state_.xd_mps.saturated() || state_.xdd_mps2.saturated();
     } else {
-      report.input_invalid = !valid;
+      report_.input_invalid = !step_valid_;
     }
     for (int i = 0; i < 2; ++i) {
       f_prev_[i] = f_end_[i];
       k_prev_[i] = k_end_[i];
     }
-    return report;
+    return true;
   }
+  const FixedStepReport& step_report() const { return report_; }
 
   // The velocity ratio at impact √r from now on (the observer's estimate of the real wall's restitution).
   void set_sqrt_r(FractionQ1_62 sqrt_r) { setup_.sqrt_r = sqrt_r; }
@@ -398,6 +414,8 @@ class FixedRockingStepper : public RockingSegments<FixedRockingStepper, FixedRoc
   StiffQ8_55 k_prev_[2]{};
   AccelQ7_56 f_end_[2]{};   // and at its end (this step's input)
   StiffQ8_55 k_end_[2]{};
+  FixedStepReport report_{};  // the step in progress (begin_step, continue_step)
+  bool step_valid_ = false;   // its input is inside the model (G > 0)
 };
 
 }  // namespace rockwatch::core

@@ -36,6 +36,7 @@
 
 #include "rockwatch/core/model.hpp"
 #include "rockwatch/core/newmark.hpp"
+#include "rockwatch/core/work_meter.hpp"
 
 namespace rockwatch::core {
 
@@ -57,6 +58,7 @@ struct StepReport {
   bool collapsed = false;         // |x| reached κ·x_inst; the stepper stops
   Fraction collapse_fraction{};
   bool saturated = false;         // fixed point: a state quantity reached the end of its format (results unreliable)
+  bool work_shed = false;         // the engine's queue was full: an event was not located (core/work_meter.hpp)
   // Work done, for the constant-iteration proofs and worst-case accounting (tests/sim/test_fixed_engine.cpp):
   std::uint16_t segments = 0;           // segments integrated to the step end (≤ kMaxSegmentsPerStep)
   std::uint16_t events_located = 0;     // impacts, collapse and x_inst passages located inside the step
@@ -83,6 +85,8 @@ class RockingSegments {
   using Report = StepReport<Fraction, Speed>;
   // Segments (impacts + 1) handled inside one step.
   static constexpr int kMaxSegmentsPerStep = Types::kMaxSegmentsPerStep;
+  // What each piece of the work costs when metered (core/work_meter.hpp).
+  static constexpr WorkCosts kWork = Types::kWork;
 
   Side side() const { return side_; }
   bool moving() const { return moving_; }
@@ -109,17 +113,34 @@ class RockingSegments {
     moving_ = x_m != Length{} || xd_mps != Speed{};
   }
 
-  // The segments of one step, from θ = 0 to the step end (or collapse), spending from `budget`.
-  void run_segments(Report& report, EventBudget& budget) {
-    Fraction theta{};  // position inside the step, fraction of the step
+  // The segments of one step, from θ = 0 to the step end (or collapse), spending from `budget`: begin_segments(),
+  // then run_segments() until it returns true. It returns false when `meter` cannot pay for the next piece of work
+  // (core/work_meter.hpp); the next call goes on from there, and the report and the state are then the same as
+  // if the step had run at once.
+  void begin_segments() {
+    seg_theta_ = Fraction{};
+    seg_index_ = 0;
+    seg_paid_ = false;
+    seg_counted_ = false;
+  }
+  bool run_segments(Report& report, EventBudget& budget, WorkMeter& meter) {
     bool finished = false;
-    for (int segment = 0; segment < kMaxSegmentsPerStep && !finished; ++segment) {
-      if (segment > 0) {
+    while (seg_index_ < kMaxSegmentsPerStep) {
+      if (seg_index_ > 0 && !seg_paid_) {
         if (budget.extra_segments <= 0) break;
         --budget.extra_segments;
+        seg_paid_ = true;
       }
-      if (!moving_ && !try_start(theta, report)) break;
-      finished = advance_segment(theta, report);
+      if (!moving_ && !try_start(seg_theta_, report)) break;
+      const SegmentEnd end = advance_segment(seg_theta_, report, meter);
+      if (end == SegmentEnd::suspended) return false;
+      if (end == SegmentEnd::finished) {
+        finished = true;
+        break;
+      }
+      ++seg_index_;
+      seg_paid_ = false;
+      seg_counted_ = false;
     }
     if (!finished && moving_) {
       // Impacts closer together than the step allows: settling speeds. Rest; the start logic takes over if the
@@ -127,6 +148,13 @@ class RockingSegments {
       put_at_rest(report);
       report.rest_forced = true;
     }
+    return true;
+  }
+  // The whole step at once (no meter).
+  void run_segments(Report& report, EventBudget& budget) {
+    WorkMeter meter = WorkMeter::unlimited();
+    begin_segments();
+    run_segments(report, budget, meter);
   }
 
   // s·x and s·ẋ: the motion as seen from side s (positive away from the hinge on that side).
@@ -139,6 +167,15 @@ class RockingSegments {
   bool collapsed_ = false;
 
  private:
+  enum class SegmentEnd : std::uint8_t { finished, impact, suspended };
+
+  // Where the step in progress stands (run_segments): position in the step, segment number, whether that segment
+  // has drawn from the budget and been counted in the report.
+  Fraction seg_theta_{};
+  int seg_index_ = 0;
+  bool seg_paid_ = false;
+  bool seg_counted_ = false;
+
   const Derived& kernel() const { return static_cast<const Derived&>(*this); }
 
   // At rest from θ: if the ground's drive towards a side is positive at the step end, start rocking towards it
@@ -162,46 +199,73 @@ class RockingSegments {
     return false;
   }
 
-  // From θ to the step end on the current side, stopping at the first impact or at collapse. Returns true when the
-  // step is finished (end reached or collapsed), false after an impact.
-  bool advance_segment(Fraction& theta, Report& report) {
-    ++report.segments;
+  // From θ to the step end on the current side, stopping at the first impact or at collapse: finished (end reached or
+  // collapsed), impact (the next segment starts at θ), or suspended before a piece of work the meter cannot pay for
+  // (nothing changed but the report's work counters: the segment is done again from θ at the next call).
+  SegmentEnd advance_segment(Fraction& theta, Report& report, WorkMeter& meter) {
+    if (!seg_counted_) {
+      ++report.segments;
+      seg_counted_ = true;
+    }
     const Side s = side_;
     const Length x0 = signed_x(s, state_.x_m);
     if (x0 == Length{} && signed_v(s, state_.xd_mps) < Speed{}) {
       impact(theta, state_.xd_mps, report);  // sitting on the hinge and moving across it
-      return false;
+      return SegmentEnd::impact;
     }
-    if (!(theta < Fraction(1))) return true;
+    if (!(theta < Fraction(1))) return SegmentEnd::finished;
+    if (!meter.take(kWork.trial)) return SegmentEnd::suspended;
     const auto segment = kernel().begin_segment(theta);
     const State end = kernel().end_of(segment);
     const Length x1 = signed_x(s, end.x_m);
     if (x1 < Length{}) {
+      if (meter.shed) {  // the queue is full: no location; at rest at the step end (core/work_meter.hpp)
+        theta = Fraction(1);
+        put_at_rest(report);
+        report.rest_forced = true;
+        report.work_shed = true;
+        return SegmentEnd::finished;
+      }
       // Crossed x = 0 inside the step: locate the crossing and apply the impact there (SPEC §3, §4.1).
+      if (!meter.take(kWork.locate)) return SegmentEnd::suspended;
       const auto at = kernel().locate(segment, end, Length{}, report);
       theta = at.theta;
       impact(theta, kernel().state_at(segment, at).xd_mps, report);
-      return false;
+      return SegmentEnd::impact;
     }
     const int i = side_index(s);
     const Length inst = kernel().setup().x_inst_m[i];
     const Length limit = kernel().setup().x_collapse_m[i];
     if (x0 < inst && x1 >= inst && !report.exceeded) {
-      report.exceeded = true;
-      report.exceed_fraction = kernel().locate(segment, end, inst, report).theta;
+      if (meter.shed) {
+        report.exceeded = true;
+        report.exceed_fraction = Fraction(1);
+        report.work_shed = true;
+      } else {
+        if (!meter.take(kWork.locate)) return SegmentEnd::suspended;
+        report.exceeded = true;
+        report.exceed_fraction = kernel().locate(segment, end, inst, report).theta;
+      }
     }
     if (x1 >= limit) {
-      const auto at = kernel().locate(segment, end, limit, report);
-      state_ = kernel().state_at(segment, at);
+      if (meter.shed) {
+        state_ = end;
+        report.collapse_fraction = Fraction(1);
+        report.work_shed = true;
+      } else {
+        if (!meter.take(kWork.locate)) return SegmentEnd::suspended;
+        const auto at = kernel().locate(segment, end, limit, report);
+        state_ = kernel().state_at(segment, at);
+        report.collapse_fraction = at.theta;
+      }
       state_.x_m = s == Side::positive ? limit : -limit;
       report.collapsed = true;
-      report.collapse_fraction = at.theta;
       collapsed_ = true;
       moving_ = false;
-      return true;
+      return SegmentEnd::finished;
     }
     state_ = end;
-    return true;
+    return SegmentEnd::finished;
   }
 
   // Impact at x = 0 at θ with velocity v_before: ẋ⁺ = √r ẋ⁻ into the other side, ẍ⁺ from its equation of motion,

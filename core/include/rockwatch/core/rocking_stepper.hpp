@@ -85,6 +85,8 @@ struct RockingStepperTypes {
   // Upper bound on segments (impacts + 1) inside one step. Reached only when impacts are microseconds apart, i.e. at
   // velocities of ~1e-5 m/s, where the wall is at rest for every practical purpose.
   static constexpr int kMaxSegmentsPerStep = 64;
+  // Never metered (hosts only): no costs (core/work_meter.hpp).
+  static constexpr WorkCosts kWork{0, 0, 0, 0};
 };
 
 template <typename Scalar>
@@ -126,21 +128,38 @@ class RockingStepper : public RockingSegments<RockingStepper<Scalar>, RockingSte
 
   // The same, spending from a budget shared with the other sub-steps of the sample (EventBudget).
   Report step(Scalar ug_mps2, Scalar vg_mps2, EventBudget& budget) {
-    Report report;
-    if (this->collapsed_) return report;
+    WorkMeter meter = WorkMeter::unlimited();
+    begin_step(ug_mps2, vg_mps2);
+    continue_step(budget, meter);
+    return report_;
+  }
+
+  // The same in pieces paid from a meter (core/work_meter.hpp): begin_step(), then continue_step() until it returns
+  // true; step_report() is then the step's report.
+  void begin_step(Scalar ug_mps2, Scalar vg_mps2) {
+    report_ = Report{};
+    step_done_ = true;
+    if (this->collapsed_) return;
     if (!(setup_.g_mps2 + vg_mps2 > Scalar(0))) {
-      report.input_invalid = true;
+      report_.input_invalid = true;
       ug_prev_ = ug_mps2;
       vg_prev_ = vg_mps2;
-      return report;
+      return;
     }
     ug_next_ = ug_mps2;
     vg_next_ = vg_mps2;
-    this->run_segments(report, budget);
-    ug_prev_ = ug_mps2;
-    vg_prev_ = vg_mps2;
-    return report;
+    step_done_ = false;
+    this->begin_segments();
   }
+  bool continue_step(EventBudget& budget, WorkMeter& meter) {
+    if (step_done_) return true;
+    if (!this->run_segments(report_, budget, meter)) return false;
+    ug_prev_ = ug_next_;
+    vg_prev_ = vg_next_;
+    step_done_ = true;
+    return true;
+  }
+  const Report& step_report() const { return report_; }
 
   // The velocity ratio at impact √r from now on (the observer's estimate of the real wall's restitution).
   void set_sqrt_r(Scalar sqrt_r) { setup_.sqrt_r = sqrt_r; }
@@ -250,6 +269,8 @@ class RockingStepper : public RockingSegments<RockingStepper<Scalar>, RockingSte
   StepperSetup<Scalar> setup_{};
   Scalar ug_prev_{}, vg_prev_{};
   Scalar ug_next_{}, vg_next_{};
+  Report report_{};        // the step in progress (begin_step, continue_step)
+  bool step_done_ = true;  // its segments are done (or there were none to do)
 };
 
 }  // namespace rockwatch::core

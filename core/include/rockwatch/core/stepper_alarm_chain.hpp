@@ -150,22 +150,13 @@ class StepperAlarmChain {
 
   // The stepper through one sample to this input (callers that do not need the indicators this sample).
   // on_substep(j, report, ug, vg) runs after each sub-step j = 1..n with that sub-step's report and input.
+  // All at once: the queue of run() must be empty.
   template <typename OnSubstep>
   void step_motion(Input ug_mps2, Input vg_mps2, Output& out, OnSubstep&& on_substep) {
-    EventBudget budget = Traits::sample_budget();
-    if (substeps_ == 1) {
-      out.step = stepper_.step(ug_mps2, vg_mps2, budget);
-      on_substep(1, out.step, ug_mps2, vg_mps2);
-    } else {
-      out.step = Report{};
-      for (int j = 1; j <= substeps_ && !stepper_.collapsed(); ++j) {
-        const Input ug = Traits::interpolate(ug_last_, ug_mps2, j, substeps_, theta_);
-        const Input vg = Traits::interpolate(vg_last_, vg_mps2, j, substeps_, theta_);
-        const Report sub = stepper_.step(ug, vg, budget);
-        on_substep(j, sub, ug, vg);
-        merge(out.step, sub, j);
-      }
-    }
+    WorkMeter meter = WorkMeter::unlimited();
+    begin_motion();
+    out.step = Report{};
+    advance_motion(ug_mps2, vg_mps2, out.step, meter, on_substep);
     ug_last_ = ug_mps2;
     vg_last_ = vg_mps2;
   }
@@ -223,11 +214,98 @@ class StepperAlarmChain {
     evaluate(out);
   }
 
+  // Carry-over (core/work_meter.hpp): samples queued with submit() and worked by run() in pieces paid from a meter,
+  // in order; a sample whose work the meter cannot pay goes on at the next run() from where it stopped. The results
+  // are those of step() on the same samples, bit for bit, unless the meter sheds.
+  static constexpr int kMaxPendingSamples = 32;
+
+  // Queues a sample (restart: the motion restarts from rest with this input, as restart_motion()). False, nothing
+  // queued, when kMaxPendingSamples wait.
+  bool submit(Input ug_mps2, Input vg_mps2, bool restart = false) {
+    if (pending_count_ == kMaxPendingSamples) return false;
+    queue_[(pending_head_ + pending_count_) % kMaxPendingSamples] = PendingSample{ug_mps2, vg_mps2, restart};
+    ++pending_count_;
+    return true;
+  }
+  // Samples queued and not yet finished (the one in progress included).
+  int pending() const { return pending_count_; }
+  // Forgets the queued samples (before a reset: the wall at rest, the queue empty).
+  void clear_pending() {
+    pending_count_ = 0;
+    head_begun_ = false;
+  }
+
+  // Works on the queue until it is empty or the meter cannot pay for the next piece: on_substep as step_motion()'s,
+  // on_sample(const Output&) after each finished sample (its merged report, indicators and alarm).
+  template <typename OnSubstep, typename OnSample>
+  void run(WorkMeter& meter, OnSubstep&& on_substep, OnSample&& on_sample) {
+    while (pending_count_ > 0) {
+      const PendingSample& p = queue_[pending_head_];
+      if (p.restart) {
+        if (!meter.take(Stepper::kWork.evaluate)) return;
+        restart_motion(p.ug_mps2, p.vg_mps2, head_out_);
+      } else {
+        if (!head_begun_) {
+          begin_motion();
+          head_out_.step = Report{};
+          head_begun_ = true;
+        }
+        if (!advance_motion(p.ug_mps2, p.vg_mps2, head_out_.step, meter, on_substep)) return;
+        if (!meter.take(Stepper::kWork.evaluate)) return;
+        evaluate(head_out_);
+        ug_last_ = p.ug_mps2;
+        vg_last_ = p.vg_mps2;
+      }
+      head_begun_ = false;
+      pending_head_ = (pending_head_ + 1) % kMaxPendingSamples;
+      --pending_count_;
+      on_sample(static_cast<const Output&>(head_out_));
+    }
+  }
+
   const Stepper& stepper() const { return stepper_; }
   FixedSetupError setup_error() const { return setup_error_; }
   int substeps() const { return substeps_; }
 
  private:
+  struct PendingSample {
+    Input ug_mps2, vg_mps2;
+    bool restart;
+  };
+
+  // The sample in progress: its sub-steps one by one, each in pieces paid from the meter (begin_motion(), then
+  // advance_motion() until it returns true; `total` then holds the merged report).
+  void begin_motion() {
+    sub_j_ = 1;
+    sub_active_ = false;
+    motion_done_ = false;
+    budget_ = Traits::sample_budget();
+  }
+  template <typename OnSubstep>
+  bool advance_motion(Input ug_mps2, Input vg_mps2, Report& total, WorkMeter& meter, OnSubstep& on_substep) {
+    while (!motion_done_) {
+      if (!sub_active_) {
+        // One step per sample runs even on a collapsed wall (its report says whether the input was valid).
+        if (sub_j_ > substeps_ || (substeps_ > 1 && stepper_.collapsed())) {
+          motion_done_ = true;
+          break;
+        }
+        if (!meter.take(Stepper::kWork.substep)) return false;
+        sub_ug_ = Traits::interpolate(ug_last_, ug_mps2, sub_j_, substeps_, theta_);
+        sub_vg_ = Traits::interpolate(vg_last_, vg_mps2, sub_j_, substeps_, theta_);
+        stepper_.begin_step(sub_ug_, sub_vg_);
+        sub_active_ = true;
+      }
+      if (!stepper_.continue_step(budget_, meter)) return false;
+      sub_active_ = false;
+      const Report& sub = stepper_.step_report();
+      on_substep(sub_j_, sub, sub_ug_, sub_vg_);
+      merge(total, sub, sub_j_);
+      ++sub_j_;
+    }
+    return true;
+  }
+
   // Sub-step j's report into the sample's.
   void merge(Report& total, const Report& sub, int j) const {
     total.input_invalid = total.input_invalid || sub.input_invalid;
@@ -265,6 +343,18 @@ class StepperAlarmChain {
   int substeps_ = 1;
   Fraction theta_[kMaxSubsteps + 1]{};  // θ_j = j / substeps_
   Input ug_last_{}, vg_last_{};          // the previous sample's input: where the sub-steps' ramp starts
+  // The sample in progress (advance_motion): next sub-step, one begun and not finished, all done, the budget left.
+  int sub_j_ = 1;
+  bool sub_active_ = false;
+  bool motion_done_ = false;
+  EventBudget budget_{};
+  Input sub_ug_{}, sub_vg_{};  // the sub-step's input
+  // The queue of run(): a ring of kMaxPendingSamples, the head in progress when head_begun_.
+  PendingSample queue_[kMaxPendingSamples]{};
+  int pending_head_ = 0;
+  int pending_count_ = 0;
+  bool head_begun_ = false;
+  Output head_out_{};
 };
 
 }  // namespace rockwatch::core

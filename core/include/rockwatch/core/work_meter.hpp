@@ -1,0 +1,49 @@
+// The work one call of an engine may still do, and what each piece of work costs: how the fixed-point engine bounds
+// its worst call without changing its answers (docs/FIXED_POINT.md, "Bounded work per call: carry-over").
+//
+// A sample's work is a sequence of pieces — a sub-step's set-up, a Newmark trial to the step end, an event located by
+// Newton (with the trial to the event), the indicators and the alarm at the sample's end — each of a bounded cost.
+// The engine takes each piece from a WorkMeter before doing it; when the meter cannot pay for the next piece the work
+// stops there and goes on at the next call from exactly that point (StepperAlarmChain's queue of samples). The
+// pieces and their order do not depend on where a call stops, so the results are bit-identical to doing all the work
+// at once; what a stop costs is latency: the sample is finished (and its state and alarm published) at a later call.
+//
+// Core rules: header-only, no heap, no exceptions, no I/O.
+#pragma once
+
+#include <cstdint>
+
+namespace rockwatch::core {
+
+// The cost of each piece of work in work units. For the fixed-point engine one unit is one Cortex-M4 instruction,
+// an upper bound measured on the emulated M4 (FixedRockingStepperTypes::kWork); the double engine, which runs on
+// hosts only, costs nothing and is never metered.
+struct WorkCosts {
+  std::int32_t substep;   // a sub-step's set-up: the input interpolated, f and k at its end, the start test at rest
+  std::int32_t trial;     // one Newmark trial over the rest of the step
+  std::int32_t locate;    // one event located (Newton) and the state there
+  std::int32_t evaluate;  // the indicators and the alarm at a sample's end
+};
+
+// What a call may still spend. unlimited(): every piece is paid (hosts, tests, the double engine). shed: the queue of
+// samples is full (StepperAlarmChain::kMaxPendingSamples), so events are no longer located — a crossing of the hinge
+// puts the wall at rest at the step end, an exceedance or a collapse is dated at the step end — which bounds a
+// sample's work by its trials; flagged in the report (`work_shed`), never met in the default study.
+struct WorkMeter {
+  bool limited = false;
+  bool shed = false;
+  std::int32_t left_units = 0;
+
+  static constexpr WorkMeter unlimited() { return WorkMeter{}; }
+  static constexpr WorkMeter of(std::int32_t units) { return WorkMeter{true, false, units}; }
+
+  // Pays for a piece of work, or returns false (nothing paid) when the call cannot afford it.
+  bool take(std::int32_t units) {
+    if (!limited) return true;
+    if (units > left_units) return false;
+    left_units -= units;
+    return true;
+  }
+};
+
+}  // namespace rockwatch::core
