@@ -190,7 +190,7 @@ def from_bits(text):
 lines = open(path).read().splitlines()
 if not lines or lines[0] != "rockwatch-m4-replay 1":
     fail("the image's output has no header")
-overhead = start = end = None
+overhead = start = end = work = None
 steps = []
 for number, line in enumerate(lines[1:], start=2):
     f = line.split()
@@ -201,13 +201,15 @@ for number, line in enumerate(lines[1:], start=2):
         overhead = lo
     elif f[0] == "start" and len(f) == 3:
         start = (insns(int(f[1])), int(f[2]))
-    elif f[0] == "s" and len(f) == 6:
-        steps.append((insns(int(f[1])), insns(int(f[2])), int(f[3]), from_bits(f[4]), from_bits(f[5])))
+    elif f[0] == "s" and len(f) == 7:
+        steps.append((insns(int(f[1])), insns(int(f[2])), int(f[3]), from_bits(f[4]), from_bits(f[5]), int(f[6])))
+    elif f[0] == "work" and len(f) == 5:
+        work = {"late_samples": int(f[1]), "max_late_calls": int(f[2]), "shed_samples": int(f[3]), "overruns": int(f[4])}
     elif f[0] == "end" and len(f) == 3:
         end = (int(f[1]), int(f[2]))
     else:
         fail("output line %d not understood: %r" % (number, line))
-if overhead is None or start is None or end is None:
+if overhead is None or start is None or end is None or work is None:
     fail("the image's output is incomplete")
 if end[0] != len(steps) + 1:
     fail("the image reports %d samples but wrote %d" % (end[0], len(steps) + 1))
@@ -232,10 +234,11 @@ for i, st in enumerate(steps, start=1):
 
 if trace:
     with open(trace, "w") as t:
-        t.write("sample,insn_step,insn_engine,level,x_m,xd_mps\n")
-        t.write("0,%d,,%s,0,0\n" % (start[0] - overhead, LEVELS[start[1]]))
+        t.write("sample,insn_step,insn_engine,level,x_m,xd_mps,pending\n")
+        t.write("0,%d,,%s,0,0,0\n" % (start[0] - overhead, LEVELS[start[1]]))
         for i, st in enumerate(steps, start=1):
-            t.write("%d,%d,%d,%s,%r,%r\n" % (i, step_insn[i - 1], engine_insn[i - 1], LEVELS[st[2]], st[3], st[4]))
+            t.write("%d,%d,%d,%s,%r,%r,%d\n" % (i, step_insn[i - 1], engine_insn[i - 1], LEVELS[st[2]], st[3], st[4],
+                                              st[5]))
 
 result = {
     "machine": "mps2-an386 (Cortex-M4F, qemu-system-arm %s, -icount shift=%d)" % (qemu_version, shift),
@@ -246,6 +249,7 @@ result = {
     "start_insn": start[0] - overhead,
     "overhead_insn": overhead,
     "stack_bytes": end[1],
+    "carry_over": dict(work, max_pending=max([st[5] for st in steps] or [0])),
     "transitions": transitions,
 }
 

@@ -364,25 +364,58 @@ EngineSample MonitorLoop::run_engine(double ug, double vg, bool reset, std::int6
 
 void MonitorLoop::step_and_publish(std::int64_t utime, std::int64_t seq, double ug, double vg, std::int32_t quality,
                                    bool reset, bool bridged, bool time_trusted) {
-  const core::AlarmLevel before = level_;
   // The sensor clock of this step: the sample's own time when trusted, else one period after the previous step (a
   // stamp an hour ahead would apply every queued sensor sample at once, one an hour behind none).
   const bool first_step = counters_.samples_processed == 0;
   step_end_us_ = time_trusted || first_step ? utime : sat_add(step_end_us_, period_us_);
+  if (meta_count_ == kMaxPendingMeta) meta_count_ = 0;  // not reached: the engine queues at most one fewer
+  pending_meta_[(meta_head_ + meta_count_) % kMaxPendingMeta] = PendingMeta{utime, seq, quality, reset, bridged};
+  ++meta_count_;
   const std::int64_t t0 = step_clock_ != nullptr ? step_clock_() : 0;
-  const EngineSample e = run_engine(ug, vg, reset, step_end_us_);
+  run_engine(ug, vg, reset, step_end_us_);
+  ++counters_.samples_processed;
   if (step_clock_ != nullptr) {
     const std::int64_t ns = sat_sub(step_clock_(), t0);
     if (ns > counters_.worst_step_ns) counters_.worst_step_ns = ns;
   }
+  publish_finished();
+}
+
+void MonitorLoop::publish_finished() {
+  const int n = engine_->finished_count();
+  for (int i = 0; i < n && meta_count_ > 0; ++i) {
+    const PendingMeta m = pending_meta_[meta_head_];
+    meta_head_ = (meta_head_ + 1) % kMaxPendingMeta;
+    --meta_count_;
+    publish_state(m, engine_->finished_sample(i));
+  }
+}
+
+void MonitorLoop::finish_pending() {
+  if (!ready_) return;
+  while (engine_->pending_samples() > 0) {
+    engine_->finish_pending();
+    publish_finished();
+  }
+}
+
+void MonitorLoop::publish_state(const PendingMeta& m, const EngineSample& e) {
+  const core::AlarmLevel before = level_;
+  const std::int64_t utime = m.utime, seq = m.seq;
+  std::int32_t quality = m.quality;
+  const bool reset = m.reset;
+  if (e.late_calls > 0) {
+    ++counters_.samples_late;
+    if (e.late_calls > counters_.max_late_calls) counters_.max_late_calls = e.late_calls;
+  }
+  if (e.work_shed) ++counters_.samples_work_shed;
   if (!reset && e.input_invalid) quality |= Status::QUALITY_LIFT_OFF;
   if (!reset && e.saturated) {
     ++counters_.saturated;
     quality |= Status::QUALITY_SATURATED;
   }
   // lift_off counts received samples; a bridged step holds an input already counted.
-  if (!bridged && (quality & Status::QUALITY_LIFT_OFF) != 0) ++counters_.lift_off;
-  ++counters_.samples_processed;
+  if (!m.bridged && (quality & Status::QUALITY_LIFT_OFF) != 0) ++counters_.lift_off;
   quality_since_status_ |= quality;
 
   std::uint32_t reasons = e.alarm.reasons;
@@ -518,6 +551,8 @@ void MonitorLoop::note_datagram_counts(std::int64_t rejected, std::int64_t from_
 
 void MonitorLoop::publish_status(std::int64_t now_utime) {
   if (!ready_) return;
+  if (counters_.samples_processed == processed_at_last_status_) finish_pending();  // the stream paused
+  processed_at_last_status_ = counters_.samples_processed;
   Status m;
   m.utime = now_utime;
   m.seq = status_seq_++;

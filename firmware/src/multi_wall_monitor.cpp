@@ -113,6 +113,10 @@ void MultiWallMonitor::on_message(const char* channel, const std::uint8_t* data,
   if (!routed) loops_[0].on_message(channel, data, size, receive_utime);  // counted there as ignored
 }
 
+void MultiWallMonitor::finish_pending() {
+  for (std::size_t i = 0; i < count_; ++i) loops_[i].finish_pending();
+}
+
 void MultiWallMonitor::publish_status(std::int64_t now_utime) {
   for (std::size_t i = 0; i < count_; ++i) loops_[i].publish_status(now_utime);
 }

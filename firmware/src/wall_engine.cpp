@@ -17,6 +17,8 @@ const char* wall_engine_error_message(WallEngineError e) {
     case WallEngineError::observer_invalid: return "wall observer options invalid (see the observer error)";
     case WallEngineError::max_step_invalid:
       return "max_step_s must be > 0 s and give at most 64 sub-steps per sample (dt / max_step <= 64)";
+    case WallEngineError::work_budget_invalid:
+      return "work_budget_units must be 0 (no carry-over) or at least one sample with one located event";
   }
   return "?";
 }
@@ -45,6 +47,11 @@ WallEngineError WallEngine::init(const WallEngineConfig& c) {
     observer_enabled_ = true;
   }
   axes_ = core::cast_sensor_axes<core::AccelQ7_24>(c.axes);
+  work_budget_units_ = c.work_budget_units;
+  calls_ = 0;
+  finished_count_ = 0;
+  work_counters_ = WorkCounters{};
+  chain_.clear_pending();
   out_ = WallEngineOutput{};
   observer_report_ = core::ObserverStepReport{};
   return WallEngineError::ok;
@@ -98,23 +105,84 @@ void WallEngine::restart_motion(core::AccelQ7_56 ug_mps2, core::AccelQ7_56 vg_mp
 
 // Straight to Q7.56: bit-identical to `rockwatch simulate --arith fixed` on the same doubles.
 EngineSample WallEngine::start(double ug_mps2, double vg_mps2) {
+  chain_.clear_pending();
   reset_wall(core::AccelQ7_56(ug_mps2), core::AccelQ7_56(vg_mps2));
-  return sample();
+  return finish_now();
 }
 
 EngineSample WallEngine::restart(double ug_mps2, double vg_mps2) {
+  if (chain_.pending() > 0) return step_metered(core::AccelQ7_56(ug_mps2), core::AccelQ7_56(vg_mps2), true);
   restart_motion(core::AccelQ7_56(ug_mps2), core::AccelQ7_56(vg_mps2));
-  return sample();
+  return finish_now();
 }
 
 EngineSample WallEngine::step(double ug_mps2, double vg_mps2) {
+  if (work_budget_units_ > 0 && !observer_enabled_) {
+    return step_metered(core::AccelQ7_56(ug_mps2), core::AccelQ7_56(vg_mps2), false);
+  }
   process_wall(core::AccelQ7_56(ug_mps2), core::AccelQ7_56(vg_mps2));
-  return sample();
+  return finish_now();
 }
 
 EngineSample WallEngine::step_at(double ug_mps2, double vg_mps2, std::int64_t t_us, std::int64_t step_us) {
+  if (!observer_enabled_) return step(ug_mps2, vg_mps2);
   process_wall_at(core::AccelQ7_56(ug_mps2), core::AccelQ7_56(vg_mps2), t_us, step_us);
-  return sample();
+  return finish_now();
+}
+
+EngineSample WallEngine::finish_now() {
+  finished_[0] = sample();
+  finished_count_ = 1;
+  return finished_[0];
+}
+
+// Carry-over (core/work_meter.hpp). The queue's samples are finished in order, each exactly as process_wall() would
+// have; only the call that finishes it changes.
+EngineSample WallEngine::step_metered(core::AccelQ7_56 ug_mps2, core::AccelQ7_56 vg_mps2, bool restart) {
+  ++calls_;
+  finished_count_ = 0;
+  if (chain_.pending() == core::StepperAlarmChain<core::FixedRockingStepper>::kMaxPendingSamples) {
+    // Still full after a shedding call (a sample's trials alone exceed the budget): room for this one, unmetered.
+    core::WorkMeter room = core::WorkMeter::unlimited();
+    room.shed = true;
+    ++work_counters_.overruns;
+    chain_.run(room, 1, [](int, const core::FixedStepReport&, core::AccelQ7_56, core::AccelQ7_56) {},
+               [this](const core::AlarmChainOutput<core::FixedRockingStepper>& o, std::uint32_t tag) {
+                 finish_queued(o, tag);
+               });
+  }
+  chain_.submit(ug_mps2, vg_mps2, restart, calls_);
+  out_.ug_mps2 = core::wide_convert<core::AccelQ7_24>(ug_mps2);
+  out_.vg_mps2 = core::wide_convert<core::AccelQ7_24>(vg_mps2);
+  core::WorkMeter meter = core::WorkMeter::of(work_budget_units_);
+  meter.shed = chain_.pending() == core::StepperAlarmChain<core::FixedRockingStepper>::kMaxPendingSamples;
+  chain_.run(meter, kMaxFinishedPerCall,
+             [](int, const core::FixedStepReport&, core::AccelQ7_56, core::AccelQ7_56) {},
+             [this](const core::AlarmChainOutput<core::FixedRockingStepper>& o, std::uint32_t tag) {
+               finish_queued(o, tag);
+             });
+  if (finished_count_ > 0) return finished_[finished_count_ - 1];
+  return sample();  // nothing finished: the state as it stands (the caller publishes only finished samples)
+}
+
+void WallEngine::finish_pending() {
+  finished_count_ = 0;
+  core::WorkMeter meter = core::WorkMeter::unlimited();
+  chain_.run(meter, kMaxFinishedPerCall, [](int, const core::FixedStepReport&, core::AccelQ7_56, core::AccelQ7_56) {},
+             [this](const core::AlarmChainOutput<core::FixedRockingStepper>& o, std::uint32_t tag) {
+               finish_queued(o, tag);
+             });
+}
+
+void WallEngine::finish_queued(const core::AlarmChainOutput<core::FixedRockingStepper>& o, std::uint32_t tag) {
+  static_cast<core::AlarmChainOutput<core::FixedRockingStepper>&>(out_) = o;
+  EngineSample& e = finished_[finished_count_++];
+  e = sample();
+  e.late_calls = static_cast<std::uint16_t>(calls_ - tag > 65535u ? 65535u : calls_ - tag);
+  e.work_shed = o.step.work_shed;
+  if (e.late_calls > 0) ++work_counters_.late_samples;
+  if (calls_ - tag > work_counters_.max_late_calls) work_counters_.max_late_calls = calls_ - tag;
+  if (e.work_shed) ++work_counters_.shed_samples;
 }
 
 std::uint32_t WallEngine::push_sensor(const core::WallSensorSample& sample) {

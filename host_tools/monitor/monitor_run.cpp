@@ -495,6 +495,7 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
     }
   }
   service.stopping();
+  loop->finish_pending();  // samples the engine still worked on (carry-over) are published before the last status
   flusher.flush(*loop);
   loop->publish_status(realtime_utime());
   ++statuses;
@@ -605,7 +606,11 @@ int run_offline(const MonitorConfig& config, std::ostream& out, std::ostream& er
     }
     if (in_file != nullptr) read_end = std::ftell(in_file);  // before the next read (the event stays valid till then)
   }
-  if (events > 0) status_at(last_us);
+  if (events > 0) {
+    transport.set_event_time(last_us);
+    loop->finish_pending();
+    status_at(last_us);
+  }
 
   bool complete = true;
   if (!StopSignals::stopped() && read_end >= 0 && read_end < in_stat.st_size) {

@@ -35,20 +35,20 @@ EngineSample DoubleWallEngine::start(double ug_mps2, double vg_mps2) {
   out_ = DoubleWallEngineOutput{};
   if (observer_enabled_) observer_.restart_motion();
   observer_report_ = core::ObserverStepReport{};
-  return sample();
+  return last_ = sample();
 }
 
 EngineSample DoubleWallEngine::restart(double ug_mps2, double vg_mps2) {
   chain_.restart_motion(ug_mps2, vg_mps2, out_);
   if (observer_enabled_) observer_.restart_motion();
   observer_report_ = core::ObserverStepReport{};
-  return sample();
+  return last_ = sample();
 }
 
 EngineSample DoubleWallEngine::step_at(double ug_mps2, double vg_mps2, std::int64_t t_us, std::int64_t step_us) {
   if (!observer_enabled_) return step(ug_mps2, vg_mps2);
   observer_report_ = chain_.step_observed(ug_mps2, vg_mps2, observer_, t_us, step_us, out_);
-  return sample();
+  return last_ = sample();
 }
 
 std::uint32_t DoubleWallEngine::push_sensor(const core::WallSensorSample& sample) {
@@ -57,7 +57,7 @@ std::uint32_t DoubleWallEngine::push_sensor(const core::WallSensorSample& sample
 
 EngineSample DoubleWallEngine::step(double ug_mps2, double vg_mps2) {
   chain_.step(ug_mps2, vg_mps2, out_);
-  return sample();
+  return last_ = sample();
 }
 
 EngineSample DoubleWallEngine::sample() const {

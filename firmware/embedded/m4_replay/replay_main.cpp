@@ -134,6 +134,33 @@ firmware::WallEngine g_seam;    // through step(): what the monitor loop calls
 firmware::WallEngine g_direct;  // through process_wall(): the engine alone
 char g_command_line[512];
 
+// process_wall()'s result of each input sample that step() has not finished yet (carry-over), oldest first.
+struct DirectResult {
+  core::AlarmLevel level;
+  double x_m, xd_mps;
+};
+struct WaitingResults {
+  static constexpr int kCapacity = core::StepperAlarmChain<core::FixedRockingStepper>::kMaxPendingSamples + 2;
+  DirectResult ring[kCapacity];
+  int head = 0, count = 0;
+  bool push(const DirectResult& r) {
+    if (count == kCapacity) return false;
+    ring[(head + count) % kCapacity] = r;
+    ++count;
+    return true;
+  }
+  // The oldest is the finished sample e (level and the bits of x and ẋ), and is removed.
+  bool pop_equals(const firmware::EngineSample& e) {
+    if (count == 0) return false;
+    const DirectResult& r = ring[head];
+    head = (head + 1) % kCapacity;
+    --count;
+    return r.level == e.alarm.level && same_bits(r.x_m, e.x_m) && same_bits(r.xd_mps, e.xd_mps);
+  }
+  static bool same_bits(double a, double b) { return __builtin_memcmp(&a, &b, sizeof a) == 0; }
+};
+WaitingResults g_waiting;
+
 // The measured calls, out of line and opaque to the optimiser, so that exactly the call is between the clock reads.
 [[gnu::noipa]] void measured_nothing(firmware::WallEngine&, double, double) {}
 [[gnu::noipa]] firmware::EngineSample measured_step(firmware::WallEngine& e, double ug, double vg) {
@@ -346,7 +373,7 @@ std::uint32_t run_replay(std::uint32_t (*stack_used_bytes)()) {
         observed ? measured_step_at(g_seam, ug, vg, t_us, step_us) : measured_step(g_seam, ug, vg);
     std::uint32_t t1 = clock_now();
     if (k == profile_sample) profiler_stop();
-    const core::AlarmLevel level = sample.alarm.level;
+    (void)sample;
     const std::uint32_t ticks_step = ticks_between(t0, t1);
     const core::AccelQ7_56 ug_q(ug), vg_q(vg);
     t0 = clock_now();
@@ -354,22 +381,51 @@ std::uint32_t run_replay(std::uint32_t (*stack_used_bytes)()) {
                                                    : measured_process(g_direct, ug_q, vg_q);
     t1 = clock_now();
     const std::uint32_t ticks_engine = ticks_between(t0, t1);
-    if (level_direct != level) {
-      out.flush();
-      return fail(replay_status::mismatch, "step() and process_wall() disagree on the alarm level");
+    // Carry-over (core/work_meter.hpp): step() may finish this sample at a later call, and several at once; each
+    // finished sample must be process_wall()'s of the same input sample, in order, bit for bit.
+    const DirectResult direct{level_direct, g_direct.stepper().x_m().to_double(), g_direct.stepper().xd_mps().to_double()};
+    if (!g_waiting.push(direct)) return fail(replay_status::mismatch, "step() left more samples waiting than it queues");
+    for (int i = 0; i < g_seam.finished_count(); ++i) {
+      if (!g_waiting.pop_equals(g_seam.finished_sample(i))) {
+        out.flush();
+        return fail(replay_status::mismatch, "step() and process_wall() disagree on a sample (alarm level, x or xd)");
+      }
     }
     out.text("s ");
     out.number(ticks_step);
     out.text(" ");
     out.number(ticks_engine);
     out.text(" ");
-    out.number(static_cast<std::uint64_t>(level));
+    out.number(static_cast<std::uint64_t>(level_direct));
     out.text(" ");
-    out.bits(sample.x_m);
+    out.bits(direct.x_m);
     out.text(" ");
-    out.bits(sample.xd_mps);
+    out.bits(direct.xd_mps);
+    out.text(" ");
+    out.number(static_cast<std::uint64_t>(g_seam.pending_samples()));
     out.text("\n");
   }
+  // The samples still waiting at the end are finished without a budget (as the monitor does when its input stops).
+  while (g_seam.pending_samples() > 0) {
+    g_seam.finish_pending();
+    for (int i = 0; i < g_seam.finished_count(); ++i) {
+      if (!g_waiting.pop_equals(g_seam.finished_sample(i))) {
+        out.flush();
+        return fail(replay_status::mismatch, "step() and process_wall() disagree on a sample finished at the end");
+      }
+    }
+  }
+  if (g_waiting.count != 0) return fail(replay_status::mismatch, "step() did not finish every sample");
+  const firmware::WallEngine::WorkCounters& work = g_seam.work_counters();
+  out.text("work ");
+  out.number(work.late_samples);
+  out.text(" ");
+  out.number(work.max_late_calls);
+  out.text(" ");
+  out.number(work.shed_samples);
+  out.text(" ");
+  out.number(work.overruns);
+  out.text("\n");
   // The samples after the last step's end were never due; then the file must end.
   while (sensors.has_next()) {
     if (!sensors.advance()) {

@@ -22,6 +22,13 @@
 
 namespace rockwatch::core {
 
+// The default work budget of a call: with the call's own overhead, at most 25 000 Cortex-M4 instructions per sample
+// (docs/BENCHMARKS.md, "Bounded work per call").
+inline constexpr std::int32_t kDefaultWorkBudgetUnits = 23000;
+// The least budget: a sample with one located event must fit one call, else the queue would only ever grow.
+inline constexpr std::int32_t kMinWorkBudgetUnits = FixedRockingStepper::kWork.substep + FixedRockingStepper::kWork.trial +
+                                                    FixedRockingStepper::kWork.locate + FixedRockingStepper::kWork.evaluate;
+
 // What a wall engine is configured with (both engines).
 struct WallEngineConfig {
   WallParameters wall{};
@@ -36,6 +43,10 @@ struct WallEngineConfig {
   // model exactly as before (bit-identical outputs); on, push_sensor() feeds it and step_at() aligns the streams.
   bool observer_enabled = false;
   ObserverOptions observer{};
+  // The work one step/step_at call of the fixed-point engine may do [work units = Cortex-M4 instructions]: the rest
+  // waits for the next call (carry-over, core/work_meter.hpp). 0: every sample finishes in its own call. Only the
+  // open-loop fixed-point engine is metered (the observer's and the double engine's steps are not).
+  std::int32_t work_budget_units = kDefaultWorkBudgetUnits;
 };
 
 // Why init() refused a configuration. Values are stable: append, never renumber.
@@ -51,6 +62,7 @@ enum class WallEngineError : std::uint8_t {
   model_not_supported = 8,       // the fixed-point engine runs the linear model only
   observer_invalid = 9,          // the observer refused its options or the step (see observer_error())
   max_step_invalid = 10,         // max_step_s must be > 0 and give at most kMaxSubsteps sub-steps per sample
+  work_budget_invalid = 11,      // work_budget_units must be 0 or in [kMinWorkBudgetUnits, 10⁹]
 };
 
 
@@ -63,6 +75,9 @@ inline WallEngineError validate_wall_engine_config(const WallEngineConfig& c) {
   if (!sensor_axes_valid(c.axes)) return WallEngineError::sensor_axes_invalid;
   if (substeps_per_sample(c.dt_s, c.max_step_s) == 0) {
     return WallEngineError::max_step_invalid;
+  }
+  if (c.work_budget_units != 0 && !(c.work_budget_units >= kMinWorkBudgetUnits && c.work_budget_units <= 1000000000)) {
+    return WallEngineError::work_budget_invalid;
   }
   if (c.observer_enabled && validate_observer_options(c.observer) != ObserverError::ok) {
     return WallEngineError::observer_invalid;
@@ -97,6 +112,10 @@ struct EngineSample {
   bool side_positive = true, moving = false, input_invalid = false, saturated = false;
   AlarmUpdate alarm{};
   ObserverSample observer{};
+  // Carry-over (core/work_meter.hpp): calls after its own that this sample was finished (0: in its own call), and
+  // whether the engine's full queue made it skip locating an event (its times are then those of a step end).
+  std::uint16_t late_calls = 0;
+  bool work_shed = false;
 };
 
 // The published observer block of an engine that runs `observer` (either arithmetic): its estimates in double and
@@ -140,6 +159,15 @@ class SampleEngine {
   virtual std::uint32_t push_sensor(const WallSensorSample& sample) = 0;
   // The observer's counters since init() (all zero when it is off).
   virtual const ObserverCounters& observer_counters() const = 0;
+  // The samples the last start/restart/step/step_at call finished, oldest first: what the caller publishes. An
+  // engine that finishes every sample in its own call finishes exactly that one (and the call returned it);
+  // firmware::WallEngine with a work budget (carry-over, core/work_meter.hpp) may finish none (the sample waits for
+  // the next call) or several (those that waited, then this one).
+  virtual int finished_count() const = 0;
+  virtual const EngineSample& finished_sample(int i) const = 0;
+  // Samples given and not yet finished, and finishing them without a budget (some per call: finished_count()).
+  virtual int pending_samples() const = 0;
+  virtual void finish_pending() = 0;
 
  protected:
   SampleEngine() = default;

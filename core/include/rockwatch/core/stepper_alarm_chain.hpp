@@ -217,13 +217,14 @@ class StepperAlarmChain {
   // Carry-over (core/work_meter.hpp): samples queued with submit() and worked by run() in pieces paid from a meter,
   // in order; a sample whose work the meter cannot pay goes on at the next run() from where it stopped. The results
   // are those of step() on the same samples, bit for bit, unless the meter sheds.
-  static constexpr int kMaxPendingSamples = 32;
+  static constexpr int kMaxPendingSamples = 64;
 
   // Queues a sample (restart: the motion restarts from rest with this input, as restart_motion()). False, nothing
   // queued, when kMaxPendingSamples wait.
-  bool submit(Input ug_mps2, Input vg_mps2, bool restart = false) {
+  // tag: the caller's, handed back with the finished sample.
+  bool submit(Input ug_mps2, Input vg_mps2, bool restart = false, std::uint32_t tag = 0) {
     if (pending_count_ == kMaxPendingSamples) return false;
-    queue_[(pending_head_ + pending_count_) % kMaxPendingSamples] = PendingSample{ug_mps2, vg_mps2, restart};
+    queue_[(pending_head_ + pending_count_) % kMaxPendingSamples] = PendingSample{ug_mps2, vg_mps2, restart, tag};
     ++pending_count_;
     return true;
   }
@@ -235,11 +236,12 @@ class StepperAlarmChain {
     head_begun_ = false;
   }
 
-  // Works on the queue until it is empty or the meter cannot pay for the next piece: on_substep as step_motion()'s,
-  // on_sample(const Output&) after each finished sample (its merged report, indicators and alarm).
+  // Works on the queue until it is empty, max_samples are finished or the meter cannot pay for the next piece:
+  // on_substep as step_motion()'s, on_sample(const Output&, tag) after each finished sample (its merged report,
+  // indicators and alarm; the stepper then stands at its end).
   template <typename OnSubstep, typename OnSample>
-  void run(WorkMeter& meter, OnSubstep&& on_substep, OnSample&& on_sample) {
-    while (pending_count_ > 0) {
+  void run(WorkMeter& meter, int max_samples, OnSubstep&& on_substep, OnSample&& on_sample) {
+    for (int finished = 0; pending_count_ > 0 && finished < max_samples; ++finished) {
       const PendingSample& p = queue_[pending_head_];
       if (p.restart) {
         if (!meter.take(Stepper::kWork.evaluate)) return;
@@ -256,10 +258,11 @@ class StepperAlarmChain {
         ug_last_ = p.ug_mps2;
         vg_last_ = p.vg_mps2;
       }
+      const std::uint32_t tag = p.tag;
       head_begun_ = false;
       pending_head_ = (pending_head_ + 1) % kMaxPendingSamples;
       --pending_count_;
-      on_sample(static_cast<const Output&>(head_out_));
+      on_sample(static_cast<const Output&>(head_out_), tag);
     }
   }
 
@@ -271,6 +274,7 @@ class StepperAlarmChain {
   struct PendingSample {
     Input ug_mps2, vg_mps2;
     bool restart;
+    std::uint32_t tag;
   };
 
   // The sample in progress: its sub-steps one by one, each in pieces paid from the meter (begin_motion(), then
@@ -331,6 +335,7 @@ class StepperAlarmChain {
     }
     total.rest_forced = total.rest_forced || sub.rest_forced;
     total.saturated = total.saturated || sub.saturated;
+    total.work_shed = total.work_shed || sub.work_shed;
     total.segments = static_cast<std::uint16_t>(total.segments + sub.segments);
     total.events_located = static_cast<std::uint16_t>(total.events_located + sub.events_located);
     total.locate_iterations = static_cast<std::uint16_t>(total.locate_iterations + sub.locate_iterations);

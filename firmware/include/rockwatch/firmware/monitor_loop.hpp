@@ -148,6 +148,10 @@ struct MonitorCounters {
   // With the observer: wall_sensor_t samples decoded, those dropped for an untrusted time (also in time_untrusted) or
   // as a repeat of the previous message, and wall_estimate_t messages the transport accepted.
   std::int64_t sensor_samples_received = 0, sensor_time_untrusted = 0, sensor_duplicates = 0, estimates_published = 0;
+  // Carry-over (core/work_meter.hpp): samples the engine finished in a later call than their own (published then,
+  // with their own utime), the most calls one waited, and those whose events it did not locate because its queue was
+  // full (counted here and in the monitor's summary; the messages are unchanged).
+  std::int64_t samples_late = 0, max_late_calls = 0, samples_work_shed = 0;
 };
 
 class MonitorLoop {
@@ -171,8 +175,11 @@ class MonitorLoop {
   // flagged (QUALITY_BAD_DATAGRAM) in the next one.
   void note_datagram_counts(std::int64_t rejected, std::int64_t from_other_sources);
 
-  // Encodes and publishes monitor_status_t (the adapter calls it once per second and on exit).
+  // Encodes and publishes monitor_status_t (the adapter calls it once per second and on exit). Samples the engine
+  // still works on (carry-over) are finished first when no sample arrived since the last status (the stream paused).
   void publish_status(std::int64_t now_utime);
+  // Finishes and publishes every sample the engine still works on (the adapter calls it before its last status).
+  void finish_pending();
 
   const MonitorCounters& counters() const { return counters_; }
   // With the observer (settings.engine.observer_enabled): its counters since init(), and its estimates after the last
@@ -206,6 +213,15 @@ class MonitorLoop {
                         bool bridged, bool time_trusted);
   void publish_estimate(std::int64_t utime, std::int64_t seq, const EngineSample& e);
   bool publish(const char* channel, int size);
+  // What the loop knows of a sample the engine has not finished yet (carry-over): published with its state.
+  struct PendingMeta {
+    std::int64_t utime, seq;
+    std::int32_t quality;
+    bool reset, bridged;
+  };
+  // The engine's finished samples of its last call, each with its PendingMeta, in order.
+  void publish_finished();
+  void publish_state(const PendingMeta& m, const EngineSample& e);
 
   bool ready_ = false;  // init() succeeded
   MonitorSettings settings_{};
@@ -233,6 +249,11 @@ class MonitorLoop {
   core::ObserverSample last_observer_{};
   bool have_sensor_ = false;  // the last wall_sensor_t pushed (repeats of it are dropped)
   std::int64_t last_sensor_seq_ = 0, last_sensor_utime_ = 0;
+  // Samples given to the engine and not yet published (one more than the engine's queue holds).
+  static constexpr int kMaxPendingMeta = core::StepperAlarmChain<core::FixedRockingStepper>::kMaxPendingSamples + 1;
+  PendingMeta pending_meta_[kMaxPendingMeta]{};
+  int meta_head_ = 0, meta_count_ = 0;
+  std::int64_t processed_at_last_status_ = -1;
   // Encode buffers, sized for the largest message (ground_accel_batch_t is the largest type).
   std::uint8_t out_buffer_[1024]{};
 };

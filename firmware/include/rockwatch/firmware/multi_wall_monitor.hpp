@@ -45,6 +45,7 @@ class MultiWallMonitor {
   bool reads(const char* channel) const;
 
   void publish_status(std::int64_t now_utime);  // every wall's monitor_status_t
+  void finish_pending();  // every wall's samples still in work (MonitorLoop::finish_pending)
   void note_log_write_failure();
   void note_datagram_counts(std::int64_t rejected, std::int64_t from_other_sources);
   void set_step_clock(MonitorLoop::ClockNs clock);

@@ -58,6 +58,25 @@ class WallEngine final : public SampleEngine {
   EngineSample step_at(double ug_mps2, double vg_mps2, std::int64_t t_us, std::int64_t step_us) override;
   std::uint32_t push_sensor(const core::WallSensorSample& sample) override;
   const core::ObserverCounters& observer_counters() const override { return observer_.counters(); }
+  int finished_count() const override { return finished_count_; }
+  const EngineSample& finished_sample(int i) const override { return finished_[i]; }
+  int pending_samples() const override { return chain_.pending(); }
+  void finish_pending() override;
+
+  // Carry-over (core/work_meter.hpp): with a work budget (WallEngineConfig::work_budget_units > 0) and the observer
+  // off, step() and step_at() queue the sample and work on the queue until the call's budget is spent; a sample whose
+  // work does not fit finishes at a later call, bit-identical to process_wall(). At most kMaxFinishedPerCall samples
+  // finish per call; a full queue sheds (WorkMeter::shed), and a sample arriving at a queue still full finishes the
+  // oldest first without a budget (an overrun: counted).
+  static constexpr int kMaxFinishedPerCall = 8;
+  struct WorkCounters {
+    std::uint32_t late_samples = 0;    // samples finished in a later call than their own
+    std::uint32_t max_late_calls = 0;  // the most calls a sample waited
+    std::uint32_t shed_samples = 0;    // samples whose events were not located (the queue was full)
+    std::uint32_t overruns = 0;        // calls that worked beyond the budget to make room in a full queue
+  };
+  const WorkCounters& work_counters() const { return work_counters_; }
+  std::int32_t work_budget_units() const { return work_budget_units_; }
 
   // One sample through the stepper and, when enabled, the observer (t_us, step_us as step_at).
   const WallEngineOutput& process_wall_at(core::AccelQ7_56 ug_mps2, core::AccelQ7_56 vg_mps2, std::int64_t t_us,
@@ -74,6 +93,11 @@ class WallEngine final : public SampleEngine {
 
  private:
   EngineSample sample() const;
+  // The seam's result: one sample finished in its own call.
+  EngineSample finish_now();
+  // The metered path of step()/step_at()/restart().
+  EngineSample step_metered(core::AccelQ7_56 ug_mps2, core::AccelQ7_56 vg_mps2, bool restart);
+  void finish_queued(const core::AlarmChainOutput<core::FixedRockingStepper>& o, std::uint32_t tag);
 
   core::SensorAxes<core::AccelQ7_24> axes_{};
   core::StepperAlarmChain<core::FixedRockingStepper> chain_{};
@@ -82,6 +106,11 @@ class WallEngine final : public SampleEngine {
   core::ObserverError observer_error_ = core::ObserverError::ok;
   core::WallObserver<core::FixedRockingStepper> observer_{};
   core::ObserverStepReport observer_report_{};  // the observer's report of the last step (zero after start/restart)
+  std::int32_t work_budget_units_ = 0;
+  std::uint32_t calls_ = 0;  // metered calls so far: the tag of a queued sample
+  EngineSample finished_[kMaxFinishedPerCall + 1]{};
+  int finished_count_ = 0;
+  WorkCounters work_counters_{};
 };
 
 }  // namespace rockwatch::firmware

@@ -33,6 +33,11 @@ class DoubleWallEngine final : public core::SampleEngine {
   core::EngineSample step_at(double ug_mps2, double vg_mps2, std::int64_t t_us, std::int64_t step_us) override;
   std::uint32_t push_sensor(const core::WallSensorSample& sample) override;
   const core::ObserverCounters& observer_counters() const override { return observer_.counters(); }
+  // Every sample finishes in its own call.
+  int finished_count() const override { return 1; }
+  const core::EngineSample& finished_sample(int) const override { return last_; }
+  int pending_samples() const override { return 0; }
+  void finish_pending() override {}
   bool observer_enabled() const { return observer_enabled_; }
   core::ObserverError observer_error() const { return observer_error_; }
   const core::WallObserver<core::RockingStepper<double>>& observer() const { return observer_; }
@@ -49,6 +54,7 @@ class DoubleWallEngine final : public core::SampleEngine {
   core::ObserverError observer_error_ = core::ObserverError::ok;
   core::WallObserver<core::RockingStepper<double>> observer_{};
   core::ObserverStepReport observer_report_{};
+  core::EngineSample last_{};  // what the last call returned
 };
 
 }  // namespace rockwatch::sim
