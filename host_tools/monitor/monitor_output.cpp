@@ -54,7 +54,10 @@ json counters_json(const firmware::MonitorCounters& c) {
               {"time_untrusted", c.time_untrusted},
               {"worst_step_ns", c.worst_step_ns},
               {"alarm_events", c.alarm_events},
-              {"states_published", c.states_published}};
+              {"states_published", c.states_published},
+              {"samples_late", c.samples_late},
+              {"max_late_calls", c.max_late_calls},
+              {"samples_work_shed", c.samples_work_shed}};
 }
 
 json observer_json(const core::ObserverOptions& o, const core::ObserverSample& last, const core::ObserverCounters& c,

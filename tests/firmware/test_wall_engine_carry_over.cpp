@@ -100,3 +100,61 @@ TEST(WallEngineCarryOver, SettlingChatterFinishesLaterAndBitIdentical) {
   CHECK_TRUE(c.late > 0);  // the chatter's samples did not fit one call
 }
 
+
+// Without a budget every sample finishes in its own call (the engine as before carry-over).
+TEST(WallEngineCarryOver, WithoutABudgetEverySampleFinishesInItsOwnCall) {
+  double dt = 0.0;
+  const std::vector<double> ug = suite_record(1, 0, 0.35, &dt);
+  const Compared c = compare(ug, dt, 0, core::RestitutionKind::exp);
+  LONGS_EQUAL(0, static_cast<long>(c.late));
+}
+
+// A collapse: the alarm timeline of the budgeted engine is the unbudgeted one's (compare() checks every sample).
+TEST(WallEngineCarryOver, ACollapseIsFinishedBitIdentical) {
+  double dt = 0.0;
+  const std::vector<double> ug = suite_record(1, 0, 0.40, &dt);
+  compare(ug, dt, fw::WallEngineConfig{}.work_budget_units, core::RestitutionKind::exp);
+}
+
+TEST(WallEngineCarryOver, ABudgetTooSmallForOneEventIsRefused) {
+  fw::WallEngine e;
+  LONGS_EQUAL(static_cast<int>(fw::WallEngineError::work_budget_invalid),
+              static_cast<int>(e.init(config(0.005, core::kMinWorkBudgetUnits - 1, core::RestitutionKind::exp))));
+  LONGS_EQUAL(static_cast<int>(fw::WallEngineError::work_budget_invalid),
+              static_cast<int>(e.init(config(0.005, -1, core::RestitutionKind::exp))));
+  LONGS_EQUAL(static_cast<int>(fw::WallEngineError::ok),
+              static_cast<int>(e.init(config(0.005, core::kMinWorkBudgetUnits, core::RestitutionKind::exp))));
+}
+
+// The least budget on a record that keeps the wall rocking: the queue fills, the engine sheds (events not located:
+// flagged on the sample and counted) and never holds more than its queue; every sample is still finished, in order.
+TEST(WallEngineCarryOver, AFullQueueShedsFlaggedAndCountedAndEverySampleFinishes) {
+  double dt = 0.0;
+  const std::vector<double> ug = suite_record(1, 0, 0.30, &dt);
+  fw::WallEngineConfig c = config(dt, core::kMinWorkBudgetUnits, core::RestitutionKind::ana);
+  c.max_step_s = dt / 16.0;  // 16 sub-steps a sample: its trials alone nearly fill a call
+  fw::WallEngine e;
+  LONGS_EQUAL(static_cast<int>(fw::WallEngineError::ok), static_cast<int>(e.init(c)));
+  std::size_t finished = 0, flagged = 0;
+  int most_pending = 0;
+  for (std::size_t k = 0; k < ug.size(); ++k) {
+    if (k == 0) {
+      e.start(ug[k], 0.0);
+    } else {
+      e.step(ug[k], 0.0);
+    }
+    CHECK_TRUE(e.finished_count() <= fw::WallEngine::kMaxFinishedPerCall + 1);
+    for (int i = 0; i < e.finished_count(); ++i) flagged += e.finished_sample(i).work_shed ? 1u : 0u;
+    finished += static_cast<std::size_t>(e.finished_count());
+    if (e.pending_samples() > most_pending) most_pending = e.pending_samples();
+  }
+  while (e.pending_samples() > 0) {
+    e.finish_pending();
+    for (int i = 0; i < e.finished_count(); ++i) flagged += e.finished_sample(i).work_shed ? 1u : 0u;
+    finished += static_cast<std::size_t>(e.finished_count());
+  }
+  LONGS_EQUAL(static_cast<long>(ug.size()), static_cast<long>(finished));
+  CHECK_TRUE(most_pending <= core::StepperAlarmChain<core::FixedRockingStepper>::kMaxPendingSamples);
+  CHECK_TRUE(e.work_counters().shed_samples > 0);
+  LONGS_EQUAL(static_cast<long>(e.work_counters().shed_samples), static_cast<long>(flagged));
+}

@@ -51,6 +51,24 @@ run_case() {
   if ! "$python" "$here/compare_m4_host.py" "$dir/m4.json" "$dir/trace.csv" "$dir/host.json" "$dir/history.csv" "$expect"; then
     failed=1
   fi
+  # The open-loop engine's bounded call (issue: the worst sample; core/work_meter.hpp): at most 25 000 M4
+  # instructions and 3 x the median per call, no sample shed, no overrun (the observer's steps are not metered).
+  if ! "$python" - "$dir/m4.json" <<'PY'
+import json, sys
+j = json.load(open(sys.argv[1]))
+if j["observer"]:
+    sys.exit(0)
+i, w = j["insn_per_sample"], j["carry_over"]
+ok = i["max"] <= 25000 and i["max"] <= 3 * i["median"] and w["shed_samples"] == 0 and w["overruns"] == 0
+print("bounded call: max %d M4 instructions (%.2f x the median %d); carry-over: %d samples late, at most %d calls, "
+      "%d shed, %d overruns" % (i["max"], i["max"] / i["median"], i["median"], w["late_samples"], w["max_late_calls"],
+                                w["shed_samples"], w["overruns"]))
+sys.exit(0 if ok else 1)
+PY
+  then
+    echo "FAILED: the bound on a call ($name)"
+    failed=1
+  fi
 }
 
 run_case set01_x_0.40g collapse --suite "$suite" --set 1 --component X --scale-pga 0.40
