@@ -245,16 +245,24 @@ TEST(MonitorLoop, CleanStreamOneStatePerSampleBitIdenticalToTheEngine) {
   Rig rig;
   const std::int64_t n = 1200;
   std::vector<std::int32_t> ref_levels;
+  std::vector<double> ref_x, ref_xd;
   for (std::int64_t k = 0; k < n; ++k) {
     rig.stream(k, k);
-    rig.check_matches_reference();
     ref_levels.push_back(static_cast<std::int32_t>(rig.ref.last().alarm.level));
+    ref_x.push_back(rig.ref.stepper().x_m().to_double());
+    ref_xd.push_back(rig.ref.stepper().xd_mps().to_double());
   }
+  // A sample whose work exceeds a call's budget is published by a later call (carry-over, core/work_meter.hpp):
+  // what is still in work is finished here, as the adapter does when the stream stops.
+  rig.loop.finish_pending();
   const std::vector<wall_state_t> states = rig.transport.states();
   LONGS_EQUAL(n, static_cast<long>(states.size()));
   bool moved = false;
   for (std::int64_t k = 0; k < n; ++k) {
     const wall_state_t& s = states[static_cast<std::size_t>(k)];
+    CHECK_TRUE(s.x_m == ref_x[static_cast<std::size_t>(k)]);
+    CHECK_TRUE(s.xd_mps == ref_xd[static_cast<std::size_t>(k)]);
+    LONGS_EQUAL(ref_levels[static_cast<std::size_t>(k)], s.alarm_level);
     LONGS_EQUAL(k, s.seq);
     LONGS_EQUAL(k, s.input_seq);
     LONGS_EQUAL(kT0 + k * kPeriodUs, s.utime);
