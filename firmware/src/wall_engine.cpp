@@ -141,26 +141,12 @@ EngineSample WallEngine::finish_now() {
 EngineSample WallEngine::step_metered(core::AccelQ7_56 ug_mps2, core::AccelQ7_56 vg_mps2, bool restart) {
   ++calls_;
   finished_count_ = 0;
-  if (chain_.pending() == core::StepperAlarmChain<core::FixedRockingStepper>::kMaxPendingSamples) {
-    // Still full after a shedding call (a sample's trials alone exceed the budget): room for this one, unmetered.
-    core::WorkMeter room = core::WorkMeter::unlimited();
-    room.shed = true;
-    ++work_counters_.overruns;
-    chain_.run(room, 1, [](int, const core::FixedStepReport&, core::AccelQ7_56, core::AccelQ7_56) {},
-               [this](const core::AlarmChainOutput<core::FixedRockingStepper>& o, std::uint32_t tag) {
-                 finish_queued(o, tag);
-               });
-  }
-  chain_.submit(ug_mps2, vg_mps2, restart, calls_);
   out_.ug_mps2 = core::wide_convert<core::AccelQ7_24>(ug_mps2);
   out_.vg_mps2 = core::wide_convert<core::AccelQ7_24>(vg_mps2);
-  core::WorkMeter meter = core::WorkMeter::of(work_budget_units_);
-  meter.shed = chain_.pending() == core::StepperAlarmChain<core::FixedRockingStepper>::kMaxPendingSamples;
-  chain_.run(meter, kMaxFinishedPerCall,
-             [](int, const core::FixedStepReport&, core::AccelQ7_56, core::AccelQ7_56) {},
-             [this](const core::AlarmChainOutput<core::FixedRockingStepper>& o, std::uint32_t tag) {
-               finish_queued(o, tag);
-             });
+  const bool overrun = chain_.call(ug_mps2, vg_mps2, restart, work_budget_units_, calls_, kMaxFinishedPerCall,
+                                   [this](const core::AlarmChainOutput<core::FixedRockingStepper>& o,
+                                          std::uint32_t tag) { finish_queued(o, tag); });
+  if (overrun) ++work_counters_.overruns;
   if (finished_count_ > 0) return finished_[finished_count_ - 1];
   return sample();  // nothing finished: the state as it stands (the caller publishes only finished samples)
 }

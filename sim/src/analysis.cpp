@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <optional>
 #include <sstream>
+#include <type_traits>
 #include <vector>
 
 #include "analysis_engines.hpp"
@@ -268,8 +269,13 @@ AnalysisResult run_analysis(const core::WallParameters& wall, const GroundMotion
   ObservedSteps<Engine>* const observer = observed ? &*observed : nullptr;
 
   // Every input the engine is given, in double, when asked (AnalysisOptions::engine_inputs_out).
-  const auto note_input = [&o](double ug, double vg) {
+  // And, to measure the monitor's latency (AnalysisOptions::work_budget_units), in the engine's format.
+  constexpr bool kFixed = std::is_same_v<Engine, detail::FixedAnalysisEngine>;
+  const bool measure = kFixed && o.work_budget_units > 0 && o.evaluate_alarm && !o.wall_sensors;
+  std::vector<std::array<core::AccelQ7_56, 2>> fed;
+  const auto note_input = [&o, &fed, measure](double ug, double vg) {
     if (o.engine_inputs_out) o.engine_inputs_out->push_back({ug, vg});
+    if (measure) fed.push_back({core::AccelQ7_56(ug), core::AccelQ7_56(vg)});
   };
   note_input(sample_or_zero(motion.ug_mps2, 0), sample_or_zero(motion.vg_mps2, 0));
   const typename Engine::Input ug0 = Engine::input(sample_or_zero(motion.ug_mps2, 0));
@@ -302,6 +308,7 @@ AnalysisResult run_analysis(const core::WallParameters& wall, const GroundMotion
       !engine.stepper().collapsed() && free == free_samples && free_samples > 0 && !engine.safe();
   if (result.t_collapse_s) result.t_max_abs_x_s = *result.t_collapse_s;  // the maximum is the collapse point
   if (observer) observer->summarise(result.observer, result.n_impacts);
+  if (measure) detail::measure_published(start.setup, o, dt, start.n_sub, fed, result.alarm);
   return result;
 }
 

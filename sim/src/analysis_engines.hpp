@@ -9,6 +9,7 @@
 //   - set-up failures: the fixed engine refuses walls, steps and records outside its formats (AnalysisError).
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <optional>
 #include <vector>
@@ -53,6 +54,12 @@ double to_double(const FixedValue& v) {
 inline core::AlarmSettings chain_alarm_settings(const AnalysisOptions& o) {
   return o.evaluate_alarm ? o.alarm : core::AlarmSettings{};
 }
+
+// The monitor's latency (AnalysisOptions::work_budget_units): the inputs the fixed engine was given (the reset's, then
+// one per sample of dt_s), run again call by call through the monitor's budgeted chain; fills summary.published.
+void measure_published(const core::StepperSetup<double>& setup, const AnalysisOptions& o, double dt_s,
+                       std::size_t n_sub, const std::vector<std::array<core::AccelQ7_56, 2>>& inputs,
+                       AlarmSummary& summary);
 
 class DoubleAnalysisEngine {
  public:

@@ -36,6 +36,48 @@ FixedAnalysisEngine::FixedAnalysisEngine(const core::WallParameters&, const core
   }
 }
 
+void measure_published(const core::StepperSetup<double>& setup, const AnalysisOptions& o, double dt_s,
+                       std::size_t n_sub, const std::vector<std::array<core::AccelQ7_56, 2>>& inputs,
+                       AlarmSummary& summary) {
+  using Chain = core::StepperAlarmChain<core::FixedRockingStepper>;
+  AlarmSummary::Published& p = summary.published;
+  p = AlarmSummary::Published{};
+  if (inputs.empty()) return;
+  Chain chain;
+  if (chain.init(setup, chain_alarm_settings(o), dt_s, static_cast<int>(n_sub)) != core::AlarmChainError::ok) return;
+  p.measured = true;
+  chain.reset(inputs[0][0], inputs[0][1]);
+  std::uint32_t call = 0;
+  const auto on_sample = [&](const Chain::Output& out, std::uint32_t tag) {
+    if (call != tag) {
+      ++p.late_samples;
+      if (call - tag > p.max_late_calls) p.max_late_calls = call - tag;
+    }
+    if (out.step.work_shed) ++p.shed_samples;
+    const double t_s = double(call) * dt_s;
+    if (out.alarm.level >= core::AlarmLevel::imminent && !p.t_first_imminent_s) {
+      p.t_first_imminent_s = t_s;
+      p.imminent_late_calls = call - tag;
+    }
+    if (out.alarm.level >= core::AlarmLevel::collapsed && !p.t_first_collapsed_s) p.t_first_collapsed_s = t_s;
+  };
+  for (std::size_t k = 1; k < inputs.size(); ++k) {
+    call = static_cast<std::uint32_t>(k);
+    if (chain.call(inputs[k][0], inputs[k][1], false, o.work_budget_units, call, Chain::kMaxFinishedPerCall,
+                   on_sample)) {
+      ++p.overruns;
+    }
+  }
+  // The monitor's input goes on after the analysis stops (a collapsed wall costs nothing): the samples still in work
+  // are finished at the next calls, each with a budget.
+  while (chain.pending() > 0) {
+    ++call;
+    core::WorkMeter meter = core::WorkMeter::of(o.work_budget_units);
+    chain.run(meter, Chain::kMaxFinishedPerCall, [](int, const core::FixedStepReport&, Chain::Input, Chain::Input) {},
+              on_sample);
+  }
+}
+
 void record_alarm_update(AlarmSummary& summary, std::size_t keep, double t_s, const core::AlarmUpdate& u,
                          const AlarmSample& sample) {
   if (u.level > summary.max_level) summary.max_level = u.level;

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "rockwatch/core/sample_engine.hpp"
 #include "rockwatch/options/command_line.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
@@ -83,6 +84,9 @@ void parse_alarm_options(const CLI::App& app, const AlarmOptionTexts& texts, sim
   }
 
   options.evaluate_alarm = texts.alarms;
+  // The fixed engine's alarm as the monitor publishes it: its budget per call (docs/FIXED_POINT.md "carry-over").
+  options.work_budget_units =
+      options.arithmetic == sim::Arithmetic::fixed_point && texts.alarms ? core::kDefaultWorkBudgetUnits : 0;
   for (const char* option : {"--lambda-w", "--alarm-hold", "--energy-margin"}) {
     if (given(app, option) && !texts.alarms) {
       throw UsageError(std::string(option) + " sets the instability alarm: give --alarms too");

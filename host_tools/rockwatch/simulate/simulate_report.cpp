@@ -101,6 +101,17 @@ nlohmann::ordered_json alarm_json(const SimulateRequest& q, const sim::AlarmSumm
                            {"energy_ratio", t.energy_ratio}});
   }
   j["transitions"] = transitions;
+  if (a.published.measured) {
+    const sim::AlarmSummary::Published& p = a.published;
+    j["published"] = {{"work_budget_units", q.analysis.work_budget_units},
+                      {"t_first_imminent_s", number_or_null(p.t_first_imminent_s)},
+                      {"imminent_late_samples", p.imminent_late_calls},
+                      {"t_first_collapsed_s", number_or_null(p.t_first_collapsed_s)},
+                      {"late_samples", p.late_samples},
+                      {"max_late_samples", p.max_late_calls},
+                      {"shed_samples", p.shed_samples},
+                      {"overruns", p.overruns}};
+  }
   return j;
 }
 
@@ -115,6 +126,14 @@ void alarm_text(std::string& out, const SimulateRequest& q, const sim::AlarmSumm
   line(out, "first WARNING", time_text(a.t_first_warning_s, "never"));
   line(out, "first IMMINENT", time_text(a.t_first_imminent_s, "never"));
   line(out, "first COLLAPSED", time_text(a.t_first_collapsed_s, "never"));
+  if (a.published.measured) {
+    const sim::AlarmSummary::Published& p = a.published;
+    line(out, "as published", format("by the monitor's engine at %d work units a call: first IMMINENT %s, %u samples "
+                                     "late (at most %u samples), %u shed",
+                                     static_cast<int>(q.analysis.work_budget_units),
+                                     time_text(p.t_first_imminent_s, "never").c_str(), p.late_samples,
+                                     p.max_late_calls, p.shed_samples));
+  }
   std::string count = std::to_string(a.n_transitions);
   if (a.transitions.size() < a.n_transitions) count += format(" (the first %zu listed)", a.transitions.size());
   line(out, "transitions", count);

@@ -123,6 +123,10 @@ void put_result(Writer& w, std::uint64_t global, const study::RunResult& r) {
   w.put(r.max_abs_x_m);
   w.put<std::int32_t>(r.n_impacts);
   w.put_optional(r.t_first_imminent_s);
+  w.put_optional(r.t_first_imminent_published_s);
+  w.put<std::uint32_t>(r.imminent_late_samples);
+  w.put<std::uint32_t>(r.max_late_samples);
+  w.put<std::uint32_t>(r.shed_samples);
   w.put<std::uint8_t>(r.saturated ? 1 : 0);
   w.put<std::uint8_t>(r.reference ? 1 : 0);
   if (r.reference) {
@@ -147,6 +151,10 @@ study::RunResult get_result(Reader& in, std::uint64_t& global) {
   r.max_abs_x_m = in.get<double>();
   r.n_impacts = in.get<std::int32_t>();
   r.t_first_imminent_s = in.get_optional();
+  r.t_first_imminent_published_s = in.get_optional();
+  r.imminent_late_samples = in.get<std::uint32_t>();
+  r.max_late_samples = in.get<std::uint32_t>();
+  r.shed_samples = in.get<std::uint32_t>();
   r.saturated = in.get<std::uint8_t>() != 0;
   if (in.get<std::uint8_t>() != 0) {
     study::DoubleReference d;

@@ -38,6 +38,12 @@ std::vector<std::string> columns(const study::StudyPlan& plan) {
     }
     if (alarms(plan)) c.emplace_back("t_first_imminent_double_s");
     c.emplace_back("verdict_differs");
+    if (alarms(plan)) {
+      for (const char* name : {"t_first_imminent_published_s", "imminent_late_samples", "max_late_samples",
+                               "shed_samples"}) {
+        c.emplace_back(name);
+      }
+    }
   }
   if (plan.dt_check) {
     c.emplace_back("collapsed_reference");
@@ -209,8 +215,12 @@ void write_runs_csv(std::ostream& out, const study::StudyPlan& plan, const std::
                optional_number(d.t_collapse_s) + ',' + number_text(d.max_abs_x_m);
         if (alarms(plan)) row += ',' + optional_number(d.t_first_imminent_s);
         row += std::string(",") + bool_text(d.collapsed != r.collapsed);
+        if (alarms(plan)) {
+          row += ',' + optional_number(r.t_first_imminent_published_s) + ',' + std::to_string(r.imminent_late_samples) +
+                 ',' + std::to_string(r.max_late_samples) + ',' + std::to_string(r.shed_samples);
+        }
       } else {
-        row += alarms(plan) ? ",,,,,," : ",,,,,";
+        row += alarms(plan) ? ",,,,,,,,,," : ",,,,,";
       }
     }
     if (plan.dt_check) {
@@ -270,6 +280,13 @@ std::size_t read_runs_csv_row(const std::string& where, const std::vector<std::s
                                               " (collapsed and collapsed_double say so)");
         }
         r.reference = d;
+        if (alarms(plan)) {
+          const std::size_t published_column = column_of(header, "t_first_imminent_published_s");
+          r.t_first_imminent_published_s = row.optional_number(published_column);
+          r.imminent_late_samples = static_cast<std::uint32_t>(row.whole(published_column + 1));
+          r.max_late_samples = static_cast<std::uint32_t>(row.whole(published_column + 2));
+          r.shed_samples = static_cast<std::uint32_t>(row.whole(published_column + 3));
+        }
       }
     }
     if (plan.dt_check) {

@@ -10,6 +10,7 @@
 #include "common/shipped_suite.hpp"
 #include "common/text_report.hpp"
 #include "rockwatch/core/restitution.hpp"
+#include "rockwatch/core/sample_engine.hpp"
 #include "rockwatch/options/alarm_options.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "common/options_namespace.hpp"
@@ -237,6 +238,56 @@ AlarmOutcome alarm_outcome(const std::vector<study::RunResult>& results) {
   return a;
 }
 
+PublishedAlarm published_alarm(const std::vector<study::RunResult>& results) {
+  PublishedAlarm p;
+  std::vector<double> lead;
+  for (const study::RunResult& r : results) {
+    if (!r.done || !r.error.empty()) continue;
+    if (r.max_late_samples > 0) ++p.runs_late;
+    p.max_late_samples = std::max(p.max_late_samples, r.max_late_samples);
+    p.shed_samples += r.shed_samples;
+    if (r.t_first_imminent_s && r.t_first_imminent_published_s) {
+      const double delay = *r.t_first_imminent_published_s - *r.t_first_imminent_s;
+      if (!p.imminent_delay_s_max || delay > *p.imminent_delay_s_max) p.imminent_delay_s_max = delay;
+    }
+    if (!study::double_collapsed(r)) continue;
+    ++p.collapsed;
+    const std::optional<double> t_collapse = study::double_t_collapse_s(r);
+    if (r.t_first_imminent_published_s && t_collapse && *r.t_first_imminent_published_s < *t_collapse) {
+      ++p.collapsed_flagged;
+      lead.push_back(*t_collapse - *r.t_first_imminent_published_s);
+    }
+  }
+  for (const study::RunResult& r : results) {
+    if (r.done && r.error.empty() && r.imminent_late_samples > 0) ++p.runs_imminent_delayed;
+  }
+  if (p.collapsed > 0) p.recall = double(p.collapsed_flagged) / double(p.collapsed);
+  std::sort(lead.begin(), lead.end());
+  p.lead_time_s_median = quantile_type7(lead, 0.5);
+  if (!lead.empty()) p.lead_time_s_min = lead.front();
+  return p;
+}
+
+nlohmann::ordered_json published_json(const PublishedAlarm& p) {
+  nlohmann::ordered_json j;
+  j["work_budget_units"] = core::kDefaultWorkBudgetUnits;
+  j["recall"] = number_or_null(p.recall);
+  j["lead_time_s_median"] = number_or_null(p.lead_time_s_median);
+  j["lead_time_s_min"] = number_or_null(p.lead_time_s_min);
+  j["imminent_delay_s_max"] = number_or_null(p.imminent_delay_s_max);
+  j["runs_imminent_delayed"] = p.runs_imminent_delayed;
+  j["runs_with_late_samples"] = p.runs_late;
+  j["max_late_samples"] = p.max_late_samples;
+  j["shed_samples"] = p.shed_samples;
+  j["definitions"] = {
+      {"published", "the monitor's engine does at most work_budget_units of work per input sample's call; a sample "
+                    "whose work does not fit is published at a later sample's call (same answers, later)"},
+      {"recall", "collapsed runs whose first IMMINENT is published strictly before t_collapse / collapsed runs"},
+      {"imminent_delay_s_max", "publication of the first IMMINENT - the step end it was computed for, at most"},
+      {"max_late_samples", "the most input samples a sample waited to be published, over the runs"}};
+  return j;
+}
+
 nlohmann::ordered_json alarm_score_json(const AlarmOutcome& a) {
   nlohmann::ordered_json j;
   j["recall"] = number_or_null(a.recall);
@@ -331,6 +382,9 @@ StudyOutcome summarise_study(const study::StudyPlan& plan, const std::vector<stu
   }
   if (plan.analysis.evaluate_alarm) o.alarm = alarm_outcome(results);
   if (plan.analysis.arithmetic == sim::Arithmetic::fixed_point) o.fixed_vs_double = fixed_comparison(plan, results);
+  if (plan.analysis.evaluate_alarm && plan.analysis.arithmetic == sim::Arithmetic::fixed_point) {
+    o.published = published_alarm(results);
+  }
   return o;
 }
 
@@ -392,6 +446,7 @@ nlohmann::ordered_json summary_json(const study::StudyPlan& plan, const StudyRec
   for (const CaseOutcome& c : o.cases) cases.push_back(case_json(plan, c));
   j["cases"] = cases;
   if (o.alarm) j["alarm"] = alarm_json(plan, *o.alarm);
+  if (o.alarm && o.published) j["alarm"]["as_published"] = published_json(*o.published);
   if (o.fixed_vs_double) j["fixed_vs_double"] = fixed_json(plan, *o.fixed_vs_double);
   return j;
 }
@@ -461,6 +516,14 @@ std::string study_summary_text(const StudyRequest& q, const study::StudyPlan& pl
     if (a.lead_time_s_median) {
       line(out, "", format("lead time median %.3f s, 5th percentile %.3f s, min %.3f s", *a.lead_time_s_median,
                            *a.lead_time_s_p05, *a.lead_time_s_min));
+    }
+    if (o.published) {
+      const PublishedAlarm& p = *o.published;
+      line(out, "", format("as the monitor publishes it (%d work units a call): recall %s, first IMMINENT late in %zu "
+                           "runs (at most %.3f s), samples waited at most %u, %zu shed",
+                           static_cast<int>(core::kDefaultWorkBudgetUnits), probability_text(p.recall).c_str(),
+                           p.runs_imminent_delayed, p.imminent_delay_s_max ? *p.imminent_delay_s_max : 0.0,
+                           p.max_late_samples, p.shed_samples));
     }
   }
   if (o.fixed_vs_double) {

@@ -40,6 +40,19 @@ struct AlarmOutcome {
   std::optional<double> lead_time_s_median, lead_time_s_p05, lead_time_s_min;
 };
 
+// --arith fixed --alarms: the same alarm as the monitor publishes it, its engine doing at most a budget of work per
+// call (docs/FIXED_POINT.md "carry-over"): the recall and lead times at the publication, and the latency.
+struct PublishedAlarm {
+  std::size_t collapsed = 0, collapsed_flagged = 0;  // as AlarmOutcome, with IMMINENT published before t_collapse
+  std::optional<double> recall;
+  std::optional<double> lead_time_s_median, lead_time_s_min;
+  std::optional<double> imminent_delay_s_max;  // publication − the step end it was computed for, over runs [s]
+  std::size_t runs_imminent_delayed = 0;       // runs whose first IMMINENT was published late
+  std::size_t runs_late = 0;                   // runs with any sample published late
+  std::uint32_t max_late_samples = 0;          // the most samples one sample waited, over the runs
+  std::size_t shed_samples = 0;                // samples shed (events not located), over the runs
+};
+
 // --arith fixed: the fixed engine against the double engine, run by run.
 struct FixedComparison {
   std::size_t runs_compared = 0;         // runs with a verdict
@@ -71,6 +84,7 @@ struct StudyOutcome {
   std::optional<DtCheckFigures> dt_check;  // --dt-check: the survivors' max |x| against the reference
   std::size_t runs_with_error = 0;
   std::optional<AlarmOutcome> alarm;              // with --alarms
+  std::optional<PublishedAlarm> published;        // with --arith fixed --alarms
   std::optional<FixedComparison> fixed_vs_double;  // with --arith fixed
 };
 
@@ -79,6 +93,7 @@ struct StudyOutcome {
 std::optional<double> quantile_type7(const std::vector<double>& ascending, double p);
 
 AlarmOutcome alarm_outcome(const std::vector<sim::study::RunResult>& results);
+PublishedAlarm published_alarm(const std::vector<sim::study::RunResult>& results);
 // The outcome's scores as JSON: recall, false_alarm_rate, lead times, counts (summary.json "alarm" and the observer
 // evaluation's per-arm scores).
 nlohmann::ordered_json alarm_score_json(const AlarmOutcome& a);

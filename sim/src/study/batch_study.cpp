@@ -68,6 +68,10 @@ class Worker {
       out.max_abs_x_m = a.max_abs_x_m;
       out.n_impacts = a.n_impacts;
       out.t_first_imminent_s = a.alarm.t_first_imminent_s;
+      out.t_first_imminent_published_s = a.alarm.published.t_first_imminent_s;
+      out.imminent_late_samples = a.alarm.published.imminent_late_calls;
+      out.max_late_samples = a.alarm.published.max_late_calls;
+      out.shed_samples = a.alarm.published.shed_samples;
       out.saturated = a.saturated;
       options.arithmetic = Arithmetic::double_precision;  // the reference and the half-step check: double
       if (plan_.analysis.arithmetic != Arithmetic::double_precision) {

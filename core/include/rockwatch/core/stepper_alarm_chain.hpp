@@ -218,6 +218,8 @@ class StepperAlarmChain {
   // in order; a sample whose work the meter cannot pay goes on at the next run() from where it stopped. The results
   // are those of step() on the same samples, bit for bit, unless the meter sheds.
   static constexpr int kMaxPendingSamples = 64;
+  // The most samples one call of a budgeted engine finishes (call()'s callers: firmware::WallEngine, sim).
+  static constexpr int kMaxFinishedPerCall = 8;
 
   // Queues a sample (restart: the motion restarts from rest with this input, as restart_motion()). False, nothing
   // queued, when kMaxPendingSamples wait.
@@ -264,6 +266,29 @@ class StepperAlarmChain {
       --pending_count_;
       on_sample(static_cast<const Output&>(head_out_), tag);
     }
+  }
+
+  // One call of a budgeted engine (the policy of firmware::WallEngine's step(), and of the studies that measure its
+  // latency): this sample queued, then the queue worked with a meter of budget_units, finishing at most max_samples
+  // (on_sample as run()'s). A full queue sheds (WorkMeter::shed); a sample arriving at a queue still full first
+  // finishes the oldest without a budget (returned true: an overrun).
+  template <typename OnSample>
+  bool call(Input ug_mps2, Input vg_mps2, bool restart, std::int32_t budget_units, std::uint32_t tag, int max_samples,
+            OnSample&& on_sample) {
+    const auto no_substep = [](int, const Report&, Input, Input) {};
+    bool overrun = false;
+    if (pending_count_ == kMaxPendingSamples) {
+      // Still full after a shedding call (a sample's trials alone exceed the budget): room for this one, unmetered.
+      WorkMeter room = WorkMeter::unlimited();
+      room.shed = true;
+      run(room, 1, no_substep, on_sample);
+      overrun = true;
+    }
+    submit(ug_mps2, vg_mps2, restart, tag);
+    WorkMeter meter = WorkMeter::of(budget_units);
+    meter.shed = pending_count_ == kMaxPendingSamples;
+    run(meter, max_samples, no_substep, on_sample);
+    return overrun;
   }
 
   const Stepper& stepper() const { return stepper_; }

@@ -68,7 +68,7 @@ class WallEngine final : public SampleEngine {
   // work does not fit finishes at a later call, bit-identical to process_wall(). At most kMaxFinishedPerCall samples
   // finish per call; a full queue sheds (WorkMeter::shed), and a sample arriving at a queue still full finishes the
   // oldest first without a budget (an overrun: counted).
-  static constexpr int kMaxFinishedPerCall = 8;
+  static constexpr int kMaxFinishedPerCall = core::StepperAlarmChain<core::FixedRockingStepper>::kMaxFinishedPerCall;
   struct WorkCounters {
     std::uint32_t late_samples = 0;    // samples finished in a later call than their own
     std::uint32_t max_late_calls = 0;  // the most calls a sample waited

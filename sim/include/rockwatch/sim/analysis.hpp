@@ -58,6 +58,11 @@ struct AnalysisOptions {
   // then the zeros of the free motion after the record), up to where the analysis stopped. `rockwatch simulate --engine-input-out` writes it for
   // the Cortex-M4 replay (scripts/m4-replay.sh), which must run exactly the steps the host ran.
   std::vector<std::array<double, 2>>* engine_inputs_out = nullptr;
+  // The monitor's latency (fixed point with evaluate_alarm, open loop): > 0 also runs the engine's inputs through the
+  // monitor's budgeted engine (core::StepperAlarmChain::call with this many work units a call; the monitor's default
+  // is core::kDefaultWorkBudgetUnits; docs/FIXED_POINT.md "carry-over") and reports when each alarm would be
+  // published (AlarmSummary::published). The answers are the same; 0: not measured.
+  std::int32_t work_budget_units = 0;
 };
 
 // One change of alarm level, at the end of the integration step where it happened.
@@ -80,6 +85,18 @@ struct AlarmSummary {
   std::optional<double> t_first_collapsed_s; // first step end at COLLAPSED [s]
   std::size_t n_transitions = 0;             // all transitions
   std::vector<AlarmTransition> transitions;  // the first max_alarm_transitions_kept
+  // As the monitor publishes it (AnalysisOptions::work_budget_units): a sample whose work exceeds a call's budget is
+  // published at the call of a later input sample.
+  struct Published {
+    bool measured = false;
+    std::uint32_t late_samples = 0;     // samples published at a later sample's call
+    std::uint32_t max_late_calls = 0;   // the most calls a sample waited
+    std::uint32_t shed_samples = 0;     // samples whose events were not located (the engine's queue was full)
+    std::uint32_t overruns = 0;         // calls that worked beyond the budget
+    std::optional<double> t_first_imminent_s;  // time of the input sample whose call published IMMINENT or above [s]
+    std::uint32_t imminent_late_calls = 0;      // calls that sample waited
+    std::optional<double> t_first_collapsed_s; // ... COLLAPSED [s]
+  } published;
 };
 
 // What the observer did over the analysis (AnalysisOptions::wall_sensors).
