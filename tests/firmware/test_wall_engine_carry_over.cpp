@@ -158,3 +158,54 @@ TEST(WallEngineCarryOver, AFullQueueShedsFlaggedAndCountedAndEverySampleFinishes
   CHECK_TRUE(e.work_counters().shed_samples > 0);
   LONGS_EQUAL(static_cast<long>(e.work_counters().shed_samples), static_cast<long>(flagged));
 }
+
+// The study's "as published" figures (sim::analyse with work_budget_units) are the monitor's engine's: the call at
+// which WallEngine::step() first finishes an IMMINENT sample, and how many samples waited.
+TEST(WallEngineCarryOver, TheAnalysisReportsWhenTheMonitorsEnginePublishes) {
+  double dt = 0.0;
+  for (const double pga_g : {0.20, 0.40}) {
+    const std::vector<double> ug = suite_record(1, 0, pga_g, &dt);
+    rockwatch::sim::GroundMotion motion;
+    motion.dt_s = dt;
+    motion.ug_mps2 = ug;
+    rockwatch::sim::AnalysisOptions o;
+    o.arithmetic = rockwatch::sim::Arithmetic::fixed_point;
+    o.evaluate_alarm = true;
+    o.work_budget_units = fw::WallEngineConfig{}.work_budget_units;
+    const rockwatch::sim::AnalysisResult r = rockwatch::sim::analyse(core::paper_wall(), motion, o);
+    const rockwatch::sim::AlarmSummary::Published& p = r.alarm.published;
+    CHECK_TRUE(p.measured);
+    CHECK_TRUE(p.t_first_imminent_s.has_value() == r.alarm.t_first_imminent_s.has_value());
+
+    fw::WallEngine e;
+    LONGS_EQUAL(static_cast<int>(fw::WallEngineError::ok), static_cast<int>(e.init(config(dt, o.work_budget_units,
+                                                                                             core::RestitutionKind::exp))));
+    std::size_t first_imminent_call = 0;
+    std::uint32_t late = 0;
+    for (std::size_t k = 0; k < ug.size() && double(k) * dt <= r.t_final_s + 1e-9; ++k) {
+      if (k == 0) {
+        e.start(ug[k], 0.0);
+        continue;
+      }
+      e.step(ug[k], 0.0);
+      for (int i = 0; i < e.finished_count(); ++i) {
+        const fw::EngineSample& s = e.finished_sample(i);
+        if (s.alarm.level >= core::AlarmLevel::imminent && first_imminent_call == 0) first_imminent_call = k;
+        late += s.late_calls > 0 ? 1u : 0u;
+      }
+    }
+    if (p.t_first_imminent_s) {
+      CHECK_TRUE(*p.t_first_imminent_s >= *r.alarm.t_first_imminent_s);
+      DOUBLES_EQUAL(double(first_imminent_call) * dt, *p.t_first_imminent_s, 1e-9);
+    }
+    CHECK_TRUE(late <= p.late_samples);  // the analysis also counts those finished after its last input
+    LONGS_EQUAL(0, static_cast<long>(p.shed_samples));
+  }
+  rockwatch::sim::AnalysisOptions unmeasured;
+  unmeasured.arithmetic = rockwatch::sim::Arithmetic::fixed_point;
+  unmeasured.evaluate_alarm = true;
+  rockwatch::sim::GroundMotion motion;
+  motion.dt_s = dt;
+  motion.ug_mps2 = suite_record(1, 0, 0.2, &dt);
+  CHECK_FALSE(rockwatch::sim::analyse(core::paper_wall(), motion, unmeasured).alarm.published.measured);
+}

@@ -250,7 +250,11 @@ PublishedAlarm published_alarm(const std::vector<study::RunResult>& results) {
       const double delay = *r.t_first_imminent_published_s - *r.t_first_imminent_s;
       if (!p.imminent_delay_s_max || delay > *p.imminent_delay_s_max) p.imminent_delay_s_max = delay;
     }
-    if (!study::double_collapsed(r)) continue;
+    if (!study::double_collapsed(r)) {
+      ++p.survivors;
+      if (r.t_first_imminent_published_s) ++p.survivors_flagged;
+      continue;
+    }
     ++p.collapsed;
     const std::optional<double> t_collapse = study::double_t_collapse_s(r);
     if (r.t_first_imminent_published_s && t_collapse && *r.t_first_imminent_published_s < *t_collapse) {
@@ -262,6 +266,7 @@ PublishedAlarm published_alarm(const std::vector<study::RunResult>& results) {
     if (r.done && r.error.empty() && r.imminent_late_samples > 0) ++p.runs_imminent_delayed;
   }
   if (p.collapsed > 0) p.recall = double(p.collapsed_flagged) / double(p.collapsed);
+  if (p.survivors > 0) p.false_alarm_rate = double(p.survivors_flagged) / double(p.survivors);
   std::sort(lead.begin(), lead.end());
   p.lead_time_s_median = quantile_type7(lead, 0.5);
   if (!lead.empty()) p.lead_time_s_min = lead.front();
@@ -272,6 +277,7 @@ nlohmann::ordered_json published_json(const PublishedAlarm& p) {
   nlohmann::ordered_json j;
   j["work_budget_units"] = core::kDefaultWorkBudgetUnits;
   j["recall"] = number_or_null(p.recall);
+  j["false_alarm_rate"] = number_or_null(p.false_alarm_rate);
   j["lead_time_s_median"] = number_or_null(p.lead_time_s_median);
   j["lead_time_s_min"] = number_or_null(p.lead_time_s_min);
   j["imminent_delay_s_max"] = number_or_null(p.imminent_delay_s_max);
@@ -279,6 +285,10 @@ nlohmann::ordered_json published_json(const PublishedAlarm& p) {
   j["runs_with_late_samples"] = p.runs_late;
   j["max_late_samples"] = p.max_late_samples;
   j["shed_samples"] = p.shed_samples;
+  j["counts"] = {{"collapsed", p.collapsed},
+                 {"collapsed_flagged", p.collapsed_flagged},
+                 {"survivors", p.survivors},
+                 {"survivors_flagged", p.survivors_flagged}};
   j["definitions"] = {
       {"published", "the monitor's engine does at most work_budget_units of work per input sample's call; a sample "
                     "whose work does not fit is published at a later sample's call (same answers, later)"},
@@ -519,10 +529,10 @@ std::string study_summary_text(const StudyRequest& q, const study::StudyPlan& pl
     }
     if (o.published) {
       const PublishedAlarm& p = *o.published;
-      line(out, "", format("as the monitor publishes it (%d work units a call): recall %s, first IMMINENT late in %zu "
-                           "runs (at most %.3f s), samples waited at most %u, %zu shed",
+      line(out, "", format("as the monitor publishes it (%d work units a call): recall %s, false alarms %s, first "
+                           "IMMINENT late in %zu runs (at most %.3f s), samples waited at most %u, %zu shed",
                            static_cast<int>(core::kDefaultWorkBudgetUnits), probability_text(p.recall).c_str(),
-                           p.runs_imminent_delayed, p.imminent_delay_s_max ? *p.imminent_delay_s_max : 0.0,
+                           probability_text(p.false_alarm_rate).c_str(), p.runs_imminent_delayed, p.imminent_delay_s_max ? *p.imminent_delay_s_max : 0.0,
                            p.max_late_samples, p.shed_samples));
     }
   }

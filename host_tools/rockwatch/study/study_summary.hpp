@@ -45,6 +45,8 @@ struct AlarmOutcome {
 struct PublishedAlarm {
   std::size_t collapsed = 0, collapsed_flagged = 0;  // as AlarmOutcome, with IMMINENT published before t_collapse
   std::optional<double> recall;
+  std::size_t survivors = 0, survivors_flagged = 0;  // survivors whose IMMINENT was ever published
+  std::optional<double> false_alarm_rate;
   std::optional<double> lead_time_s_median, lead_time_s_min;
   std::optional<double> imminent_delay_s_max;  // publication − the step end it was computed for, over runs [s]
   std::size_t runs_imminent_delayed = 0;       // runs whose first IMMINENT was published late

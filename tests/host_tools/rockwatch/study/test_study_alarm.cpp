@@ -217,7 +217,8 @@ TEST(StudyAlarm, FixedPointStudyIsComparedWithTheDoubleEngine) {
   lines.pop_back();
   STRCMP_EQUAL("record,component,vertical,r,pga_g,collapsed,t_collapse_s,t_exceed_s,max_abs_x_m,n_impacts,run,"
                "t_first_imminent_s,saturated,collapsed_double,t_collapse_double_s,max_abs_x_double_m,"
-               "t_first_imminent_double_s,verdict_differs,collapsed_reference,max_abs_x_reference_m,error",
+               "t_first_imminent_double_s,verdict_differs,t_first_imminent_published_s,imminent_late_samples,"
+               "max_late_samples,shed_samples,collapsed_reference,max_abs_x_reference_m,error",
                lines.front().c_str());
   LONGS_EQUAL(19, lines.size());
   std::vector<std::size_t> flips, flips_at_half_step;
@@ -228,9 +229,13 @@ TEST(StudyAlarm, FixedPointStudyIsComparedWithTheDoubleEngine) {
       ++survivors_both;
       if (std::fabs(std::stod(f[8]) - std::stod(f[15])) <= 5e-4) ++survivors_within;
     }
-    LONGS_EQUAL(21, f.size());
-    CHECK_TRUE(!f[19].empty() && std::stod(f[19]) >= 0.0);  // max |x| at the reference step
-    CHECK_TRUE(f[20].empty());
+    LONGS_EQUAL(25, f.size());
+    // As the monitor publishes it: never before the step end it was computed for, and only when computed.
+    CHECK_EQUAL(f[11].empty(), f[18].empty());
+    if (!f[18].empty()) CHECK_TRUE(std::stod(f[18]) >= std::stod(f[11]));
+    CHECK_TRUE(std::stoul(f[20]) >= std::stoul(f[19]));  // the most samples waited >= the IMMINENT's wait
+    CHECK_TRUE(!f[23].empty() && std::stod(f[23]) >= 0.0);  // max |x| at the reference step
+    CHECK_TRUE(f[24].empty());
     CHECK_EQUAL(f[5] != f[13], f[17] == "true");
     if (f[17] == "true") {
       flips.push_back(i - 1);
@@ -254,6 +259,12 @@ TEST(StudyAlarm, FixedPointStudyIsComparedWithTheDoubleEngine) {
   CHECK_TRUE(c["imminent_within_one_step"].get<std::size_t>() <= c["imminent_compared"].get<std::size_t>());
   LONGS_EQUAL(collapsed_double, summary["alarm"]["counts"]["collapsed"].get<std::size_t>());
   STRCMP_EQUAL("fixed", summary["alarm"]["alarm_engine"].get<std::string>().c_str());
+  const nlohmann::json& published = summary["alarm"]["as_published"];
+  LONGS_EQUAL(collapsed_double, published["counts"]["collapsed"].get<std::size_t>());
+  CHECK_TRUE(published["counts"]["collapsed_flagged"].get<std::size_t>() <= collapsed_double);
+  CHECK_TRUE(published["max_late_samples"].is_number_unsigned());
+  LONGS_EQUAL(22000, published["work_budget_units"].get<long>());
+  STRCMP_CONTAINS("as the monitor publishes it", r.out.c_str());
 
   check_ok(run_rockwatch(with(with(alarm_study(two), {"--arith", "fixed", "--dt-check"}), {"--jobs", "2"})));
   for (const char* name : {"runs.csv", "summary.json", "table3.md"}) {
@@ -413,6 +424,10 @@ TEST(StudyAlarmArithmetic, RunsCsvOfAFixedPointStudyReadsBackWhatWasWritten) {
   results[0].t_first_imminent_s = 3.125;
   results[0].saturated = true;
   results[0].reference = study::DoubleReference{false, std::nullopt, 0.0931, 3.13};
+  results[0].t_first_imminent_published_s = 3.135;
+  results[0].imminent_late_samples = 2;
+  results[0].max_late_samples = 17;
+  results[0].shed_samples = 1;
   results[0].collapsed_reference = false;
   results[0].max_abs_x_reference_m = 0.0932;
   results[2].done = true;
@@ -427,11 +442,13 @@ TEST(StudyAlarmArithmetic, RunsCsvOfAFixedPointStudyReadsBackWhatWasWritten) {
   const std::vector<std::string> lines = split_fields(text.str(), '\n');
   STRCMP_EQUAL("record,component,vertical,r,pga_g,collapsed,t_collapse_s,t_exceed_s,max_abs_x_m,n_impacts,run,"
                "t_first_imminent_s,saturated,collapsed_double,t_collapse_double_s,max_abs_x_double_m,"
-               "t_first_imminent_double_s,verdict_differs,collapsed_reference,max_abs_x_reference_m,error",
+               "t_first_imminent_double_s,verdict_differs,t_first_imminent_published_s,imminent_late_samples,"
+               "max_late_samples,shed_samples,collapsed_reference,max_abs_x_reference_m,error",
                lines[0].c_str());
-  STRCMP_EQUAL("rec,X,false,exp,0.1,true,4.25,4,0.2006552,7,0,3.125,true,false,,0.0931,3.13,true,false,0.0932,",
+  STRCMP_EQUAL("rec,X,false,exp,0.1,true,4.25,4,0.2006552,7,0,3.125,true,false,,0.0931,3.13,true,3.135,2,17,1,false,"
+               "0.0932,",
                lines[1].c_str());
-  STRCMP_EQUAL("rec,X,false,exp,0.4,,,,,,3,,,,,,,,,,\"refused, with a comma\"", lines[3].c_str());
+  STRCMP_EQUAL("rec,X,false,exp,0.4,,,,,,3,,,,,,,,,,,,,,\"refused, with a comma\"", lines[3].c_str());
 
   const TempDir tmp;
   rockwatch::test::write_text(tmp.file("runs.csv"), text.str());
@@ -445,6 +462,10 @@ TEST(StudyAlarmArithmetic, RunsCsvOfAFixedPointStudyReadsBackWhatWasWritten) {
     CHECK_TRUE(a.t_collapse_s == b.t_collapse_s && a.t_exceed_s == b.t_exceed_s);
     DOUBLES_EQUAL(a.max_abs_x_m, b.max_abs_x_m, 0.0);
     CHECK_TRUE(a.t_first_imminent_s == b.t_first_imminent_s);
+    CHECK_TRUE(a.t_first_imminent_published_s == b.t_first_imminent_published_s);
+    LONGS_EQUAL(a.imminent_late_samples, b.imminent_late_samples);
+    LONGS_EQUAL(a.max_late_samples, b.max_late_samples);
+    LONGS_EQUAL(a.shed_samples, b.shed_samples);
     CHECK_EQUAL(a.saturated, b.saturated);
     CHECK_EQUAL(a.reference.has_value(), b.reference.has_value());
     if (a.reference) {
@@ -461,7 +482,7 @@ TEST(StudyAlarmArithmetic, RunsCsvOfAFixedPointStudyReadsBackWhatWasWritten) {
 
   // verdict_differs must agree with the two verdicts it summarises.
   std::string edited = text.str();
-  edited.replace(edited.find("3.13,true,false,"), 16, "3.13,false,false,");
+  edited.replace(edited.find("3.13,true,3.135,"), 16, "3.13,false,3.135,");
   rockwatch::test::write_text(tmp.file("edited.csv"), edited);
   std::vector<study::RunResult> none;
   try {
