@@ -29,7 +29,10 @@
 # {median, p99, max, max_sample} of step() through the monitor's seam (double -> Q7.56, the chain, the published
 # sample back in double) over samples 1..n-1, engine_insn_per_sample (the same for process_wall() alone, inputs
 # converted beforehand), start_insn, overhead_insn (the measurement window's own cost, subtracted), stack_bytes,
-# transitions [{sample, level}] (sample = index of the input sample whose step changed the level); with
+# carry_over {late_samples, max_late_calls, shed_samples, overruns, max_pending} (step() works within a budget per
+# call and may finish a sample at a later call: docs/FIXED_POINT.md "Bounded work per call"; every finished sample is
+# checked against process_wall() on the target), transitions [{sample, level}] (sample = index of the input sample
+# whose step changed the level; its values are the sample's own, whichever call finished it); with
 # --m4-profile also profile {sample, insn, interval_insn, addresses, functions [{function, share}]}.
 # Exit status: 0 printed; 1 build, emulation or image failure (with a message); 2 invalid options or input (the
 # message of simulate); 77 arm-none-eabi-g++ or qemu-system-arm not installed.
