@@ -18,7 +18,8 @@
 #                       are refused)
 #     --m4-image ELF    run this image instead of building build/m4-replay/rockwatch_m4_replay.elf (rebuilt when a
 #                       source is newer)
-#     --m4-trace FILE   also write every sample as CSV: sample,insn_step,insn_engine,level,x_m,xd_mps
+#     --m4-trace FILE   also write every sample as CSV: sample,insn_step,insn_engine,level,x_m,xd_mps,pending
+#                       (samples still in work after the call),work_units (what the cost model charged the call)
 #     --m4-timeout S    give up on QEMU after S seconds (default 600)
 #     --m4-profile N    also profile the step of input sample N (a second run: SysTick samples the program counter
 #                       every 97.66 instructions) and add "profile": the functions' shares of that step
@@ -204,8 +205,9 @@ for number, line in enumerate(lines[1:], start=2):
         overhead = lo
     elif f[0] == "start" and len(f) == 3:
         start = (insns(int(f[1])), int(f[2]))
-    elif f[0] == "s" and len(f) == 7:
-        steps.append((insns(int(f[1])), insns(int(f[2])), int(f[3]), from_bits(f[4]), from_bits(f[5]), int(f[6])))
+    elif f[0] == "s" and len(f) == 8:
+        steps.append((insns(int(f[1])), insns(int(f[2])), int(f[3]), from_bits(f[4]), from_bits(f[5]), int(f[6]),
+                      int(f[7])))
     elif f[0] == "work" and len(f) == 5:
         work = {"late_samples": int(f[1]), "max_late_calls": int(f[2]), "shed_samples": int(f[3]), "overruns": int(f[4])}
     elif f[0] == "end" and len(f) == 3:
@@ -237,11 +239,11 @@ for i, st in enumerate(steps, start=1):
 
 if trace:
     with open(trace, "w") as t:
-        t.write("sample,insn_step,insn_engine,level,x_m,xd_mps,pending\n")
-        t.write("0,%d,,%s,0,0,0\n" % (start[0] - overhead, LEVELS[start[1]]))
+        t.write("sample,insn_step,insn_engine,level,x_m,xd_mps,pending,work_units\n")
+        t.write("0,%d,,%s,0,0,0,0\n" % (start[0] - overhead, LEVELS[start[1]]))
         for i, st in enumerate(steps, start=1):
-            t.write("%d,%d,%d,%s,%r,%r,%d\n" % (i, step_insn[i - 1], engine_insn[i - 1], LEVELS[st[2]], st[3], st[4],
-                                              st[5]))
+            t.write("%d,%d,%d,%s,%r,%r,%d,%d\n" % (i, step_insn[i - 1], engine_insn[i - 1], LEVELS[st[2]], st[3],
+                                                 st[4], st[5], st[6]))
 
 result = {
     "machine": "mps2-an386 (Cortex-M4F, qemu-system-arm %s, -icount shift=%d)" % (qemu_version, shift),

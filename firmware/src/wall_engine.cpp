@@ -143,10 +143,11 @@ EngineSample WallEngine::step_metered(core::AccelQ7_56 ug_mps2, core::AccelQ7_56
   finished_count_ = 0;
   out_.ug_mps2 = core::wide_convert<core::AccelQ7_24>(ug_mps2);
   out_.vg_mps2 = core::wide_convert<core::AccelQ7_24>(vg_mps2);
-  const bool overrun = chain_.call(ug_mps2, vg_mps2, restart, work_budget_units_, calls_, kMaxFinishedPerCall,
-                                   [this](const core::AlarmChainOutput<core::FixedRockingStepper>& o,
-                                          std::uint32_t tag) { finish_queued(o, tag); });
-  if (overrun) ++work_counters_.overruns;
+  const auto report = chain_.call(ug_mps2, vg_mps2, restart, work_budget_units_, calls_, kMaxFinishedPerCall,
+                                  [this](const core::AlarmChainOutput<core::FixedRockingStepper>& o,
+                                         std::uint32_t tag) { finish_queued(o, tag); });
+  if (report.overrun) ++work_counters_.overruns;
+  last_call_units_ = report.units_spent;
   if (finished_count_ > 0) return finished_[finished_count_ - 1];
   return sample();  // nothing finished: the state as it stands (the caller publishes only finished samples)
 }

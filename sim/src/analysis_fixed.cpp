@@ -63,8 +63,8 @@ void measure_published(const core::StepperSetup<double>& setup, const AnalysisOp
   };
   for (std::size_t k = 1; k < inputs.size(); ++k) {
     call = static_cast<std::uint32_t>(k);
-    if (chain.call(inputs[k][0], inputs[k][1], false, o.work_budget_units, call, Chain::kMaxFinishedPerCall,
-                   on_sample)) {
+    if (chain.call(inputs[k][0], inputs[k][1], false, o.work_budget_units, call, Chain::kMaxFinishedPerCall, on_sample)
+            .overrun) {
       ++p.overruns;
     }
   }

@@ -271,10 +271,14 @@ class StepperAlarmChain {
   // One call of a budgeted engine (the policy of firmware::WallEngine's step(), and of the studies that measure its
   // latency): this sample queued, then the queue worked with a meter of budget_units, finishing at most max_samples
   // (on_sample as run()'s). A full queue sheds (WorkMeter::shed); a sample arriving at a queue still full first
-  // finishes the oldest without a budget (returned true: an overrun).
+  // finishes the oldest without a budget (an overrun).
+  struct CallReport {
+    bool overrun = false;
+    std::int32_t units_spent = 0;  // of the budget (the overrun's work not included)
+  };
   template <typename OnSample>
-  bool call(Input ug_mps2, Input vg_mps2, bool restart, std::int32_t budget_units, std::uint32_t tag, int max_samples,
-            OnSample&& on_sample) {
+  CallReport call(Input ug_mps2, Input vg_mps2, bool restart, std::int32_t budget_units, std::uint32_t tag,
+                  int max_samples, OnSample&& on_sample) {
     const auto no_substep = [](int, const Report&, Input, Input) {};
     bool overrun = false;
     if (pending_count_ == kMaxPendingSamples) {
@@ -288,7 +292,7 @@ class StepperAlarmChain {
     WorkMeter meter = WorkMeter::of(budget_units);
     meter.shed = pending_count_ == kMaxPendingSamples;
     run(meter, max_samples, no_substep, on_sample);
-    return overrun;
+    return CallReport{overrun, budget_units - meter.left_units};
   }
 
   const Stepper& stepper() const { return stepper_; }

@@ -77,6 +77,9 @@ class WallEngine final : public SampleEngine {
   };
   const WorkCounters& work_counters() const { return work_counters_; }
   std::int32_t work_budget_units() const { return work_budget_units_; }
+  // Work units the last metered call spent (the cost model's estimate of its work; m4-replay compares it with the
+  // instructions counted).
+  std::int32_t last_call_units() const { return last_call_units_; }
 
   // One sample through the stepper and, when enabled, the observer (t_us, step_us as step_at).
   const WallEngineOutput& process_wall_at(core::AccelQ7_56 ug_mps2, core::AccelQ7_56 vg_mps2, std::int64_t t_us,
@@ -107,6 +110,7 @@ class WallEngine final : public SampleEngine {
   core::WallObserver<core::FixedRockingStepper> observer_{};
   core::ObserverStepReport observer_report_{};  // the observer's report of the last step (zero after start/restart)
   std::int32_t work_budget_units_ = 0;
+  std::int32_t last_call_units_ = 0;
   std::uint32_t calls_ = 0;  // metered calls so far: the tag of a queued sample
   EngineSample finished_[kMaxFinishedPerCall + 1]{};
   int finished_count_ = 0;
