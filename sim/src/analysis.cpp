@@ -271,7 +271,7 @@ AnalysisResult run_analysis(const core::WallParameters& wall, const GroundMotion
   // Every input the engine is given, in double, when asked (AnalysisOptions::engine_inputs_out).
   // And, to measure the monitor's latency (AnalysisOptions::work_budget_units), in the engine's format.
   constexpr bool kFixed = std::is_same_v<Engine, detail::FixedAnalysisEngine>;
-  const bool measure = kFixed && o.work_budget_units > 0 && o.evaluate_alarm && !o.wall_sensors;
+  const bool measure = o.work_budget_units > 0 && o.evaluate_alarm && !o.wall_sensors && kFixed;  // not a constant: captured
   std::vector<std::array<core::AccelQ7_56, 2>> fed;
   const auto note_input = [&o, &fed, measure](double ug, double vg) {
     if (o.engine_inputs_out) o.engine_inputs_out->push_back({ug, vg});

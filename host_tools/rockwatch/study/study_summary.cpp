@@ -10,7 +10,6 @@
 #include "common/shipped_suite.hpp"
 #include "common/text_report.hpp"
 #include "rockwatch/core/restitution.hpp"
-#include "rockwatch/core/sample_engine.hpp"
 #include "rockwatch/options/alarm_options.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "common/options_namespace.hpp"
@@ -275,7 +274,7 @@ PublishedAlarm published_alarm(const std::vector<study::RunResult>& results) {
 
 nlohmann::ordered_json published_json(const PublishedAlarm& p) {
   nlohmann::ordered_json j;
-  j["work_budget_units"] = core::kDefaultWorkBudgetUnits;
+  j["work_budget_units"] = p.work_budget_units;
   j["recall"] = number_or_null(p.recall);
   j["false_alarm_rate"] = number_or_null(p.false_alarm_rate);
   j["lead_time_s_median"] = number_or_null(p.lead_time_s_median);
@@ -394,6 +393,7 @@ StudyOutcome summarise_study(const study::StudyPlan& plan, const std::vector<stu
   if (plan.analysis.arithmetic == sim::Arithmetic::fixed_point) o.fixed_vs_double = fixed_comparison(plan, results);
   if (plan.analysis.evaluate_alarm && plan.analysis.arithmetic == sim::Arithmetic::fixed_point) {
     o.published = published_alarm(results);
+    o.published->work_budget_units = plan.analysis.work_budget_units;
   }
   return o;
 }
@@ -531,7 +531,7 @@ std::string study_summary_text(const StudyRequest& q, const study::StudyPlan& pl
       const PublishedAlarm& p = *o.published;
       line(out, "", format("as the monitor publishes it (%d work units a call): recall %s, false alarms %s, first "
                            "IMMINENT late in %zu runs (at most %.3f s), samples waited at most %u, %zu shed",
-                           static_cast<int>(core::kDefaultWorkBudgetUnits), probability_text(p.recall).c_str(),
+                           static_cast<int>(p.work_budget_units), probability_text(p.recall).c_str(),
                            probability_text(p.false_alarm_rate).c_str(), p.runs_imminent_delayed, p.imminent_delay_s_max ? *p.imminent_delay_s_max : 0.0,
                            p.max_late_samples, p.shed_samples));
     }

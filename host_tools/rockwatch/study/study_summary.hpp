@@ -43,6 +43,7 @@ struct AlarmOutcome {
 // --arith fixed --alarms: the same alarm as the monitor publishes it, its engine doing at most a budget of work per
 // call (docs/FIXED_POINT.md "carry-over"): the recall and lead times at the publication, and the latency.
 struct PublishedAlarm {
+  std::int32_t work_budget_units = 0;              // of the monitor's engine, per call
   std::size_t collapsed = 0, collapsed_flagged = 0;  // as AlarmOutcome, with IMMINENT published before t_collapse
   std::optional<double> recall;
   std::size_t survivors = 0, survivors_flagged = 0;  // survivors whose IMMINENT was ever published

@@ -149,7 +149,7 @@ struct FixedRockingStepperTypes {
   static constexpr int kMaxSegmentsPerStep = 16;
   // What each piece of work costs on a Cortex-M4 [instructions], upper bounds measured on the emulated M4
   // (scripts/m4-replay.sh; docs/BENCHMARKS.md, "Bounded work per call"): the meter of a call (core/work_meter.hpp).
-  static constexpr WorkCosts kWork{450, 1450, 9300, 2700};
+  static constexpr WorkCosts kWork{800, 1450, 10000, 1100};
 };
 
 class FixedRockingStepper : public RockingSegments<FixedRockingStepper, FixedRockingStepperTypes> {

@@ -24,7 +24,7 @@ namespace rockwatch::core {
 
 // The default work budget of a call: with the call's own overhead, at most 25 000 Cortex-M4 instructions per sample
 // (docs/BENCHMARKS.md, "Bounded work per call").
-inline constexpr std::int32_t kDefaultWorkBudgetUnits = 22000;
+inline constexpr std::int32_t kDefaultWorkBudgetUnits = 23000;
 // The least budget: a sample with one located event must fit one call, else the queue would only ever grow.
 inline constexpr std::int32_t kMinWorkBudgetUnits = FixedRockingStepper::kWork.substep + FixedRockingStepper::kWork.trial +
                                                     FixedRockingStepper::kWork.locate + FixedRockingStepper::kWork.evaluate;

@@ -19,6 +19,7 @@
 
 #include "cli_process.hpp"
 #include "cli_test_files.hpp"
+#include "rockwatch/core/sample_engine.hpp"
 #include "rockwatch/core/wall.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/records/record.hpp"
@@ -263,7 +264,7 @@ TEST(StudyAlarm, FixedPointStudyIsComparedWithTheDoubleEngine) {
   LONGS_EQUAL(collapsed_double, published["counts"]["collapsed"].get<std::size_t>());
   CHECK_TRUE(published["counts"]["collapsed_flagged"].get<std::size_t>() <= collapsed_double);
   CHECK_TRUE(published["max_late_samples"].is_number_unsigned());
-  LONGS_EQUAL(22000, published["work_budget_units"].get<long>());
+  LONGS_EQUAL(rockwatch::core::kDefaultWorkBudgetUnits, published["work_budget_units"].get<long>());
   STRCMP_CONTAINS("as the monitor publishes it", r.out.c_str());
 
   check_ok(run_rockwatch(with(with(alarm_study(two), {"--arith", "fixed", "--dt-check"}), {"--jobs", "2"})));
