@@ -46,6 +46,7 @@ namespace {
 struct RawOptions {
   std::string config, lcm_url, arith = "fixed", rate, max_step, offline_in, offline_out, log, receive_path = "own";
   std::string clock_tolerance;
+  std::string work_budget;
   std::vector<std::string> accept_from;
   options::RealtimeOptionTexts timing;  // --realtime, --cpu, --busy-poll-us
   options::WallOptionTexts wall;
@@ -68,6 +69,9 @@ const char* const kFooter =
     "  r \"ana\"|\"exp\"|\"impulse\"|number   model \"linear\"   kappa K\n"
     "  alarm {lambda_w, hold_s, energy_margin}   (as --lambda-w, --alarm-hold, --energy-margin)\n"
     "  sample_rate_hz (--rate, 200)   max_step_s (--max-step, 0.001)   max_bridge_samples (10)   sensor_range_mps2 (80)   late_limit_s (0.05)\n"
+    "  work_budget_units (--work-budget, 0): the fixed-point engine's work per sample in Cortex-M4 instructions; a\n"
+    "    sample whose work does not fit is finished (and published, with its own time) at later samples' calls.\n"
+    "    0 on a host (every sample in its own call); 23000 runs as the Cortex-M4 firmware does\n"
     "  clock_tolerance_s (--clock-tolerance, 10): samples stamped further than this from the monitor's clock have a\n"
     "    time it does not trust (counted, flagged, not used to detect publisher restarts)\n"
     "  channels {accel, accel_batch, wall_state, alarm, status, wall_sensor, wall_estimate}   (ROCKWATCH_ACCEL, ...)\n"
@@ -116,6 +120,12 @@ void add_options(CLI::App& app, RawOptions& raw) {
   app.add_option("--rate", raw.rate, "Expected input sample rate [Hz] (default 200); the alarm runs once per sample")
       ->type_name("HZ");
   options::add_max_step_option(app, raw.max_step, "; the sample interval is 1/rate");
+  app.add_option("--work-budget", raw.work_budget,
+                 "The fixed-point engine's work per sample [Cortex-M4 instructions] (default 0: every sample finished "
+                 "in its own call, as a host can afford); " + std::to_string(core::kDefaultWorkBudgetUnits) +
+                     " runs as the Cortex-M4 firmware does: a sample whose work does not fit is published at later "
+                     "samples' calls, the same answers later (carry-over)")
+      ->type_name("UNITS");
   app.add_option("--clock-tolerance", raw.clock_tolerance,
                  "How far a sample's time may be from the monitor's clock at reception, ahead or behind [s] (default " +
                      options::number_text(firmware::kDefaultClockTolerance_us * 1e-6) +
@@ -186,7 +196,7 @@ struct FileValues {
   std::optional<core::ModelKind> model;
   std::optional<firmware::MonitorArithmetic> arith;
   std::optional<double> kappa, lambda_w, hold_s, energy_margin, sample_rate_hz, max_step_s, sensor_range_mps2,
-      late_limit_s, clock_tolerance_s;
+      late_limit_s, clock_tolerance_s, work_budget_units;
   std::optional<long long> realtime_priority, cpu, busy_poll_us;  // range-checked when read
   std::optional<std::int32_t> max_bridge_samples;
   std::optional<std::string> channels[7];
@@ -261,7 +271,7 @@ class ConfigReader {
     if (!root.is_object()) fail("the top level", "expected a JSON object {...}, got " + json_type(root));
     check_keys(root, "", {"arith", "wall", "r", "model", "kappa", "alarm", "sample_rate_hz", "max_step_s",
                           "max_bridge_samples", "sensor_range_mps2", "late_limit_s", "channels", "lcm_url",
-                          "accept_from", "observer", "walls", "clock_tolerance_s", "realtime_priority", "cpu",
+                          "accept_from", "observer", "walls", "clock_tolerance_s", "work_budget_units", "realtime_priority", "cpu",
                           "busy_poll_us"});
     FileValues v;
     if (root.contains("wall")) read_wall(root.at("wall"), v);
@@ -284,6 +294,9 @@ class ConfigReader {
       v.sensor_range_mps2 = number(root.at("sensor_range_mps2"), "sensor_range_mps2", " [m/s2]");
     }
     if (root.contains("late_limit_s")) v.late_limit_s = number(root.at("late_limit_s"), "late_limit_s", " [s]");
+    if (root.contains("work_budget_units")) {
+      v.work_budget_units = number(root.at("work_budget_units"), "work_budget_units", " [Cortex-M4 instructions]");
+    }
     if (root.contains("clock_tolerance_s")) {
       v.clock_tolerance_s = number(root.at("clock_tolerance_s"), "clock_tolerance_s", " [s]");
     }
@@ -665,6 +678,7 @@ json normalised_settings(const MonitorConfig& config) {
   if (!config.walls.empty()) out["walls"] = walls_json(config.walls);
   // The clock tolerance decides which times are trusted; absent at the default (the digest of existing configurations
   // stays).
+  if (s.engine.work_budget_units != 0) out["work_budget_units"] = s.engine.work_budget_units;  // absent when off
   if (s.clock_tolerance_us != firmware::kDefaultClockTolerance_us) {
     out["clock_tolerance_s"] = static_cast<double>(s.clock_tolerance_us) * 1e-6;
   }
@@ -795,6 +809,23 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
               name_of(tolerance.origin, "clock_tolerance_s"), "in [0.000001, 86400] s (1 us to one day)",
               tolerance.value);
   s.clock_tolerance_us = std::llround(tolerance.value * 1e6);
+  // The engine's work budget per sample (carry-over, docs/FIXED_POINT.md): off on a host, which has the time.
+  Sourced<double> budget = pick(0.0, file.work_budget_units, file_label("work_budget_units"));
+  if (options::given(app, "--work-budget")) {
+    budget = {options::parse_finite_number("--work-budget", raw.work_budget), "--work-budget"};
+  }
+  check_range(budget.value == 0.0 || (budget.value >= double(core::kMinWorkBudgetUnits) && budget.value <= 1e9 &&
+                                      budget.value == std::floor(budget.value)),
+              name_of(budget.origin, "work_budget_units"),
+              "0 (off) or a whole number in [" + std::to_string(core::kMinWorkBudgetUnits) +
+                  ", 1000000000] (the least fits one sample with one located event; the Cortex-M4 firmware runs " +
+                  std::to_string(core::kDefaultWorkBudgetUnits) + ")",
+              budget.value);
+  if (budget.value != 0.0 && s.arithmetic != firmware::MonitorArithmetic::fixed_point) {
+    throw UsageError(name_of(budget.origin, "work_budget_units") +
+                     " applies to the fixed-point engine (--arith fixed): the double engine is not metered");
+  }
+  engine.work_budget_units = static_cast<std::int32_t>(budget.value);
 
   // The wall observer: the file's observer object, enabled there or by --observer.
   const bool observer = raw.observer || file.observer_enabled.value_or(false);

@@ -282,6 +282,52 @@ TEST(MonitorGoldenReplay, AlarmTimelineEqualsSimulateFixed) {
   }
 }
 
+// With the Cortex-M4 firmware's work budget (--work-budget, carry-over): the same alarm events, a sample whose work
+// does not fit one call published at a later sample's event; the IMMINENT at the sample that simulate's
+// alarm.published names (the study's "as published" figures are this monitor's).
+TEST(MonitorGoldenReplay, WithTheFirmwaresWorkBudgetTheSameEventsArePublishedWhereSimulateSays) {
+  const TempDir dir;
+  const std::string in = monitor_data_path(rockwatch::test::kShippedLog);
+  const ProcessResult plain = run_offline(in, dir.file("plain.lcmlog"));
+  const ProcessResult budgeted = run_offline(in, dir.file("budget.lcmlog"), {"--work-budget", "23000"});
+  CHECK_EQUAL_TEXT(0, plain.exit_status, describe(plain).c_str());
+  CHECK_EQUAL_TEXT(0, budgeted.exit_status, describe(budgeted).c_str());
+  const OutputLog a = rockwatch::test::read_output_log(dir.file("plain.lcmlog"));
+  const OutputLog b = rockwatch::test::read_output_log(dir.file("budget.lcmlog"));
+  LONGS_EQUAL(a.states.size(), b.states.size());
+  for (std::size_t i = 0; i < a.states.size(); ++i) {
+    CHECK_TRUE(a.states[i].message.input_seq == b.states[i].message.input_seq);
+    CHECK_TRUE(a.states[i].message.x_m == b.states[i].message.x_m);
+    CHECK_TRUE(a.states[i].event_utime <= b.states[i].event_utime);
+  }
+  LONGS_EQUAL(a.alarms.size(), b.alarms.size());
+  std::int64_t imminent_event_utime = 0;
+  for (std::size_t i = 0; i < a.alarms.size(); ++i) {
+    CHECK_TRUE(a.alarms[i].message.input_seq == b.alarms[i].message.input_seq);
+    CHECK_TRUE(a.alarms[i].message.level == b.alarms[i].message.level);
+    CHECK_TRUE(a.alarms[i].message.x_m == b.alarms[i].message.x_m);
+    if (rockwatch::monitor::level_name(b.alarms[i].message.level) == "IMMINENT") {
+      imminent_event_utime = b.alarms[i].event_utime;
+    }
+  }
+  const json counters = rockwatch::test::json_lines(budgeted.out).back().at("summary").at("counters");
+  CHECK_TRUE(counters.at("samples_late").get<long>() > 0);
+  LONGS_EQUAL(0, counters.at("samples_work_shed").get<long>());
+  CHECK_TRUE(imminent_event_utime > 0);
+
+  std::vector<std::string> args{"simulate"};
+  args.insert(args.end(), kSimulateArgs.begin(), kSimulateArgs.end());
+  args.insert(args.end(), {"--arith", "fixed", "--alarms", "--json"});
+  const ProcessResult sim = rockwatch::test::run_rockwatch(args);
+  CHECK_EQUAL_TEXT(0, sim.exit_status, describe(sim).c_str());
+  const json published = json::parse(sim.out).at("alarm").at("published");
+  LONGS_EQUAL(23000, published.at("work_budget_units").get<long>());
+  const auto sample = static_cast<std::int64_t>(std::llround(published.at("t_first_imminent_s").get<double>() / 0.005));
+  // Output events carry the time of the input event whose call finished them: the sample's time + 1 ms.
+  LONGS_EQUAL(kLogStartUtime + sample * 5000 + 1000, imminent_event_utime);
+  CHECK_TRUE(published.at("imminent_late_samples").get<long>() >= 1);
+}
+
 TEST(MonitorGoldenReplay, ShippedLogIsWhatTheGeneratorMakes) {
   const TempDir dir;
   std::vector<std::string> args{dir.file("made.lcmlog"), "8"};

@@ -163,6 +163,28 @@ TEST(MonitorClockTolerance, InTheSettingsAndTheDigestOnlyWhenNotTheDefault) {
   CHECK(over.at("config_digest") == printed("", {"--clock-tolerance", "2"}).at("config_digest"));
 }
 
+TEST_GROUP(MonitorWorkBudget){};
+
+TEST(MonitorWorkBudget, BadValuesNameTheOptionOrKeyAndTheRange) {
+  rockwatch::test::expect_monitor_rejected({"--work-budget", "5"}, {"--work-budget", "0 (off)", "got 5"});
+  rockwatch::test::expect_monitor_rejected({"--work-budget", "23000.5"}, {"--work-budget", "whole number"});
+  rockwatch::test::expect_monitor_rejected({"--work-budget", "lots"}, {"--work-budget", "'lots'"});
+  rockwatch::test::expect_monitor_rejected({"--arith", "double", "--work-budget", "23000"},
+                                           {"--work-budget", "fixed-point"});
+  expect_timing_config_rejected(R"({"work_budget_units": -1})", {"work_budget_units", "got -1"});
+  expect_timing_config_rejected(R"({"work_budget_units": "23000"})", {"work_budget_units", "expected a number"});
+}
+
+TEST(MonitorWorkBudget, InTheSettingsAndTheDigestOnlyWhenOn) {
+  const json none = printed("", {});
+  CHECK_FALSE(none.at("settings").contains("work_budget_units"));
+  CHECK(printed(R"({"work_budget_units": 0})", {}).at("config_digest") == none.at("config_digest"));
+  const json on = printed(R"({"work_budget_units": 23000})", {});
+  LONGS_EQUAL(23000, on.at("settings").at("work_budget_units").get<long>());
+  CHECK(on.at("config_digest") != none.at("config_digest"));
+  CHECK(on.at("config_digest") == printed("", {"--work-budget", "23000"}).at("config_digest"));
+}
+
 TEST_GROUP(MonitorTimingOptions){};
 
 TEST(MonitorTimingOptions, BadValuesNameTheOptionOrKey) {
