@@ -128,11 +128,11 @@ void alarm_text(std::string& out, const SimulateRequest& q, const sim::AlarmSumm
   line(out, "first COLLAPSED", time_text(a.t_first_collapsed_s, "never"));
   if (a.published.measured) {
     const sim::AlarmSummary::Published& p = a.published;
-    line(out, "as published", format("by the monitor's engine at %d work units a call: first IMMINENT %s, %u samples "
-                                     "late (at most %u samples), %u shed",
+    line(out, "as published", format("by the firmware's engine (%d work units a call): first IMMINENT %s; %u samples "
+                                     "late, the longest wait %u sample%s; %u shed",
                                      static_cast<int>(q.analysis.work_budget_units),
                                      time_text(p.t_first_imminent_s, "never").c_str(), p.late_samples,
-                                     p.max_late_calls, p.shed_samples));
+                                     p.max_late_calls, p.max_late_calls == 1 ? "" : "s", p.shed_samples));
   }
   std::string count = std::to_string(a.n_transitions);
   if (a.transitions.size() < a.n_transitions) count += format(" (the first %zu listed)", a.transitions.size());

@@ -529,10 +529,11 @@ std::string study_summary_text(const StudyRequest& q, const study::StudyPlan& pl
     }
     if (o.published) {
       const PublishedAlarm& p = *o.published;
-      line(out, "", format("as the monitor publishes it (%d work units a call): recall %s, false alarms %s, first "
-                           "IMMINENT late in %zu runs (at most %.3f s), samples waited at most %u, %zu shed",
+      const double delay_s = p.imminent_delay_s_max ? *p.imminent_delay_s_max : 0.0;
+      line(out, "", format("as the firmware's monitor publishes it (%d work units a call): recall %s, false alarms "
+                           "%s, first IMMINENT late in %zu runs (at most %.3f s), samples waited at most %u, %zu shed",
                            static_cast<int>(p.work_budget_units), probability_text(p.recall).c_str(),
-                           probability_text(p.false_alarm_rate).c_str(), p.runs_imminent_delayed, p.imminent_delay_s_max ? *p.imminent_delay_s_max : 0.0,
+                           probability_text(p.false_alarm_rate).c_str(), p.runs_imminent_delayed, delay_s,
                            p.max_late_samples, p.shed_samples));
     }
   }

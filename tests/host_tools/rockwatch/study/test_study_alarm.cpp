@@ -265,7 +265,7 @@ TEST(StudyAlarm, FixedPointStudyIsComparedWithTheDoubleEngine) {
   CHECK_TRUE(published["counts"]["collapsed_flagged"].get<std::size_t>() <= collapsed_double);
   CHECK_TRUE(published["max_late_samples"].is_number_unsigned());
   LONGS_EQUAL(rockwatch::core::kDefaultWorkBudgetUnits, published["work_budget_units"].get<long>());
-  STRCMP_CONTAINS("as the monitor publishes it", r.out.c_str());
+  STRCMP_CONTAINS("as the firmware's monitor publishes it", r.out.c_str());
 
   check_ok(run_rockwatch(with(with(alarm_study(two), {"--arith", "fixed", "--dt-check"}), {"--jobs", "2"})));
   for (const char* name : {"runs.csv", "summary.json", "table3.md"}) {
