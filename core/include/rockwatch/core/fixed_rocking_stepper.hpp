@@ -157,6 +157,7 @@ class FixedRockingStepper : public RockingSegments<FixedRockingStepper, FixedRoc
   friend Base;
 
  public:
+  using Base::step;
   // Newton iterations on the event residual, always all of them for a located event (constant work per event). 8
   // keep the default study's agreement with the double engine (recall 1.0, verdicts 99.94 %); 4 and 6 lose it
   // (docs/BENCHMARKS.md, "Sub-steps, the worst sample and the alarm"). Was 12.
@@ -193,16 +194,8 @@ class FixedRockingStepper : public RockingSegments<FixedRockingStepper, FixedRoc
     return step(ug_mps2, vg_mps2, budget);
   }
 
-  // The same, spending from a budget shared with the other sub-steps of the sample (EventBudget).
-  FixedStepReport step(AccelQ7_56 ug_mps2, AccelQ7_56 vg_mps2, EventBudget& budget) {
-    WorkMeter meter = WorkMeter::unlimited();
-    begin_step(ug_mps2, vg_mps2);
-    continue_step(budget, meter);
-    return report_;
-  }
-
-  // The same in pieces paid from a meter (core/work_meter.hpp): begin_step(), then continue_step() until it returns
-  // true; step_report() is then the step's report, bit-identical to step()'s.
+  // The step in pieces paid from a meter (core/work_meter.hpp): begin_step(), then continue_step() until it returns
+  // true; step_report() is then the step's report. step(ug, vg, budget) is both at once (RockingSegments).
   void begin_step(AccelQ7_56 ug_mps2, AccelQ7_56 vg_mps2) {
     report_ = FixedStepReport{};
     step_valid_ = coefficients(ug_mps2, vg_mps2, f_end_, k_end_);
@@ -210,7 +203,7 @@ class FixedRockingStepper : public RockingSegments<FixedRockingStepper, FixedRoc
   }
   bool continue_step(EventBudget& budget, WorkMeter& meter) {
     if (!collapsed_ && step_valid_) {
-      if (!run_segments(report_, budget, meter)) return false;
+      if (!run_segments(budget, meter)) return false;
       report_.saturated = state_.x_m.saturated() || state_.xd_mps.saturated() || state_.xdd_mps2.saturated();
     } else {
       report_.input_invalid = !step_valid_;
@@ -221,7 +214,6 @@ class FixedRockingStepper : public RockingSegments<FixedRockingStepper, FixedRoc
     }
     return true;
   }
-  const FixedStepReport& step_report() const { return report_; }
 
   // The velocity ratio at impact √r from now on (the observer's estimate of the real wall's restitution).
   void set_sqrt_r(FractionQ1_62 sqrt_r) { setup_.sqrt_r = sqrt_r; }
@@ -414,7 +406,6 @@ class FixedRockingStepper : public RockingSegments<FixedRockingStepper, FixedRoc
   StiffQ8_55 k_prev_[2]{};
   AccelQ7_56 f_end_[2]{};   // and at its end (this step's input)
   StiffQ8_55 k_end_[2]{};
-  FixedStepReport report_{};  // the step in progress (begin_step, continue_step)
   bool step_valid_ = false;   // its input is inside the model (G > 0)
 };
 

@@ -26,7 +26,9 @@
 //                                                  where the drive, affine in θ, crosses 0 between θ and 1
 //   Accel accel_at_hinge(Side s, Fraction θ)       ẍ at x = 0 on side s
 //   Speed rebound(Speed v)                         √r·v
-// and its setup (x_inst_m, x_collapse_m, v_rest_mps, v_count_mps per the stepper's formats).
+// and its setup (x_inst_m, x_collapse_m, v_rest_mps, v_count_mps per the stepper's formats); and, public, the step in
+// pieces: begin_step(ug, vg) (the input at the step end; resets report_ and calls begin_segments()) and
+// continue_step(budget, meter) (run_segments() until done, then the step's end), which step(ug, vg, budget) runs at once.
 //
 // Core rules: header-only, no heap, no exceptions, no I/O; the loops are bounded by kMaxSegmentsPerStep.
 #pragma once
@@ -92,6 +94,18 @@ class RockingSegments {
   bool moving() const { return moving_; }
   bool collapsed() const { return collapsed_; }
 
+  // One whole step to this input at the step end, spending from a budget shared with the other sub-steps of the
+  // sample (EventBudget): the derived stepper's begin_step(), then its continue_step() with no meter.
+  Report step(Accel ug_mps2, Accel vg_mps2, EventBudget& budget) {
+    WorkMeter meter = WorkMeter::unlimited();
+    derived().begin_step(ug_mps2, vg_mps2);
+    derived().continue_step(budget, meter);
+    return report_;
+  }
+  // The report of the step in progress (the derived stepper's begin_step/continue_step); the step's own once
+  // continue_step() returned true, bit-identical to step()'s.
+  const Report& step_report() const { return report_; }
+
  protected:
   // The wall at rest, vertical.
   void rest_vertical() {
@@ -123,7 +137,8 @@ class RockingSegments {
     seg_paid_ = false;
     seg_counted_ = false;
   }
-  bool run_segments(Report& report, EventBudget& budget, WorkMeter& meter) {
+  bool run_segments(EventBudget& budget, WorkMeter& meter) {
+    Report& report = report_;
     bool finished = false;
     while (seg_index_ < kMaxSegmentsPerStep) {
       if (seg_index_ > 0 && !seg_paid_) {
@@ -150,13 +165,6 @@ class RockingSegments {
     }
     return true;
   }
-  // The whole step at once (no meter).
-  void run_segments(Report& report, EventBudget& budget) {
-    WorkMeter meter = WorkMeter::unlimited();
-    begin_segments();
-    run_segments(report, budget, meter);
-  }
-
   // s·x and s·ẋ: the motion as seen from side s (positive away from the hinge on that side).
   static Length signed_x(Side s, Length x) { return s == Side::positive ? x : -x; }
   static Speed signed_v(Side s, Speed v) { return s == Side::positive ? v : -v; }
@@ -165,6 +173,7 @@ class RockingSegments {
   Side side_ = Side::positive;
   bool moving_ = false;
   bool collapsed_ = false;
+  Report report_{};  // the step in progress (the derived stepper's begin_step resets it)
 
  private:
   enum class SegmentEnd : std::uint8_t { finished, impact, suspended };
@@ -177,6 +186,7 @@ class RockingSegments {
   bool seg_counted_ = false;
 
   const Derived& kernel() const { return static_cast<const Derived&>(*this); }
+  Derived& derived() { return static_cast<Derived&>(*this); }
 
   // At rest from θ: if the ground's drive towards a side is positive at the step end, start rocking towards it
   // where the drive crosses zero (at θ if it already is positive). Returns true if moving.

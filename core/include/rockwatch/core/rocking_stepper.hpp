@@ -96,6 +96,7 @@ class RockingStepper : public RockingSegments<RockingStepper<Scalar>, RockingSte
 
  public:
   using typename Base::Report;
+  using Base::step;
   // Iterations of the bracketed root finder that locates impacts and collapse inside a step.
   static constexpr int kRootIterations = 64;
 
@@ -126,22 +127,14 @@ class RockingStepper : public RockingSegments<RockingStepper<Scalar>, RockingSte
     return step(ug_mps2, vg_mps2, budget);
   }
 
-  // The same, spending from a budget shared with the other sub-steps of the sample (EventBudget).
-  Report step(Scalar ug_mps2, Scalar vg_mps2, EventBudget& budget) {
-    WorkMeter meter = WorkMeter::unlimited();
-    begin_step(ug_mps2, vg_mps2);
-    continue_step(budget, meter);
-    return report_;
-  }
-
-  // The same in pieces paid from a meter (core/work_meter.hpp): begin_step(), then continue_step() until it returns
-  // true; step_report() is then the step's report.
+  // The step in pieces paid from a meter (core/work_meter.hpp): begin_step(), then continue_step() until it returns
+  // true; step_report() is then the step's report. step(ug, vg, budget) is both at once (RockingSegments).
   void begin_step(Scalar ug_mps2, Scalar vg_mps2) {
-    report_ = Report{};
+    this->report_ = Report{};
     step_done_ = true;
     if (this->collapsed_) return;
     if (!(setup_.g_mps2 + vg_mps2 > Scalar(0))) {
-      report_.input_invalid = true;
+      this->report_.input_invalid = true;
       ug_prev_ = ug_mps2;
       vg_prev_ = vg_mps2;
       return;
@@ -153,13 +146,12 @@ class RockingStepper : public RockingSegments<RockingStepper<Scalar>, RockingSte
   }
   bool continue_step(EventBudget& budget, WorkMeter& meter) {
     if (step_done_) return true;
-    if (!this->run_segments(report_, budget, meter)) return false;
+    if (!this->run_segments(budget, meter)) return false;
     ug_prev_ = ug_next_;
     vg_prev_ = vg_next_;
     step_done_ = true;
     return true;
   }
-  const Report& step_report() const { return report_; }
 
   // The velocity ratio at impact √r from now on (the observer's estimate of the real wall's restitution).
   void set_sqrt_r(Scalar sqrt_r) { setup_.sqrt_r = sqrt_r; }
@@ -269,8 +261,7 @@ class RockingStepper : public RockingSegments<RockingStepper<Scalar>, RockingSte
   StepperSetup<Scalar> setup_{};
   Scalar ug_prev_{}, vg_prev_{};
   Scalar ug_next_{}, vg_next_{};
-  Report report_{};        // the step in progress (begin_step, continue_step)
-  bool step_done_ = true;  // its segments are done (or there were none to do)
+  bool step_done_ = true;  // the step's segments are done (or there were none to do)
 };
 
 }  // namespace rockwatch::core
