@@ -154,7 +154,7 @@ EngineSample WallEngine::step_metered(core::AccelQ7_56 ug_mps2, core::AccelQ7_56
 
 void WallEngine::finish_pending() {
   finished_count_ = 0;
-  core::WorkMeter meter = core::WorkMeter::unlimited();
+  core::WorkMeter meter = core::WorkMeter::unlimited();  // the metered instantiation (one copy in the image)
   chain_.run(meter, kMaxFinishedPerCall, [](int, const core::FixedStepReport&, core::AccelQ7_56, core::AccelQ7_56) {},
              [this](const core::AlarmChainOutput<core::FixedRockingStepper>& o, std::uint32_t tag) {
                finish_queued(o, tag);

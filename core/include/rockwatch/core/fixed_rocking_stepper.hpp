@@ -201,7 +201,8 @@ class FixedRockingStepper : public RockingSegments<FixedRockingStepper, FixedRoc
     step_valid_ = coefficients(ug_mps2, vg_mps2, f_end_, k_end_);
     begin_segments();
   }
-  bool continue_step(EventBudget& budget, WorkMeter& meter) {
+  template <typename Meter>
+  bool continue_step(EventBudget& budget, Meter& meter) {
     if (!collapsed_ && step_valid_) {
       if (!run_segments(budget, meter)) return false;
       report_.saturated = state_.x_m.saturated() || state_.xd_mps.saturated() || state_.xdd_mps2.saturated();

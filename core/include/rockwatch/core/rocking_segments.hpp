@@ -97,7 +97,7 @@ class RockingSegments {
   // One whole step to this input at the step end, spending from a budget shared with the other sub-steps of the
   // sample (EventBudget): the derived stepper's begin_step(), then its continue_step() with no meter.
   Report step(Accel ug_mps2, Accel vg_mps2, EventBudget& budget) {
-    WorkMeter meter = WorkMeter::unlimited();
+    UnmeteredWork meter;
     derived().begin_step(ug_mps2, vg_mps2);
     derived().continue_step(budget, meter);
     return report_;
@@ -137,7 +137,8 @@ class RockingSegments {
     seg_paid_ = false;
     seg_counted_ = false;
   }
-  bool run_segments(EventBudget& budget, WorkMeter& meter) {
+  template <typename Meter>
+  bool run_segments(EventBudget& budget, Meter& meter) {
     Report& report = report_;
     bool finished = false;
     while (seg_index_ < kMaxSegmentsPerStep) {
@@ -212,7 +213,8 @@ class RockingSegments {
   // From θ to the step end on the current side, stopping at the first impact or at collapse: finished (end reached or
   // collapsed), impact (the next segment starts at θ), or suspended before a piece of work the meter cannot pay for
   // (nothing changed but the report's work counters: the segment is done again from θ at the next call).
-  SegmentEnd advance_segment(Fraction& theta, Report& report, WorkMeter& meter) {
+  template <typename Meter>
+  SegmentEnd advance_segment(Fraction& theta, Report& report, Meter& meter) {
     if (!seg_counted_) {
       ++report.segments;
       seg_counted_ = true;

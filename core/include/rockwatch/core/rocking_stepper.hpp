@@ -144,7 +144,8 @@ class RockingStepper : public RockingSegments<RockingStepper<Scalar>, RockingSte
     step_done_ = false;
     this->begin_segments();
   }
-  bool continue_step(EventBudget& budget, WorkMeter& meter) {
+  template <typename Meter>
+  bool continue_step(EventBudget& budget, Meter& meter) {
     if (step_done_) return true;
     if (!this->run_segments(budget, meter)) return false;
     ug_prev_ = ug_next_;

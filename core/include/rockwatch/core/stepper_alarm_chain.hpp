@@ -153,7 +153,7 @@ class StepperAlarmChain {
   // All at once: the queue of run() must be empty.
   template <typename OnSubstep>
   void step_motion(Input ug_mps2, Input vg_mps2, Output& out, OnSubstep&& on_substep) {
-    WorkMeter meter = WorkMeter::unlimited();
+    UnmeteredWork meter;
     begin_motion();
     out.step = Report{};
     advance_motion(ug_mps2, vg_mps2, out.step, meter, on_substep);
@@ -241,8 +241,8 @@ class StepperAlarmChain {
   // Works on the queue until it is empty, max_samples are finished or the meter cannot pay for the next piece:
   // on_substep as step_motion()'s, on_sample(const Output&, tag) after each finished sample (its merged report,
   // indicators and alarm; the stepper then stands at its end).
-  template <typename OnSubstep, typename OnSample>
-  void run(WorkMeter& meter, int max_samples, OnSubstep&& on_substep, OnSample&& on_sample) {
+  template <typename Meter, typename OnSubstep, typename OnSample>
+  void run(Meter& meter, int max_samples, OnSubstep&& on_substep, OnSample&& on_sample) {
     for (int finished = 0; pending_count_ > 0 && finished < max_samples; ++finished) {
       const PendingSample& p = queue_[pending_head_];
       if (p.restart) {
@@ -314,8 +314,8 @@ class StepperAlarmChain {
     motion_done_ = false;
     budget_ = Traits::sample_budget();
   }
-  template <typename OnSubstep>
-  bool advance_motion(Input ug_mps2, Input vg_mps2, Report& total, WorkMeter& meter, OnSubstep& on_substep) {
+  template <typename Meter, typename OnSubstep>
+  bool advance_motion(Input ug_mps2, Input vg_mps2, Report& total, Meter& meter, OnSubstep& on_substep) {
     while (!motion_done_) {
       if (!sub_active_) {
         // One step per sample runs even on a collapsed wall (its report says whether the input was valid).

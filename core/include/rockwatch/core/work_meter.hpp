@@ -46,4 +46,12 @@ struct WorkMeter {
   }
 };
 
+// The meter of work done all at once (hosts, tests, the double engine, the steps of the observer): every piece is
+// paid and nothing is shed, known at compile time, so the unmetered path — every analysis of a study — carries no
+// meter checks (RockingSegments and StepperAlarmChain take either meter as a template parameter).
+struct UnmeteredWork {
+  static constexpr bool shed = false;
+  static constexpr bool take(std::int32_t) { return true; }
+};
+
 }  // namespace rockwatch::core
