@@ -19,6 +19,7 @@ const char* wall_engine_error_message(WallEngineError e) {
       return "max_step_s must be > 0 s and give at most 64 sub-steps per sample (dt / max_step <= 64)";
     case WallEngineError::work_budget_invalid:
       return "work_budget_units must be 0 (no carry-over) or at least one sample with one located event";
+    case WallEngineError::work_overflow_invalid: return "work_overflow must be shed or finish";
   }
   return "?";
 }
@@ -48,6 +49,7 @@ WallEngineError WallEngine::init(const WallEngineConfig& c) {
   }
   axes_ = core::cast_sensor_axes<core::AccelQ7_24>(c.axes);
   work_budget_units_ = c.work_budget_units;
+  work_overflow_ = c.work_overflow;
   calls_ = 0;
   finished_count_ = 0;
   work_counters_ = WorkCounters{};
@@ -143,11 +145,16 @@ EngineSample WallEngine::step_metered(core::AccelQ7_56 ug_mps2, core::AccelQ7_56
   finished_count_ = 0;
   out_.ug_mps2 = core::wide_convert<core::AccelQ7_24>(ug_mps2);
   out_.vg_mps2 = core::wide_convert<core::AccelQ7_24>(vg_mps2);
-  const auto report = chain_.call(ug_mps2, vg_mps2, restart, work_budget_units_, calls_, kMaxFinishedPerCall,
+  const auto report = chain_.call(ug_mps2, vg_mps2, restart, work_budget_units_, work_overflow_, calls_,
+                                  kMaxFinishedPerCall,
                                   [this](const core::AlarmChainOutput<core::FixedRockingStepper>& o,
                                          std::uint32_t tag) { finish_queued(o, tag); });
-  if (report.overrun) ++work_counters_.overruns;
-  last_call_units_ = report.units_spent;
+  if (report.overrun) {
+    ++work_counters_.overruns;
+    finished_[0].work_overrun = true;  // the overrun's sample is the call's first
+    if (report.overrun_units > work_counters_.max_overrun_units) work_counters_.max_overrun_units = report.overrun_units;
+  }
+  last_call_units_ = report.units_spent + report.overrun_units;
   if (finished_count_ > 0) return finished_[finished_count_ - 1];
   return sample();  // nothing finished: the state as it stands (the caller publishes only finished samples)
 }

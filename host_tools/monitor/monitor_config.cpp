@@ -46,7 +46,7 @@ namespace {
 struct RawOptions {
   std::string config, lcm_url, arith = "fixed", rate, max_step, offline_in, offline_out, log, receive_path = "own";
   std::string clock_tolerance;
-  std::string work_budget;
+  std::string work_budget, work_overflow;
   std::vector<std::string> accept_from;
   options::RealtimeOptionTexts timing;  // --realtime, --cpu, --busy-poll-us
   options::WallOptionTexts wall;
@@ -72,6 +72,10 @@ const char* const kFooter =
     "  work_budget_units (--work-budget, 0): the fixed-point engine's work per sample in Cortex-M4 instructions; a\n"
     "    sample whose work does not fit is finished (and published, with its own time) at later samples' calls.\n"
     "    0 on a host (every sample in its own call); 23000 runs as the Cortex-M4 firmware does\n"
+    "  work_overflow (--work-overflow, \"shed\"): with a work budget, what the engine does when 64 samples wait:\n"
+    "    \"shed\" (events no longer located; every call within the budget) or \"finish\" (the oldest sample finished\n"
+    "    beyond the budget; the answers always as without a budget). Counted in the summary (samples_work_shed,\n"
+    "    samples_over_budget)\n"
     "  clock_tolerance_s (--clock-tolerance, 10): samples stamped further than this from the monitor's clock have a\n"
     "    time it does not trust (counted, flagged, not used to detect publisher restarts)\n"
     "  channels {accel, accel_batch, wall_state, alarm, status, wall_sensor, wall_estimate}   (ROCKWATCH_ACCEL, ...)\n"
@@ -126,6 +130,11 @@ void add_options(CLI::App& app, RawOptions& raw) {
                      " runs as the Cortex-M4 firmware does: a sample whose work does not fit is published at later "
                      "samples' calls, the same answers later (carry-over)")
       ->type_name("UNITS");
+  app.add_option("--work-overflow", raw.work_overflow,
+                 "With --work-budget, what the engine does when 64 samples wait: shed (default; events no longer "
+                 "located, every call within the budget) | finish (the oldest sample finished beyond the budget, the "
+                 "answers as without a budget)")
+      ->type_name("shed|finish");
   app.add_option("--clock-tolerance", raw.clock_tolerance,
                  "How far a sample's time may be from the monitor's clock at reception, ahead or behind [s] (default " +
                      options::number_text(firmware::kDefaultClockTolerance_us * 1e-6) +
@@ -197,6 +206,7 @@ struct FileValues {
   std::optional<firmware::MonitorArithmetic> arith;
   std::optional<double> kappa, lambda_w, hold_s, energy_margin, sample_rate_hz, max_step_s, sensor_range_mps2,
       late_limit_s, clock_tolerance_s, work_budget_units;
+  std::optional<core::WorkOverflow> work_overflow;
   std::optional<long long> realtime_priority, cpu, busy_poll_us;  // range-checked when read
   std::optional<std::int32_t> max_bridge_samples;
   std::optional<std::string> channels[7];
@@ -271,7 +281,7 @@ class ConfigReader {
     if (!root.is_object()) fail("the top level", "expected a JSON object {...}, got " + json_type(root));
     check_keys(root, "", {"arith", "wall", "r", "model", "kappa", "alarm", "sample_rate_hz", "max_step_s",
                           "max_bridge_samples", "sensor_range_mps2", "late_limit_s", "channels", "lcm_url",
-                          "accept_from", "observer", "walls", "clock_tolerance_s", "work_budget_units", "realtime_priority", "cpu",
+                          "accept_from", "observer", "walls", "clock_tolerance_s", "work_budget_units", "work_overflow", "realtime_priority", "cpu",
                           "busy_poll_us"});
     FileValues v;
     if (root.contains("wall")) read_wall(root.at("wall"), v);
@@ -297,6 +307,7 @@ class ConfigReader {
     if (root.contains("work_budget_units")) {
       v.work_budget_units = number(root.at("work_budget_units"), "work_budget_units", " [Cortex-M4 instructions]");
     }
+    if (root.contains("work_overflow")) v.work_overflow = read_work_overflow(root.at("work_overflow"));
     if (root.contains("clock_tolerance_s")) {
       v.clock_tolerance_s = number(root.at("clock_tolerance_s"), "clock_tolerance_s", " [s]");
     }
@@ -508,6 +519,11 @@ class ConfigReader {
     return options::parse_model(key_label("model"), v.get<std::string>());
   }
 
+  core::WorkOverflow read_work_overflow(const json& v) const {
+    if (!v.is_string()) fail("work_overflow", "expected \"shed\" or \"finish\", got " + json_type(v));
+    return options::parse_work_overflow(key_label("work_overflow"), v.get<std::string>());
+  }
+
   firmware::MonitorArithmetic read_arith(const json& v) const {
     if (!v.is_string()) fail("arith", "expected \"fixed\" or \"double\", got " + json_type(v));
     return parse_arith(key_label("arith"), v.get<std::string>());
@@ -679,6 +695,9 @@ json normalised_settings(const MonitorConfig& config) {
   // The clock tolerance decides which times are trusted; absent at the default (the digest of existing configurations
   // stays).
   if (s.engine.work_budget_units != 0) out["work_budget_units"] = s.engine.work_budget_units;  // absent when off
+  if (s.engine.work_overflow != core::WorkOverflow::shed) {  // absent at the default
+    out["work_overflow"] = options::work_overflow_name(s.engine.work_overflow);
+  }
   if (s.clock_tolerance_us != firmware::kDefaultClockTolerance_us) {
     out["clock_tolerance_s"] = static_cast<double>(s.clock_tolerance_us) * 1e-6;
   }
@@ -826,6 +845,15 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
                      " applies to the fixed-point engine (--arith fixed): the double engine is not metered");
   }
   engine.work_budget_units = static_cast<std::int32_t>(budget.value);
+  Sourced<core::WorkOverflow> overflow = pick(core::WorkOverflow::shed, file.work_overflow, file_label("work_overflow"));
+  if (options::given(app, "--work-overflow")) {
+    overflow = {options::parse_work_overflow("--work-overflow", raw.work_overflow), "--work-overflow"};
+  }
+  if (!overflow.origin.empty() && engine.work_budget_units == 0) {
+    throw UsageError(name_of(overflow.origin, "work_overflow") +
+                     " applies with a work budget (--work-budget or work_budget_units): without one nothing waits");
+  }
+  engine.work_overflow = overflow.value;
 
   // The wall observer: the file's observer object, enabled there or by --observer.
   const bool observer = raw.observer || file.observer_enabled.value_or(false);

@@ -57,7 +57,8 @@ json counters_json(const firmware::MonitorCounters& c) {
               {"states_published", c.states_published},
               {"samples_late", c.samples_late},
               {"max_late_calls", c.max_late_calls},
-              {"samples_work_shed", c.samples_work_shed}};
+              {"samples_work_shed", c.samples_work_shed},
+              {"samples_over_budget", c.samples_over_budget}};
 }
 
 json observer_json(const core::ObserverOptions& o, const core::ObserverSample& last, const core::ObserverCounters& c,

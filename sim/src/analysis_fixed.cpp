@@ -1,5 +1,6 @@
 // The fixed-point engine of sim::analyse (AnalysisOptions::arithmetic == fixed_point) and the alarm-summary
 // recorder shared by both engines. The analysis loop itself is analysis.cpp's, for both.
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -63,10 +64,10 @@ void measure_published(const core::StepperSetup<double>& setup, const AnalysisOp
   };
   for (std::size_t k = 1; k < inputs.size(); ++k) {
     call = static_cast<std::uint32_t>(k);
-    if (chain.call(inputs[k][0], inputs[k][1], false, o.work_budget_units, call, Chain::kMaxFinishedPerCall, on_sample)
-            .overrun) {
-      ++p.overruns;
-    }
+    const Chain::CallReport report = chain.call(inputs[k][0], inputs[k][1], false, o.work_budget_units,
+                                                o.work_overflow, call, Chain::kMaxFinishedPerCall, on_sample);
+    if (report.overrun) ++p.overruns;
+    p.max_call_units = std::max(p.max_call_units, report.units_spent + report.overrun_units);
   }
   // The monitor's input goes on after the analysis stops (a collapsed wall costs nothing): the samples still in work
   // are finished at the next calls, each with a budget.

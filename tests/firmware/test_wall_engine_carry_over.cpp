@@ -48,11 +48,17 @@ struct Compared {
 };
 
 // Engine a through the seam with a budget, engine b with none (every sample in its own call): a's finished samples,
-// in order, are b's samples bit for bit; at the end a's queue is finished without a budget.
-Compared compare(const std::vector<double>& ug, double dt_s, std::int32_t budget, core::RestitutionKind r) {
+// in order, are b's samples bit for bit; at the end a's queue is finished without a budget. Nothing shed; the
+// samples finished beyond a budget (a's overruns) are returned.
+struct Overruns {
+  std::size_t flagged = 0;
+};
+Compared compare(const std::vector<double>& ug, const fw::WallEngineConfig& budgeted, Overruns* overruns = nullptr) {
   fw::WallEngine a, b;
-  LONGS_EQUAL(static_cast<int>(fw::WallEngineError::ok), static_cast<int>(a.init(config(dt_s, budget, r))));
-  LONGS_EQUAL(static_cast<int>(fw::WallEngineError::ok), static_cast<int>(b.init(config(dt_s, 0, r))));
+  fw::WallEngineConfig unbudgeted = budgeted;
+  unbudgeted.work_budget_units = 0;
+  LONGS_EQUAL(static_cast<int>(fw::WallEngineError::ok), static_cast<int>(a.init(budgeted)));
+  LONGS_EQUAL(static_cast<int>(fw::WallEngineError::ok), static_cast<int>(b.init(unbudgeted)));
   std::vector<fw::EngineSample> expected;
   std::vector<fw::EngineSample> got;
   Compared c;
@@ -80,13 +86,19 @@ Compared compare(const std::vector<double>& ug, double dt_s, std::int32_t budget
       FAIL(("sample " + std::to_string(k) + " differs").c_str());
     }
     CHECK_FALSE(g.work_shed);
+    if (g.work_overrun && overruns != nullptr) ++overruns->flagged;
     if (g.late_calls > 0) ++c.late;
     if (g.late_calls > c.max_late) c.max_late = g.late_calls;
   }
   c.finished = got.size();
   LONGS_EQUAL(0, static_cast<long>(a.work_counters().shed_samples));
-  LONGS_EQUAL(0, static_cast<long>(a.work_counters().overruns));
+  if (overruns == nullptr) LONGS_EQUAL(0, static_cast<long>(a.work_counters().overruns));
+  if (overruns != nullptr) LONGS_EQUAL(static_cast<long>(a.work_counters().overruns), static_cast<long>(overruns->flagged));
   return c;
+}
+
+Compared compare(const std::vector<double>& ug, double dt_s, std::int32_t budget, core::RestitutionKind r) {
+  return compare(ug, config(dt_s, budget, r));
 }
 
 }  // namespace
@@ -159,6 +171,27 @@ TEST(WallEngineCarryOver, AFullQueueShedsFlaggedAndCountedAndEverySampleFinishes
   LONGS_EQUAL(static_cast<long>(e.work_counters().shed_samples), static_cast<long>(flagged));
 }
 
+// The same least budget with WorkOverflow::finish: nothing is shed, the oldest sample is finished beyond the budget
+// whenever the queue is full (flagged on that sample, counted), and every sample is the unbudgeted engine's, bit for
+// bit — the trade: the answers kept, the call's work no longer bounded by the budget.
+TEST(WallEngineCarryOver, AFullQueueWithFinishOverrunsFlaggedAndEverySampleIsBitIdentical) {
+  double dt = 0.0;
+  const std::vector<double> ug = suite_record(1, 0, 0.30, &dt);
+  fw::WallEngineConfig c = config(dt, core::kMinWorkBudgetUnits, core::RestitutionKind::ana);
+  c.max_step_s = dt / 16.0;
+  c.work_overflow = core::WorkOverflow::finish;
+  Overruns overruns;
+  compare(ug, c, &overruns);
+  CHECK_TRUE(overruns.flagged > 0);
+}
+
+TEST(WallEngineCarryOver, AnUnknownOverflowPolicyIsRefused) {
+  fw::WallEngineConfig c = config(0.005, core::kDefaultWorkBudgetUnits, core::RestitutionKind::exp);
+  c.work_overflow = static_cast<core::WorkOverflow>(2);
+  fw::WallEngine e;
+  LONGS_EQUAL(static_cast<int>(fw::WallEngineError::work_overflow_invalid), static_cast<int>(e.init(c)));
+}
+
 // The study's "as published" figures (sim::analyse with work_budget_units) are the monitor's engine's: the call at
 // which WallEngine::step() first finishes an IMMINENT sample, and how many samples waited.
 TEST(WallEngineCarryOver, TheAnalysisReportsWhenTheMonitorsEnginePublishes) {
@@ -201,11 +234,58 @@ TEST(WallEngineCarryOver, TheAnalysisReportsWhenTheMonitorsEnginePublishes) {
     CHECK_TRUE(late <= p.late_samples);  // the analysis also counts those finished after its last input
     LONGS_EQUAL(0, static_cast<long>(p.shed_samples));
   }
+}
+
+// With WorkOverflow::finish the analysis counts the calls that overran and the most work in a call as WallEngine
+// does on the same input: a wall settling at r_ana, whose chatter fills the queue.
+TEST(WallEngineCarryOver, TheAnalysisCountsTheOverrunsOfTheMonitorsEngine) {
+  double dt = 0.0;
+  const std::vector<double> ug = suite_record(1, 0, 0.12, &dt);
+  rockwatch::sim::GroundMotion motion;
+  motion.dt_s = dt;
+  motion.ug_mps2 = ug;
+  rockwatch::sim::AnalysisOptions o;
+  o.arithmetic = rockwatch::sim::Arithmetic::fixed_point;
+  o.evaluate_alarm = true;
+  o.restitution = core::Restitution{core::RestitutionKind::ana, 0.0};
+  o.work_budget_units = core::kDefaultWorkBudgetUnits;
+  o.work_overflow = core::WorkOverflow::finish;
+  const rockwatch::sim::AnalysisResult r = rockwatch::sim::analyse(core::paper_wall(), motion, o);
+  const rockwatch::sim::AlarmSummary::Published& p = r.alarm.published;
+
+  fw::WallEngineConfig c = config(dt, o.work_budget_units, core::RestitutionKind::ana);
+  c.work_overflow = core::WorkOverflow::finish;
+  fw::WallEngine e;
+  LONGS_EQUAL(static_cast<int>(fw::WallEngineError::ok), static_cast<int>(e.init(c)));
+  std::int32_t most_units = 0;
+  for (std::size_t k = 0; k < ug.size() && double(k) * dt <= r.t_final_s + 1e-9; ++k) {
+    if (k == 0) {
+      e.start(ug[k], 0.0);
+      continue;
+    }
+    e.step(ug[k], 0.0);
+    if (e.last_call_units() > most_units) most_units = e.last_call_units();
+  }
+  CHECK_TRUE(p.overruns > 0);
+  LONGS_EQUAL(static_cast<long>(e.work_counters().overruns), static_cast<long>(p.overruns));
+  LONGS_EQUAL(0, static_cast<long>(p.shed_samples));
+  LONGS_EQUAL(static_cast<long>(most_units), static_cast<long>(p.max_call_units));
+  CHECK_TRUE(p.max_call_units > o.work_budget_units);
+  CHECK_TRUE(most_units <= e.work_counters().max_overrun_units + o.work_budget_units);
+  // The same input with shed: every call within the budget, some samples shed.
+  o.work_overflow = core::WorkOverflow::shed;
+  const rockwatch::sim::AlarmSummary::Published shed = rockwatch::sim::analyse(core::paper_wall(), motion, o).alarm.published;
+  CHECK_TRUE(shed.shed_samples > 0);
+  CHECK_TRUE(shed.max_call_units <= o.work_budget_units);
+}
+
+TEST(WallEngineCarryOver, TheAnalysisMeasuresOnlyWithABudget) {
+  double dt = 0.0;
   rockwatch::sim::AnalysisOptions unmeasured;
   unmeasured.arithmetic = rockwatch::sim::Arithmetic::fixed_point;
   unmeasured.evaluate_alarm = true;
   rockwatch::sim::GroundMotion motion;
-  motion.dt_s = dt;
   motion.ug_mps2 = suite_record(1, 0, 0.2, &dt);
+  motion.dt_s = dt;
   CHECK_FALSE(rockwatch::sim::analyse(core::paper_wall(), motion, unmeasured).alarm.published.measured);
 }

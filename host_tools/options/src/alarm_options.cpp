@@ -68,6 +68,12 @@ void add_alarm_options(CLI::App& app, AlarmOptionTexts& texts) {
   app.add_flag("--alarms", texts.alarms,
                "Run the instability alarm (QUIET, ROCKING, WARNING, IMMINENT, COLLAPSED) after every integration step");
   add_alarm_setting_options(app, texts, "With --alarms: ");
+  app.add_option("--work-overflow", texts.work_overflow,
+                 "With --arith fixed --alarms, what the firmware's budgeted engine does when its queue of waiting "
+                 "samples is full, for the publication measured beside the answers: shed (default; every call within "
+                 "its budget, the shed samples' events not located) | finish (the oldest sample finished beyond the "
+                 "budget: the answers always published as computed)")
+      ->type_name("shed|finish");
 }
 
 void parse_alarm_options(const CLI::App& app, const AlarmOptionTexts& texts, sim::AnalysisOptions& options) {
@@ -87,6 +93,12 @@ void parse_alarm_options(const CLI::App& app, const AlarmOptionTexts& texts, sim
   // The fixed engine's alarm as the monitor publishes it: its budget per call (docs/FIXED_POINT.md "carry-over").
   options.work_budget_units =
       options.arithmetic == sim::Arithmetic::fixed_point && texts.alarms ? core::kDefaultWorkBudgetUnits : 0;
+  if (given(app, "--work-overflow")) {
+    if (options.work_budget_units == 0) {
+      throw UsageError("--work-overflow applies to the firmware's publication, measured with --arith fixed --alarms");
+    }
+    options.work_overflow = parse_work_overflow("--work-overflow", texts.work_overflow);
+  }
   for (const char* option : {"--lambda-w", "--alarm-hold", "--energy-margin"}) {
     if (given(app, option) && !texts.alarms) {
       throw UsageError(std::string(option) + " sets the instability alarm: give --alarms too");

@@ -105,6 +105,16 @@ core::ModelKind parse_model(const std::string& option, const std::string& text) 
 
 const char* model_name(core::ModelKind kind) { return kind == core::ModelKind::full ? "full" : "linear"; }
 
+core::WorkOverflow parse_work_overflow(const std::string& option, const std::string& text) {
+  if (text == "shed") return core::WorkOverflow::shed;
+  if (text == "finish") return core::WorkOverflow::finish;
+  throw UsageError(option + " must be shed or finish (got " + quoted(text) + ")");
+}
+
+const char* work_overflow_name(core::WorkOverflow overflow) {
+  return overflow == core::WorkOverflow::finish ? "finish" : "shed";
+}
+
 const char* file_kind_text(unsigned mode) {
   if (S_ISDIR(mode)) return "a directory";
   if (S_ISFIFO(mode)) return "a FIFO (named pipe)";

@@ -35,6 +35,7 @@ core::WallEngineConfig engine_config_of(const SimulateRequest& q, const sim::Ana
   c.alarm = q.analysis.evaluate_alarm ? q.analysis.alarm : core::AlarmSettings{};  // as the analysis' chain
   c.observer_enabled = q.wall_sensors_path.has_value();
   c.observer = q.analysis.observer;
+  c.work_overflow = q.analysis.work_overflow;  // the budget is the firmware's default (as the analysis' publication)
   return c;
 }
 

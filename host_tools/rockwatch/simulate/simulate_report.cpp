@@ -104,13 +104,15 @@ nlohmann::ordered_json alarm_json(const SimulateRequest& q, const sim::AlarmSumm
   if (a.published.measured) {
     const sim::AlarmSummary::Published& p = a.published;
     j["published"] = {{"work_budget_units", q.analysis.work_budget_units},
+                      {"work_overflow", options::work_overflow_name(q.analysis.work_overflow)},
                       {"t_first_imminent_s", number_or_null(p.t_first_imminent_s)},
                       {"imminent_late_samples", p.imminent_late_calls},
                       {"t_first_collapsed_s", number_or_null(p.t_first_collapsed_s)},
                       {"late_samples", p.late_samples},
                       {"max_late_samples", p.max_late_calls},
                       {"shed_samples", p.shed_samples},
-                      {"overruns", p.overruns}};
+                      {"overruns", p.overruns},
+                      {"max_call_units", p.max_call_units}};
   }
   return j;
 }
@@ -128,11 +130,14 @@ void alarm_text(std::string& out, const SimulateRequest& q, const sim::AlarmSumm
   line(out, "first COLLAPSED", time_text(a.t_first_collapsed_s, "never"));
   if (a.published.measured) {
     const sim::AlarmSummary::Published& p = a.published;
-    line(out, "as published", format("by the firmware's engine (%d work units a call): first IMMINENT %s; %u samples "
-                                     "late, the longest wait %u sample%s; %u shed",
+    line(out, "as published", format("by the firmware's engine (%d work units a call, %s at a full queue): first "
+                                     "IMMINENT %s; %u samples late, the longest wait %u sample%s; %u shed; %u "
+                                     "call%s over the budget, the most work in a call %d units",
                                      static_cast<int>(q.analysis.work_budget_units),
+                                     options::work_overflow_name(q.analysis.work_overflow),
                                      time_text(p.t_first_imminent_s, "never").c_str(), p.late_samples,
-                                     p.max_late_calls, p.max_late_calls == 1 ? "" : "s", p.shed_samples));
+                                     p.max_late_calls, p.max_late_calls == 1 ? "" : "s", p.shed_samples, p.overruns,
+                                     p.overruns == 1 ? "" : "s", static_cast<int>(p.max_call_units)));
   }
   std::string count = std::to_string(a.n_transitions);
   if (a.transitions.size() < a.n_transitions) count += format(" (the first %zu listed)", a.transitions.size());

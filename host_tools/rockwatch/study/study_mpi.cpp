@@ -127,6 +127,8 @@ void put_result(Writer& w, std::uint64_t global, const study::RunResult& r) {
   w.put<std::uint32_t>(r.imminent_late_samples);
   w.put<std::uint32_t>(r.max_late_samples);
   w.put<std::uint32_t>(r.shed_samples);
+  w.put<std::uint32_t>(r.overrun_calls);
+  w.put<std::int32_t>(r.max_call_units);
   w.put<std::uint8_t>(r.saturated ? 1 : 0);
   w.put<std::uint8_t>(r.reference ? 1 : 0);
   if (r.reference) {
@@ -155,6 +157,8 @@ study::RunResult get_result(Reader& in, std::uint64_t& global) {
   r.imminent_late_samples = in.get<std::uint32_t>();
   r.max_late_samples = in.get<std::uint32_t>();
   r.shed_samples = in.get<std::uint32_t>();
+  r.overrun_calls = in.get<std::uint32_t>();
+  r.max_call_units = in.get<std::int32_t>();
   r.saturated = in.get<std::uint8_t>() != 0;
   if (in.get<std::uint8_t>() != 0) {
     study::DoubleReference d;

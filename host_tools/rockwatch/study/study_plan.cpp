@@ -148,6 +148,10 @@ nlohmann::ordered_json plan_json(const study::StudyPlan& plan) {
                                             {"hold_s", a.hold_s},
                                             {"energy_margin", a.energy_margin}}
                    : nlohmann::ordered_json(nullptr);
+  // The publication's overflow policy changes its columns; absent at the default (the digest of existing plans stays).
+  if (plan.analysis.work_overflow != core::WorkOverflow::shed) {
+    j["alarm"]["work_overflow"] = work_overflow_name(plan.analysis.work_overflow);
+  }
   return j;
 }
 

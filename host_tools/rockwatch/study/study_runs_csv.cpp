@@ -40,7 +40,7 @@ std::vector<std::string> columns(const study::StudyPlan& plan) {
     c.emplace_back("verdict_differs");
     if (alarms(plan)) {
       for (const char* name : {"t_first_imminent_published_s", "imminent_late_samples", "max_late_samples",
-                               "shed_samples"}) {
+                               "shed_samples", "overrun_calls", "max_call_units"}) {
         c.emplace_back(name);
       }
     }
@@ -217,10 +217,11 @@ void write_runs_csv(std::ostream& out, const study::StudyPlan& plan, const std::
         row += std::string(",") + bool_text(d.collapsed != r.collapsed);
         if (alarms(plan)) {
           row += ',' + optional_number(r.t_first_imminent_published_s) + ',' + std::to_string(r.imminent_late_samples) +
-                 ',' + std::to_string(r.max_late_samples) + ',' + std::to_string(r.shed_samples);
+                 ',' + std::to_string(r.max_late_samples) + ',' + std::to_string(r.shed_samples) + ',' +
+                 std::to_string(r.overrun_calls) + ',' + std::to_string(r.max_call_units);
         }
       } else {
-        row += alarms(plan) ? ",,,,,,,,,," : ",,,,,";
+        row += alarms(plan) ? ",,,,,,,,,,,," : ",,,,,";
       }
     }
     if (plan.dt_check) {
@@ -286,6 +287,8 @@ std::size_t read_runs_csv_row(const std::string& where, const std::vector<std::s
           r.imminent_late_samples = static_cast<std::uint32_t>(row.whole(published_column + 1));
           r.max_late_samples = static_cast<std::uint32_t>(row.whole(published_column + 2));
           r.shed_samples = static_cast<std::uint32_t>(row.whole(published_column + 3));
+          r.overrun_calls = static_cast<std::uint32_t>(row.whole(published_column + 4));
+          r.max_call_units = static_cast<std::int32_t>(row.whole(published_column + 5));
         }
       }
     }

@@ -245,6 +245,9 @@ PublishedAlarm published_alarm(const std::vector<study::RunResult>& results) {
     if (r.max_late_samples > 0) ++p.runs_late;
     p.max_late_samples = std::max(p.max_late_samples, r.max_late_samples);
     p.shed_samples += r.shed_samples;
+    p.overrun_calls += r.overrun_calls;
+    if (r.overrun_calls > 0) ++p.runs_overrun;
+    p.max_call_units = std::max(p.max_call_units, r.max_call_units);
     if (r.t_first_imminent_s && r.t_first_imminent_published_s) {
       const double delay = *r.t_first_imminent_published_s - *r.t_first_imminent_s;
       if (!p.imminent_delay_s_max || delay > *p.imminent_delay_s_max) p.imminent_delay_s_max = delay;
@@ -284,6 +287,10 @@ nlohmann::ordered_json published_json(const PublishedAlarm& p) {
   j["runs_with_late_samples"] = p.runs_late;
   j["max_late_samples"] = p.max_late_samples;
   j["shed_samples"] = p.shed_samples;
+  j["work_overflow"] = work_overflow_name(p.work_overflow);
+  j["overrun_calls"] = p.overrun_calls;
+  j["runs_with_overruns"] = p.runs_overrun;
+  j["max_call_units"] = p.max_call_units;
   j["counts"] = {{"collapsed", p.collapsed},
                  {"collapsed_flagged", p.collapsed_flagged},
                  {"survivors", p.survivors},
@@ -293,7 +300,10 @@ nlohmann::ordered_json published_json(const PublishedAlarm& p) {
                     "whose work does not fit is published at a later sample's call (same answers, later)"},
       {"recall", "collapsed runs whose first IMMINENT is published strictly before t_collapse / collapsed runs"},
       {"imminent_delay_s_max", "publication of the first IMMINENT - the step end it was computed for, at most"},
-      {"max_late_samples", "the most input samples a sample waited to be published, over the runs"}};
+      {"max_late_samples", "the most input samples a sample waited to be published, over the runs"},
+      {"work_overflow", "at a full queue of waiting samples the engine sheds (events not located: every call within "
+                        "the budget) or finishes the oldest beyond the budget (an overrun: the answers as computed)"},
+      {"max_call_units", "the most work units one call did, an overrun's included (units = Cortex-M4 instructions)"}};
   return j;
 }
 
@@ -394,6 +404,7 @@ StudyOutcome summarise_study(const study::StudyPlan& plan, const std::vector<stu
   if (plan.analysis.evaluate_alarm && plan.analysis.arithmetic == sim::Arithmetic::fixed_point) {
     o.published = published_alarm(results);
     o.published->work_budget_units = plan.analysis.work_budget_units;
+    o.published->work_overflow = plan.analysis.work_overflow;
   }
   return o;
 }
@@ -530,11 +541,13 @@ std::string study_summary_text(const StudyRequest& q, const study::StudyPlan& pl
     if (o.published) {
       const PublishedAlarm& p = *o.published;
       const double delay_s = p.imminent_delay_s_max ? *p.imminent_delay_s_max : 0.0;
-      line(out, "", format("as the firmware's monitor publishes it (%d work units a call): recall %s, false alarms "
-                           "%s, first IMMINENT late in %zu runs (at most %.3f s), samples waited at most %u, %zu shed",
-                           static_cast<int>(p.work_budget_units), probability_text(p.recall).c_str(),
-                           probability_text(p.false_alarm_rate).c_str(), p.runs_imminent_delayed, delay_s,
-                           p.max_late_samples, p.shed_samples));
+      line(out, "", format("as the firmware's monitor publishes it (%d work units a call, %s at a full queue): "
+                           "recall %s, false alarms %s, first IMMINENT late in %zu runs (at most %.3f s), samples "
+                           "waited at most %u, %zu shed, %zu calls over the budget (the most work in a call %d units)",
+                           static_cast<int>(p.work_budget_units), work_overflow_name(p.work_overflow),
+                           probability_text(p.recall).c_str(), probability_text(p.false_alarm_rate).c_str(),
+                           p.runs_imminent_delayed, delay_s, p.max_late_samples, p.shed_samples, p.overrun_calls,
+                           static_cast<int>(p.max_call_units)));
     }
   }
   if (o.fixed_vs_double) {

@@ -54,6 +54,10 @@ struct PublishedAlarm {
   std::size_t runs_late = 0;                   // runs with any sample published late
   std::uint32_t max_late_samples = 0;          // the most samples one sample waited, over the runs
   std::size_t shed_samples = 0;                // samples shed (events not located), over the runs
+  core::WorkOverflow work_overflow = core::WorkOverflow::shed;  // what the engine did at a full queue
+  std::size_t overrun_calls = 0;               // calls that worked beyond the budget, over the runs
+  std::size_t runs_overrun = 0;                // runs with an overrun
+  std::int32_t max_call_units = 0;             // the most work one call did, over the runs [work units]
 };
 
 // --arith fixed: the fixed engine against the double engine, run by run.

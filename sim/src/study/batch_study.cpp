@@ -72,6 +72,8 @@ class Worker {
       out.imminent_late_samples = a.alarm.published.imminent_late_calls;
       out.max_late_samples = a.alarm.published.max_late_calls;
       out.shed_samples = a.alarm.published.shed_samples;
+      out.overrun_calls = a.alarm.published.overruns;
+      out.max_call_units = a.alarm.published.max_call_units;
       out.saturated = a.saturated;
       options.arithmetic = Arithmetic::double_precision;  // the reference and the half-step check: double
       if (plan_.analysis.arithmetic != Arithmetic::double_precision) {

@@ -47,6 +47,9 @@ struct WallEngineConfig {
   // waits for the next call (carry-over, core/work_meter.hpp). 0: every sample finishes in its own call. Only the
   // open-loop fixed-point engine is metered (the observer's and the double engine's steps are not).
   std::int32_t work_budget_units = kDefaultWorkBudgetUnits;
+  // What the budgeted engine does when its queue of waiting samples is full (core/work_meter.hpp): shed keeps every
+  // call within the budget, finish keeps every answer.
+  WorkOverflow work_overflow = WorkOverflow::shed;
 };
 
 // Why init() refused a configuration. Values are stable: append, never renumber.
@@ -63,6 +66,7 @@ enum class WallEngineError : std::uint8_t {
   observer_invalid = 9,          // the observer refused its options or the step (see observer_error())
   max_step_invalid = 10,         // max_step_s must be > 0 and give at most kMaxSubsteps sub-steps per sample
   work_budget_invalid = 11,      // work_budget_units must be 0 or in [kMinWorkBudgetUnits, 10⁹]
+  work_overflow_invalid = 12,    // work_overflow must be a WorkOverflow value
 };
 
 
@@ -79,6 +83,7 @@ inline WallEngineError validate_wall_engine_config(const WallEngineConfig& c) {
   if (c.work_budget_units != 0 && !(c.work_budget_units >= kMinWorkBudgetUnits && c.work_budget_units <= 1000000000)) {
     return WallEngineError::work_budget_invalid;
   }
+  if (!work_overflow_valid(c.work_overflow)) return WallEngineError::work_overflow_invalid;
   if (c.observer_enabled && validate_observer_options(c.observer) != ObserverError::ok) {
     return WallEngineError::observer_invalid;
   }
@@ -112,10 +117,12 @@ struct EngineSample {
   bool side_positive = true, moving = false, input_invalid = false, saturated = false;
   AlarmUpdate alarm{};
   ObserverSample observer{};
-  // Carry-over (core/work_meter.hpp): calls after its own that this sample was finished (0: in its own call), and
-  // whether the engine's full queue made it skip locating an event (its times are then those of a step end).
+  // Carry-over (core/work_meter.hpp): calls after its own that this sample was finished (0: in its own call),
+  // whether the engine's full queue made it skip locating an event (its times are then those of a step end), and
+  // whether it was finished beyond its call's budget (an overrun: the queue was full).
   std::uint16_t late_calls = 0;
   bool work_shed = false;
+  bool work_overrun = false;
 };
 
 // The published observer block of an engine that runs `observer` (either arithmetic): its estimates in double and

@@ -270,29 +270,33 @@ class StepperAlarmChain {
 
   // One call of a budgeted engine (the policy of firmware::WallEngine's step(), and of the studies that measure its
   // latency): this sample queued, then the queue worked with a meter of budget_units, finishing at most max_samples
-  // (on_sample as run()'s). A full queue sheds (WorkMeter::shed); a sample arriving at a queue still full first
-  // finishes the oldest without a budget (an overrun).
+  // (on_sample as run()'s). At a full queue (WorkOverflow): shed — the call's meter sheds, and a sample arriving at a
+  // queue still full (a sample's trials alone exceed the budget) first finishes the oldest without a budget, shedding
+  // (an overrun); finish — a sample arriving at a full queue first finishes the oldest without a budget and without
+  // shedding (an overrun), so nothing is ever shed. An overrun's sample is the call's first on_sample.
   struct CallReport {
     bool overrun = false;
-    std::int32_t units_spent = 0;  // of the budget (the overrun's work not included)
+    std::int32_t units_spent = 0;    // of the budget
+    std::int32_t overrun_units = 0;  // beyond it: the overrun's work (cost model's units)
   };
   template <typename OnSample>
-  CallReport call(Input ug_mps2, Input vg_mps2, bool restart, std::int32_t budget_units, std::uint32_t tag,
-                  int max_samples, OnSample&& on_sample) {
+  CallReport call(Input ug_mps2, Input vg_mps2, bool restart, std::int32_t budget_units, WorkOverflow overflow,
+                  std::uint32_t tag, int max_samples, OnSample&& on_sample) {
     const auto no_substep = [](int, const Report&, Input, Input) {};
-    bool overrun = false;
+    CallReport report;
     if (pending_count_ == kMaxPendingSamples) {
-      // Still full after a shedding call (a sample's trials alone exceed the budget): room for this one, unmetered.
-      WorkMeter room = WorkMeter::unlimited();
-      room.shed = true;
+      WorkMeter room = WorkMeter::counting();
+      room.shed = overflow == WorkOverflow::shed;
       run(room, 1, no_substep, on_sample);
-      overrun = true;
+      report.overrun = true;
+      report.overrun_units = room.spent_of(WorkMeter::kCountingUnits);
     }
     submit(ug_mps2, vg_mps2, restart, tag);
     WorkMeter meter = WorkMeter::of(budget_units);
-    meter.shed = pending_count_ == kMaxPendingSamples;
+    meter.shed = overflow == WorkOverflow::shed && pending_count_ == kMaxPendingSamples;
     run(meter, max_samples, no_substep, on_sample);
-    return CallReport{overrun, budget_units - meter.left_units};
+    report.units_spent = meter.spent_of(budget_units);
+    return report;
   }
 
   const Stepper& stepper() const { return stepper_; }

@@ -25,10 +25,26 @@ struct WorkCosts {
   std::int32_t evaluate;  // the indicators and the alarm at a sample's end
 };
 
+// What a budgeted engine does when its queue of samples (StepperAlarmChain::kMaxPendingSamples) is full — sustained
+// chatter of a wall settling needs more work than the budget pays (docs/BENCHMARKS.md, "Bounded work per call").
+// Values are stable: append, never renumber.
+enum class WorkOverflow : std::uint8_t {
+  // Events are no longer located (WorkMeter::shed): every call stays within its budget, but the shed samples' answers
+  // are no longer those of the engine without a budget (flagged `work_shed`, counted).
+  shed = 0,
+  // The oldest sample is finished beyond the budget (an overrun, flagged and counted): the answers are always those
+  // of the engine without a budget; such a call's work is bounded by the engine's worst sample (its event caps).
+  finish = 1,
+};
+inline constexpr bool work_overflow_valid(WorkOverflow w) {
+  return w == WorkOverflow::shed || w == WorkOverflow::finish;
+}
+
 // What a call may still spend. unlimited(): every piece is paid (hosts, tests, the double engine). shed: the queue of
-// samples is full (StepperAlarmChain::kMaxPendingSamples), so events are no longer located — a crossing of the hinge
+// samples is full and the engine sheds (WorkOverflow::shed), so events are no longer located — a crossing of the hinge
 // puts the wall at rest at the step end, an exceedance or a collapse is dated at the step end — which bounds a
-// sample's work by its trials; flagged in the report (`work_shed`), never met in the default study.
+// sample's work by its trials; flagged in the report (`work_shed`). The default study meets it while walls settle
+// at r_ana (docs/BENCHMARKS.md).
 struct WorkMeter {
   bool limited = false;
   bool shed = false;
@@ -36,6 +52,10 @@ struct WorkMeter {
 
   static constexpr WorkMeter unlimited() { return WorkMeter{}; }
   static constexpr WorkMeter of(std::int32_t units) { return WorkMeter{true, false, units}; }
+  // Pays every piece but counts it (an overrun's work: of() with more units than any sample needs).
+  static constexpr std::int32_t kCountingUnits = 2000000000;
+  static constexpr WorkMeter counting() { return of(kCountingUnits); }
+  std::int32_t spent_of(std::int32_t units) const { return units - left_units; }
 
   // Pays for a piece of work, or returns false (nothing paid) when the call cannot afford it.
   bool take(std::int32_t units) {

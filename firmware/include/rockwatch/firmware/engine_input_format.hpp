@@ -65,10 +65,12 @@ enum class EngineInputKey : std::uint64_t {
   observer_stuck_after = 31,
   observer_quiet_fraction = 32,
   observer_v_min_mps = 33,
+  work_overflow = 34,     // core::WorkOverflow as a number (the budgeted step()'s policy at a full queue)
 };
 
 // Every configuration field with its key, in key order: the one list both the writer and the reader use.
-// `visit(key, field)` is called with a double&, core::ModelKind&, bool& or std::int32_t& (const for a const config).
+// `visit(key, field)` is called with a double&, core::ModelKind&, core::WorkOverflow&, bool& or std::int32_t& (const
+// for a const config).
 template <typename Config, typename Visit>
 void visit_engine_input_fields(Config& c, Visit&& visit) {
   visit(EngineInputKey::wall_b_m, c.wall.b_m);
@@ -104,11 +106,13 @@ void visit_engine_input_fields(Config& c, Visit&& visit) {
   visit(EngineInputKey::observer_stuck_after, c.observer.stuck_after);
   visit(EngineInputKey::observer_quiet_fraction, c.observer.quiet_fraction);
   visit(EngineInputKey::observer_v_min_mps, c.observer.v_min_mps);
+  visit(EngineInputKey::work_overflow, c.work_overflow);
 }
 
 // A field's value as the file carries it (a double).
 inline double engine_input_value(double v) { return v; }
 inline double engine_input_value(core::ModelKind v) { return double(static_cast<int>(v)); }
+inline double engine_input_value(core::WorkOverflow v) { return double(static_cast<int>(v)); }
 inline double engine_input_value(bool v) { return v ? 1.0 : 0.0; }
 inline double engine_input_value(std::int32_t v) { return double(v); }
 
@@ -126,6 +130,12 @@ inline bool engine_input_set(core::ModelKind& field, double v) {
   } else {
     return false;
   }
+  return true;
+}
+inline bool engine_input_set(core::WorkOverflow& field, double v) {
+  const core::WorkOverflow w = v == 1.0 ? core::WorkOverflow::finish : core::WorkOverflow::shed;
+  if (v != double(static_cast<int>(w))) return false;
+  field = w;
   return true;
 }
 inline bool engine_input_set(bool& field, double v) {

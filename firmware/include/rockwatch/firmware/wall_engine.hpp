@@ -66,19 +66,21 @@ class WallEngine final : public SampleEngine {
   // Carry-over (core/work_meter.hpp): with a work budget (WallEngineConfig::work_budget_units > 0) and the observer
   // off, step() and step_at() queue the sample and work on the queue until the call's budget is spent; a sample whose
   // work does not fit finishes at a later call, bit-identical to process_wall(). At most kMaxFinishedPerCall samples
-  // finish per call; a full queue sheds (WorkMeter::shed), and a sample arriving at a queue still full finishes the
-  // oldest first without a budget (an overrun: counted).
+  // finish per call; at a full queue (WallEngineConfig::work_overflow, StepperAlarmChain::call) the engine sheds or
+  // finishes the oldest sample beyond the budget (an overrun: flagged EngineSample::work_overrun, counted).
   static constexpr int kMaxFinishedPerCall = core::StepperAlarmChain<core::FixedRockingStepper>::kMaxFinishedPerCall;
   struct WorkCounters {
     std::uint32_t late_samples = 0;    // samples finished in a later call than their own
     std::uint32_t max_late_calls = 0;  // the most calls a sample waited
     std::uint32_t shed_samples = 0;    // samples whose events were not located (the queue was full)
     std::uint32_t overruns = 0;        // calls that worked beyond the budget to make room in a full queue
+    std::int32_t max_overrun_units = 0;  // the most work one overrun did beyond its budget [work units]
   };
   const WorkCounters& work_counters() const { return work_counters_; }
   std::int32_t work_budget_units() const { return work_budget_units_; }
-  // Work units the last metered call spent (the cost model's estimate of its work; m4-replay compares it with the
-  // instructions counted).
+  core::WorkOverflow work_overflow() const { return work_overflow_; }
+  // Work units the last metered call spent, an overrun's included (the cost model's estimate of its work; m4-replay
+  // compares it with the instructions counted).
   std::int32_t last_call_units() const { return last_call_units_; }
 
   // One sample through the stepper and, when enabled, the observer (t_us, step_us as step_at).
@@ -110,6 +112,7 @@ class WallEngine final : public SampleEngine {
   core::WallObserver<core::FixedRockingStepper> observer_{};
   core::ObserverStepReport observer_report_{};  // the observer's report of the last step (zero after start/restart)
   std::int32_t work_budget_units_ = 0;
+  core::WorkOverflow work_overflow_ = core::WorkOverflow::shed;
   std::int32_t last_call_units_ = 0;
   std::uint32_t calls_ = 0;  // metered calls so far: the tag of a queued sample
   EngineSample finished_[kMaxFinishedPerCall + 1]{};

@@ -15,6 +15,7 @@
 #include "rockwatch/core/model.hpp"
 #include "rockwatch/core/restitution.hpp"
 #include "rockwatch/core/stepper_alarm_chain.hpp"
+#include "rockwatch/core/work_meter.hpp"
 #include "rockwatch/core/wall.hpp"
 #include "rockwatch/core/wall_observer.hpp"
 
@@ -63,6 +64,8 @@ struct AnalysisOptions {
   // is core::kDefaultWorkBudgetUnits; docs/FIXED_POINT.md "carry-over") and reports when each alarm would be
   // published (AlarmSummary::published). The answers are the same; 0: not measured.
   std::int32_t work_budget_units = 0;
+  // And what that engine does when its queue is full (core::WorkOverflow: shed, or finish beyond the budget).
+  core::WorkOverflow work_overflow = core::WorkOverflow::shed;
 };
 
 // One change of alarm level, at the end of the integration step where it happened.
@@ -93,6 +96,7 @@ struct AlarmSummary {
     std::uint32_t max_late_calls = 0;   // the most calls a sample waited
     std::uint32_t shed_samples = 0;     // samples whose events were not located (the engine's queue was full)
     std::uint32_t overruns = 0;         // calls that worked beyond the budget
+    std::int32_t max_call_units = 0;    // the most work one call did, an overrun's included [work units]
     std::optional<double> t_first_imminent_s;  // time of the input sample whose call published IMMINENT or above [s]
     std::uint32_t imminent_late_calls = 0;      // calls that sample waited
     std::optional<double> t_first_collapsed_s; // ... COLLAPSED [s]

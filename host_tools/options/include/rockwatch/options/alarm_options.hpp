@@ -18,6 +18,7 @@ struct AlarmOptionTexts {
   std::string arith = "double";
   bool alarms = false;
   std::string lambda_w, hold, margin;
+  std::string work_overflow;  // --work-overflow (fixed point with --alarms: the publication's measurement)
 };
 
 // The alarm settings' ranges (core::AlarmSettings): lambda_w in (0, 1], the hold in [0, kMaxAlarmHold_s] s, the
@@ -41,11 +42,13 @@ std::string energy_margin_range_text();
 // defaults.
 void add_alarm_setting_options(CLI::App& app, AlarmOptionTexts& texts, const std::string& help_prefix);
 
-// Registers --arith, --alarms, --lambda-w, --alarm-hold and --energy-margin, in that order.
+// Registers --arith, --alarms, --lambda-w, --alarm-hold, --energy-margin and --work-overflow, in that order.
 void add_alarm_options(CLI::App& app, AlarmOptionTexts& texts);
 
-// Sets options.arithmetic, evaluate_alarm and alarm. The alarm settings without --alarms, --arith fixed with a model
-// other than linear (set options.model first) and values out of range throw UsageError naming the option.
+// Sets options.arithmetic, evaluate_alarm, alarm, and work_budget_units and work_overflow (the firmware's, with
+// --arith fixed --alarms). The alarm settings without --alarms, --work-overflow without --arith fixed --alarms,
+// --arith fixed with a model other than linear (set options.model first) and values out of range throw UsageError
+// naming the option.
 void parse_alarm_options(const CLI::App& app, const AlarmOptionTexts& texts, sim::AnalysisOptions& options);
 
 // "double" | "fixed".

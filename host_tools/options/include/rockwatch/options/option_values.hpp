@@ -9,6 +9,7 @@
 
 #include "rockwatch/core/model.hpp"
 #include "rockwatch/core/restitution.hpp"
+#include "rockwatch/core/work_meter.hpp"
 
 namespace rockwatch::options {
 
@@ -34,6 +35,10 @@ double parse_kappa(const std::string& option, const std::string& text);
 // linear | full.
 core::ModelKind parse_model(const std::string& option, const std::string& text);
 const char* model_name(core::ModelKind kind);
+
+// shed | finish (core::WorkOverflow: what the budgeted fixed-point engine does when its queue is full).
+core::WorkOverflow parse_work_overflow(const std::string& option, const std::string& text);
+const char* work_overflow_name(core::WorkOverflow overflow);
 
 // Quotes user text for a message: printable and bounded, so a stray binary argument cannot garble the terminal.
 std::string quoted(const std::string& text);

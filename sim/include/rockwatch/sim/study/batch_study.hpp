@@ -85,11 +85,14 @@ struct RunResult {
   int n_impacts = 0;
   std::optional<double> t_first_imminent_s;  // with evaluate_alarm: first step end at IMMINENT or above [s]
   // Fixed point with evaluate_alarm: as the monitor publishes it (AlarmSummary::published): the first IMMINENT's
-  // publication [s], the most samples a sample waited, samples shed.
+  // publication [s], the most samples a sample waited, samples shed, calls that worked beyond the budget (overruns)
+  // and the most work one call did [work units].
   std::optional<double> t_first_imminent_published_s;
   std::uint32_t imminent_late_samples = 0;  // samples the first IMMINENT waited to be published
   std::uint32_t max_late_samples = 0;
   std::uint32_t shed_samples = 0;
+  std::uint32_t overrun_calls = 0;
+  std::int32_t max_call_units = 0;
   bool saturated = false;               // fixed point: a quantity reached its range limit
   std::optional<DoubleReference> reference;  // fixed point: the double engine on the same input
   std::optional<bool> collapsed_reference;      // with dt_check: the double verdict at the reference step
