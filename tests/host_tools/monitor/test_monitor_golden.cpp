@@ -322,10 +322,48 @@ TEST(MonitorGoldenReplay, WithTheFirmwaresWorkBudgetTheSameEventsArePublishedWhe
   CHECK_EQUAL_TEXT(0, sim.exit_status, describe(sim).c_str());
   const json published = json::parse(sim.out).at("alarm").at("published");
   LONGS_EQUAL(23000, published.at("work_budget_units").get<long>());
+  STRCMP_EQUAL("shed", published.at("work_overflow").get<std::string>().c_str());
+  LONGS_EQUAL(0, published.at("overruns").get<long>());
+  CHECK_TRUE(published.at("max_call_units").get<long>() <= 23000);
   const auto sample = static_cast<std::int64_t>(std::llround(published.at("t_first_imminent_s").get<double>() / 0.005));
   // Output events carry the time of the input event whose call finished them: the sample's time + 1 ms.
   LONGS_EQUAL(kLogStartUtime + sample * 5000 + 1000, imminent_event_utime);
   CHECK_TRUE(published.at("imminent_late_samples").get<long>() >= 1);
+}
+
+// The firmware's policy at a full queue, end to end through the monitor process: a wall settling at r_ana (set 1 X
+// at 0.12 g) chatters long enough to fill the engine's queue of 64 samples. --work-overflow finish publishes every
+// state exactly as the monitor without a budget does (overruns counted, nothing shed); the default, shed, keeps every
+// call within the budget and counts the samples it shed.
+TEST(MonitorGoldenReplay, AtAFullQueueFinishKeepsEveryStateAndShedCountsWhatItShed) {
+  const TempDir dir;
+  std::vector<std::string> make{dir.file("in.lcmlog"), "8", "--suite", std::string(ROCKWATCH_SOURCE_DIR) + "/sim/suites/npr9998-2015",
+                                "--set", "1", "--component", "X", "--scale-pga", "0.12"};
+  const ProcessResult made = rockwatch::test::run_program(ROCKWATCH_MAKE_MONITOR_LOG_PATH, make);
+  CHECK_EQUAL_TEXT(0, made.exit_status, describe(made).c_str());
+  const ProcessResult plain = run_offline(dir.file("in.lcmlog"), dir.file("plain.lcmlog"), {"--r", "ana"});
+  const ProcessResult finish = run_offline(dir.file("in.lcmlog"), dir.file("finish.lcmlog"),
+                                           {"--r", "ana", "--work-budget", "23000", "--work-overflow", "finish"});
+  const ProcessResult shed = run_offline(dir.file("in.lcmlog"), dir.file("shed.lcmlog"),
+                                         {"--r", "ana", "--work-budget", "23000"});
+  for (const ProcessResult* r : {&plain, &finish, &shed}) CHECK_EQUAL_TEXT(0, r->exit_status, describe(*r).c_str());
+  const OutputLog a = rockwatch::test::read_output_log(dir.file("plain.lcmlog"));
+  const OutputLog b = rockwatch::test::read_output_log(dir.file("finish.lcmlog"));
+  LONGS_EQUAL(a.states.size(), b.states.size());
+  for (std::size_t i = 0; i < a.states.size(); ++i) {
+    CHECK_TRUE(a.states[i].message.input_seq == b.states[i].message.input_seq);
+    CHECK_TRUE(a.states[i].message.x_m == b.states[i].message.x_m);
+    CHECK_TRUE(a.states[i].message.xd_mps == b.states[i].message.xd_mps);
+  }
+  const json fc = rockwatch::test::json_lines(finish.out).back().at("summary").at("counters");
+  CHECK_TRUE(fc.at("samples_over_budget").get<long>() > 0);
+  LONGS_EQUAL(0, fc.at("samples_work_shed").get<long>());
+  CHECK_TRUE(fc.at("max_late_calls").get<long>() <= 64);
+  const json sc = rockwatch::test::json_lines(shed.out).back().at("summary").at("counters");
+  CHECK_TRUE(sc.at("samples_work_shed").get<long>() > 0);
+  const json pc = rockwatch::test::json_lines(plain.out).back().at("summary").at("counters");
+  LONGS_EQUAL(0, pc.at("samples_over_budget").get<long>());
+  LONGS_EQUAL(0, pc.at("samples_late").get<long>());
 }
 
 TEST(MonitorGoldenReplay, ShippedLogIsWhatTheGeneratorMakes) {

@@ -185,6 +185,25 @@ TEST(MonitorWorkBudget, InTheSettingsAndTheDigestOnlyWhenOn) {
   CHECK(on.at("config_digest") == printed("", {"--work-budget", "23000"}).at("config_digest"));
 }
 
+TEST(MonitorWorkBudget, TheOverflowPolicyNamesItsOptionOrKeyAndNeedsABudget) {
+  rockwatch::test::expect_monitor_rejected({"--work-budget", "23000", "--work-overflow", "later"},
+                                           {"--work-overflow must be shed or finish", "'later'"});
+  rockwatch::test::expect_monitor_rejected({"--work-overflow", "finish"}, {"--work-overflow", "work budget"});
+  expect_timing_config_rejected(R"({"work_budget_units": 23000, "work_overflow": 1})",
+                                {"work_overflow", "expected \"shed\" or \"finish\""});
+  expect_timing_config_rejected(R"({"work_budget_units": 23000, "work_overflow": "drop"})", {"work_overflow", "'drop'"});
+  expect_timing_config_rejected(R"({"work_overflow": "finish"})", {"work_overflow", "work budget"});
+  // In the settings and the digest only when not the default.
+  const json shed = printed(R"({"work_budget_units": 23000, "work_overflow": "shed"})", {});
+  CHECK_FALSE(shed.at("settings").contains("work_overflow"));
+  CHECK(shed.at("config_digest") == printed("", {"--work-budget", "23000"}).at("config_digest"));
+  const json finish = printed(R"({"work_budget_units": 23000, "work_overflow": "finish"})", {});
+  STRCMP_EQUAL("finish", finish.at("settings").at("work_overflow").get<std::string>().c_str());
+  CHECK(finish.at("config_digest") != shed.at("config_digest"));
+  CHECK(finish.at("config_digest") ==
+        printed("", {"--work-budget", "23000", "--work-overflow", "finish"}).at("config_digest"));
+}
+
 TEST_GROUP(MonitorTimingOptions){};
 
 TEST(MonitorTimingOptions, BadValuesNameTheOptionOrKey) {

@@ -105,14 +105,16 @@ TEST(SimulateEngineInput, HoldsTheConfigurationAndEveryInputTheEngineSteppedOn) 
   const ProcessResult r = run_rockwatch({"simulate", "--record", record_path(kElCentro180Input), "--scale-pga", "0.25",
                                          "--arith", "fixed", "--alarms", "--lambda-w", "0.3", "--alarm-hold", "0.5",
                                          "--b", "0.12", "--h1", "1.6", "--r", "ana", "--kappa", "1.5", "--json",
-                                         "--engine-input-out", path});
+                                         "--engine-input-out", path, "--work-overflow", "finish"});
   const std::string what = describe(r);
   CHECK_EQUAL_TEXT(0, r.exit_status, what.c_str());
   const nlohmann::json j = nlohmann::json::parse(r.out);
   const EngineInputFile f = read_engine_input(path);
   CHECK_TRUE(f.complete);
   CHECK_TRUE(f.keys_known);
-  LONGS_EQUAL(33, f.n_config);
+  LONGS_EQUAL(34, f.n_config);
+  CHECK_TRUE(f.config.work_overflow == core::WorkOverflow::finish);  // the firmware's policy, for the M4 replay
+  STRCMP_EQUAL("finish", j["alarm"]["published"]["work_overflow"].get<std::string>().c_str());
   CHECK_FALSE(f.config.observer_enabled);
   LONGS_EQUAL(0, f.sensors.size());
 

@@ -219,7 +219,7 @@ TEST(StudyAlarm, FixedPointStudyIsComparedWithTheDoubleEngine) {
   STRCMP_EQUAL("record,component,vertical,r,pga_g,collapsed,t_collapse_s,t_exceed_s,max_abs_x_m,n_impacts,run,"
                "t_first_imminent_s,saturated,collapsed_double,t_collapse_double_s,max_abs_x_double_m,"
                "t_first_imminent_double_s,verdict_differs,t_first_imminent_published_s,imminent_late_samples,"
-               "max_late_samples,shed_samples,collapsed_reference,max_abs_x_reference_m,error",
+               "max_late_samples,shed_samples,overrun_calls,max_call_units,collapsed_reference,max_abs_x_reference_m,error",
                lines.front().c_str());
   LONGS_EQUAL(19, lines.size());
   std::vector<std::size_t> flips, flips_at_half_step;
@@ -230,17 +230,20 @@ TEST(StudyAlarm, FixedPointStudyIsComparedWithTheDoubleEngine) {
       ++survivors_both;
       if (std::fabs(std::stod(f[8]) - std::stod(f[15])) <= 5e-4) ++survivors_within;
     }
-    LONGS_EQUAL(25, f.size());
+    LONGS_EQUAL(27, f.size());
     // As the monitor publishes it: never before the step end it was computed for, and only when computed.
     CHECK_EQUAL(f[11].empty(), f[18].empty());
     if (!f[18].empty()) CHECK_TRUE(std::stod(f[18]) >= std::stod(f[11]));
     CHECK_TRUE(std::stoul(f[20]) >= std::stoul(f[19]));  // the most samples waited >= the IMMINENT's wait
-    CHECK_TRUE(!f[23].empty() && std::stod(f[23]) >= 0.0);  // max |x| at the reference step
-    CHECK_TRUE(f[24].empty());
+    // The default policy sheds: a call overruns only when a sample's trials alone exceed the budget (never here).
+    STRCMP_EQUAL("0", f[22].c_str());
+    CHECK_TRUE(std::stol(f[23]) <= rockwatch::core::kDefaultWorkBudgetUnits);  // the most work in a call
+    CHECK_TRUE(!f[25].empty() && std::stod(f[25]) >= 0.0);  // max |x| at the reference step
+    CHECK_TRUE(f[26].empty());
     CHECK_EQUAL(f[5] != f[13], f[17] == "true");
     if (f[17] == "true") {
       flips.push_back(i - 1);
-      if (f[18] != f[13]) flips_at_half_step.push_back(i - 1);
+      if (f[24] != f[13]) flips_at_half_step.push_back(i - 1);
     }
     collapsed_double += f[13] == "true" ? 1 : 0;
     CHECK_EQUAL(f[13] == "true", !f[14].empty());
@@ -265,6 +268,9 @@ TEST(StudyAlarm, FixedPointStudyIsComparedWithTheDoubleEngine) {
   CHECK_TRUE(published["counts"]["collapsed_flagged"].get<std::size_t>() <= collapsed_double);
   CHECK_TRUE(published["max_late_samples"].is_number_unsigned());
   LONGS_EQUAL(rockwatch::core::kDefaultWorkBudgetUnits, published["work_budget_units"].get<long>());
+  STRCMP_EQUAL("shed", published["work_overflow"].get<std::string>().c_str());
+  LONGS_EQUAL(0, published["overrun_calls"].get<long>());
+  CHECK_TRUE(summary["plan"]["alarm"].find("work_overflow") == summary["plan"]["alarm"].end());  // digest unchanged
   STRCMP_CONTAINS("as the firmware's monitor publishes it", r.out.c_str());
 
   check_ok(run_rockwatch(with(with(alarm_study(two), {"--arith", "fixed", "--dt-check"}), {"--jobs", "2"})));
@@ -281,12 +287,58 @@ TEST(StudyAlarm, FixedPointStudyIsComparedWithTheDoubleEngine) {
   CHECK_TRUE(slurp(one + "/summary.json") == summary_text);
 }
 
+// The firmware's policy at a full queue (--work-overflow): a wall settling at r_ana chatters long enough to fill the
+// queue. shed (default): every call within the budget, samples shed; finish: nothing shed, calls overrun; the computed
+// answers are the same either way, and the policy is part of the plan (a resume with the other is refused).
+TEST(StudyAlarm, TheWorkOverflowPolicyTradesShedSamplesForOverrunCalls) {
+  const TempDir tmp;
+  const std::string shed = tmp.file("shed"), finish = tmp.file("finish");
+  const std::vector<std::string> base = {"study", "--suite", kSuite, "--sets", "1", "--r", "ana", "--vertical",
+                                         "without", "--pga", "0.12:0.12:0.01", "--alarms", "--arith", "fixed", "--jobs", "1"};
+  check_ok(run_rockwatch(with(base, {"--out", shed})));
+  const ProcessResult r = run_rockwatch(with(base, {"--out", finish, "--work-overflow", "finish"}));
+  check_ok(r);
+  STRCMP_CONTAINS("finish at a full queue", r.out.c_str());
+  std::vector<std::string> a = split_fields(slurp(shed + "/runs.csv"), '\n'), b = split_fields(slurp(finish + "/runs.csv"), '\n');
+  LONGS_EQUAL(4, a.size());  // header, X, Y, the final newline's empty field
+  CHECK_TRUE(a[0] == b[0]);
+  std::size_t shed_total = 0, overruns_total = 0;
+  for (std::size_t i = 1; i < 3; ++i) {
+    const std::vector<std::string> fa = split_fields(a[i], ','), fb = split_fields(b[i], ',');
+    for (std::size_t k = 0; k <= 17; ++k) CHECK_TEXT(fa[k] == fb[k], ("computed column " + std::to_string(k)).c_str());
+    shed_total += std::stoul(fa[21]);
+    STRCMP_EQUAL("0", fa[22].c_str());
+    CHECK_TRUE(std::stol(fa[23]) <= rockwatch::core::kDefaultWorkBudgetUnits);
+    STRCMP_EQUAL("0", fb[21].c_str());
+    overruns_total += std::stoul(fb[22]);
+    if (std::stoul(fb[22]) > 0) CHECK_TRUE(std::stol(fb[23]) > rockwatch::core::kDefaultWorkBudgetUnits);
+  }
+  CHECK_TRUE(shed_total > 0);
+  CHECK_TRUE(overruns_total > 0);
+  const nlohmann::json summary = nlohmann::json::parse(slurp(finish + "/summary.json"));
+  STRCMP_EQUAL("finish", summary["plan"]["alarm"]["work_overflow"].get<std::string>().c_str());
+  STRCMP_EQUAL("finish", summary["alarm"]["as_published"]["work_overflow"].get<std::string>().c_str());
+  LONGS_EQUAL(overruns_total, summary["alarm"]["as_published"]["overrun_calls"].get<std::size_t>());
+  LONGS_EQUAL(0, summary["alarm"]["as_published"]["shed_samples"].get<long>());
+  rockwatch::test::expect_command_rejected(
+      "study", {"--suite", kSuite, "--sets", "1", "--r", "ana", "--vertical", "without", "--pga", "0.12:0.12:0.01", "--alarms",
+                "--arith", "fixed", "--jobs", "1", "--out", shed, "--resume", "--work-overflow", "finish"},
+      {"work_overflow"});
+  rockwatch::test::expect_command_rejected("study", {"--suite", kSuite, "--alarms", "--work-overflow", "finish",
+                                                     "--out", tmp.file("x")},
+                                           {"--work-overflow", "--arith fixed --alarms"});
+  rockwatch::test::expect_command_rejected("study", {"--suite", kSuite, "--alarms", "--arith", "fixed",
+                                                     "--work-overflow", "later", "--out", tmp.file("y")},
+                                           {"--work-overflow must be shed or finish", "'later'"});
+}
+
 TEST(StudyAlarm, HelpListsTheOptionsAndTheKeys) {
   const ProcessResult r = run_rockwatch({"study", "--help"});
   check_ok(r);
   for (const char* text : {"--arith", "--alarms", "--lambda-w", "--alarm-hold", "--energy-margin", "recall",
                            "false_alarm_rate", "lead_time_s_p05", "fixed_vs_double", "t_first_imminent_s",
-                           "collapsed_double", "verdict_differs", "type 7"}) {
+                           "collapsed_double", "verdict_differs", "type 7", "--work-overflow", "overrun_calls",
+                           "max_call_units"}) {
     STRCMP_CONTAINS(text, r.out.c_str());
   }
 }
@@ -429,6 +481,8 @@ TEST(StudyAlarmArithmetic, RunsCsvOfAFixedPointStudyReadsBackWhatWasWritten) {
   results[0].imminent_late_samples = 2;
   results[0].max_late_samples = 17;
   results[0].shed_samples = 1;
+  results[0].overrun_calls = 3;
+  results[0].max_call_units = 398750;
   results[0].collapsed_reference = false;
   results[0].max_abs_x_reference_m = 0.0932;
   results[2].done = true;
@@ -444,12 +498,12 @@ TEST(StudyAlarmArithmetic, RunsCsvOfAFixedPointStudyReadsBackWhatWasWritten) {
   STRCMP_EQUAL("record,component,vertical,r,pga_g,collapsed,t_collapse_s,t_exceed_s,max_abs_x_m,n_impacts,run,"
                "t_first_imminent_s,saturated,collapsed_double,t_collapse_double_s,max_abs_x_double_m,"
                "t_first_imminent_double_s,verdict_differs,t_first_imminent_published_s,imminent_late_samples,"
-               "max_late_samples,shed_samples,collapsed_reference,max_abs_x_reference_m,error",
+               "max_late_samples,shed_samples,overrun_calls,max_call_units,collapsed_reference,max_abs_x_reference_m,error",
                lines[0].c_str());
-  STRCMP_EQUAL("rec,X,false,exp,0.1,true,4.25,4,0.2006552,7,0,3.125,true,false,,0.0931,3.13,true,3.135,2,17,1,false,"
-               "0.0932,",
+  STRCMP_EQUAL("rec,X,false,exp,0.1,true,4.25,4,0.2006552,7,0,3.125,true,false,,0.0931,3.13,true,3.135,2,17,1,3,398750,"
+               "false,0.0932,",
                lines[1].c_str());
-  STRCMP_EQUAL("rec,X,false,exp,0.4,,,,,,3,,,,,,,,,,,,,,\"refused, with a comma\"", lines[3].c_str());
+  STRCMP_EQUAL("rec,X,false,exp,0.4,,,,,,3,,,,,,,,,,,,,,,,\"refused, with a comma\"", lines[3].c_str());
 
   const TempDir tmp;
   rockwatch::test::write_text(tmp.file("runs.csv"), text.str());
@@ -467,6 +521,8 @@ TEST(StudyAlarmArithmetic, RunsCsvOfAFixedPointStudyReadsBackWhatWasWritten) {
     LONGS_EQUAL(a.imminent_late_samples, b.imminent_late_samples);
     LONGS_EQUAL(a.max_late_samples, b.max_late_samples);
     LONGS_EQUAL(a.shed_samples, b.shed_samples);
+    LONGS_EQUAL(a.overrun_calls, b.overrun_calls);
+    LONGS_EQUAL(a.max_call_units, b.max_call_units);
     CHECK_EQUAL(a.saturated, b.saturated);
     CHECK_EQUAL(a.reference.has_value(), b.reference.has_value());
     if (a.reference) {
