@@ -30,9 +30,10 @@
 # {median, p99, max, max_sample} of step() through the monitor's seam (double -> Q7.56, the chain, the published
 # sample back in double) over samples 1..n-1, engine_insn_per_sample (the same for process_wall() alone, inputs
 # converted beforehand), start_insn, overhead_insn (the measurement window's own cost, subtracted), stack_bytes,
-# carry_over {late_samples, max_late_calls, shed_samples, overruns, max_pending} (step() works within a budget per
-# call and may finish a sample at a later call: docs/FIXED_POINT.md "Bounded work per call"; every finished sample is
-# checked against process_wall() on the target), transitions [{sample, level}] (sample = index of the input sample
+# carry_over {late_samples, max_late_calls, shed_samples, overruns, first_shed_sample, max_pending} (step() works within
+# a budget per call and may finish a sample at a later call: docs/FIXED_POINT.md "Bounded work per call"; every
+# finished sample is checked against process_wall() on the target, up to the call that first shed: first_shed_sample,
+# null when none did; --work-overflow finish never sheds), transitions [{sample, level}] (sample = index of the input sample
 # whose step changed the level; its values are the sample's own, whichever call finished it); with
 # --m4-profile also profile {sample, insn, interval_insn, addresses, functions [{function, share}]}.
 # Exit status: 0 printed; 1 build, emulation or image failure (with a message); 2 invalid options or input (the
@@ -208,8 +209,9 @@ for number, line in enumerate(lines[1:], start=2):
     elif f[0] == "s" and len(f) == 8:
         steps.append((insns(int(f[1])), insns(int(f[2])), int(f[3]), from_bits(f[4]), from_bits(f[5]), int(f[6]),
                       int(f[7])))
-    elif f[0] == "work" and len(f) == 5:
-        work = {"late_samples": int(f[1]), "max_late_calls": int(f[2]), "shed_samples": int(f[3]), "overruns": int(f[4])}
+    elif f[0] == "work" and len(f) == 6:
+        work = {"late_samples": int(f[1]), "max_late_calls": int(f[2]), "shed_samples": int(f[3]), "overruns": int(f[4]),
+                "first_shed_sample": int(f[5]) or None}
     elif f[0] == "end" and len(f) == 3:
         end = (int(f[1]), int(f[2]))
     else:
