@@ -408,8 +408,14 @@ void MonitorLoop::publish_state(const PendingMeta& m, const EngineSample& e) {
     ++counters_.samples_late;
     if (e.late_calls > counters_.max_late_calls) counters_.max_late_calls = e.late_calls;
   }
-  if (e.work_shed) ++counters_.samples_work_shed;
-  if (e.work_overrun) ++counters_.samples_over_budget;
+  if (e.work_shed) {
+    ++counters_.samples_work_shed;
+    quality |= Status::QUALITY_WORK_SHED;
+  }
+  if (e.work_overrun) {
+    ++counters_.samples_over_budget;
+    quality |= Status::QUALITY_OVER_BUDGET;
+  }
   if (!reset && e.input_invalid) quality |= Status::QUALITY_LIFT_OFF;
   if (!reset && e.saturated) {
     ++counters_.saturated;

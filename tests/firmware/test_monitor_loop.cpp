@@ -405,6 +405,7 @@ TEST(MonitorLoop, SamplesTheEngineFinishesLaterArePublishedInOrderWithTheirOwnTi
     CHECK_TRUE(states[k].x_m == expected[k].x_m);
     CHECK_TRUE(states[k].xd_mps == expected[k].xd_mps);
     LONGS_EQUAL(static_cast<long>(expected[k].alarm.level), states[k].alarm_level);
+    CHECK_FALSE((states[k].data_quality & (Status::QUALITY_WORK_SHED | Status::QUALITY_OVER_BUDGET)) != 0);
   }
   LONGS_EQUAL(0, static_cast<long>(rig.loop.counters().samples_work_shed));
 }

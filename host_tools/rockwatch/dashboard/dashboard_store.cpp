@@ -173,7 +173,9 @@ std::vector<std::string> quality_flag_list(std::uint32_t bits) {
                 {S::QUALITY_LOG_WRITE_FAILED, "log_write_failed"},
                 {S::QUALITY_BAD_DATAGRAM, "bad_datagram"},
                 {S::QUALITY_TIME_UNTRUSTED, "time_untrusted"},
-                {S::QUALITY_SENSOR_FAULT, "sensor_fault"}};
+                {S::QUALITY_SENSOR_FAULT, "sensor_fault"},
+                {S::QUALITY_WORK_SHED, "work_shed"},
+                {S::QUALITY_OVER_BUDGET, "over_budget"}};
   std::vector<std::string> names;
   for (int b = 0; b < 32; ++b) {
     const std::uint32_t bit = 1u << b;

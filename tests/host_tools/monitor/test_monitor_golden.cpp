@@ -349,18 +349,29 @@ TEST(MonitorGoldenReplay, AtAFullQueueFinishKeepsEveryStateAndShedCountsWhatItSh
   for (const ProcessResult* r : {&plain, &finish, &shed}) CHECK_EQUAL_TEXT(0, r->exit_status, describe(*r).c_str());
   const OutputLog a = rockwatch::test::read_output_log(dir.file("plain.lcmlog"));
   const OutputLog b = rockwatch::test::read_output_log(dir.file("finish.lcmlog"));
+  using Status = rockwatch::monitor_status_t;
+  const auto flagged = [](const OutputLog& log, std::int32_t bit) {
+    long n = 0;
+    for (const auto& s : log.states) n += (s.message.data_quality & bit) != 0 ? 1 : 0;
+    return n;
+  };
   LONGS_EQUAL(a.states.size(), b.states.size());
   for (std::size_t i = 0; i < a.states.size(); ++i) {
     CHECK_TRUE(a.states[i].message.input_seq == b.states[i].message.input_seq);
     CHECK_TRUE(a.states[i].message.x_m == b.states[i].message.x_m);
     CHECK_TRUE(a.states[i].message.xd_mps == b.states[i].message.xd_mps);
   }
+  // Every sample finished beyond its budget or shed says so in its own data_quality, as the summary counts.
   const json fc = rockwatch::test::json_lines(finish.out).back().at("summary").at("counters");
   CHECK_TRUE(fc.at("samples_over_budget").get<long>() > 0);
+  LONGS_EQUAL(fc.at("samples_over_budget").get<long>(), flagged(b, Status::QUALITY_OVER_BUDGET));
   LONGS_EQUAL(0, fc.at("samples_work_shed").get<long>());
   CHECK_TRUE(fc.at("max_late_calls").get<long>() <= 64);
   const json sc = rockwatch::test::json_lines(shed.out).back().at("summary").at("counters");
   CHECK_TRUE(sc.at("samples_work_shed").get<long>() > 0);
+  const OutputLog c = rockwatch::test::read_output_log(dir.file("shed.lcmlog"));
+  LONGS_EQUAL(sc.at("samples_work_shed").get<long>(), flagged(c, Status::QUALITY_WORK_SHED));
+  LONGS_EQUAL(0, flagged(a, Status::QUALITY_WORK_SHED | Status::QUALITY_OVER_BUDGET));
   const json pc = rockwatch::test::json_lines(plain.out).back().at("summary").at("counters");
   LONGS_EQUAL(0, pc.at("samples_over_budget").get<long>());
   LONGS_EQUAL(0, pc.at("samples_late").get<long>());
