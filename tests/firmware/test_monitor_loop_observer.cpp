@@ -22,6 +22,8 @@
 
 #include <CppUTest/TestHarness.h>
 
+#include "memory_transport.hpp"
+
 using namespace rockwatch;
 namespace fw = rockwatch::firmware;
 using Status = rockwatch::monitor_status_t;
@@ -37,43 +39,9 @@ constexpr std::int64_t kT0 = 1700000000000000;  // µs since 1970
 constexpr std::int64_t kReceiveDelayUs = 1000;
 const char* const kAccel = "ROCKWATCH_ACCEL";
 const char* const kSensor = "ROCKWATCH_WALL_SENSOR";
-const char* const kEstimate = "ROCKWATCH_WALL_ESTIMATE";
 
-struct Published {
-  std::string channel;
-  std::vector<std::uint8_t> bytes;
-};
-
-class MemoryTransport : public fw::Transport {
- public:
-  bool publish(const char* channel, const std::uint8_t* data, std::size_t size) override {
-    sent.push_back(Published{channel, std::vector<std::uint8_t>(data, data + size)});
-    return true;
-  }
-  template <typename T>
-  std::vector<T> decoded(const std::string& channel) const {
-    std::vector<T> out;
-    for (const Published& p : sent) {
-      if (p.channel != channel) continue;
-      T m;
-      LONGS_EQUAL(static_cast<long>(p.bytes.size()), m.decode(p.bytes.data(), 0, static_cast<int>(p.bytes.size())));
-      out.push_back(m);
-    }
-    return out;
-  }
-  std::vector<wall_state_t> states() const { return decoded<wall_state_t>("ROCKWATCH_WALL_STATE"); }
-  std::vector<alarm_event_t> alarms() const { return decoded<alarm_event_t>("ROCKWATCH_ALARM"); }
-  std::vector<monitor_status_t> statuses() const { return decoded<monitor_status_t>("ROCKWATCH_STATUS"); }
-  std::vector<Estimate> estimates() const { return decoded<Estimate>(kEstimate); }
-  std::vector<Published> sent;
-};
-
-template <typename T>
-std::vector<std::uint8_t> encode(const T& m) {
-  std::vector<std::uint8_t> b(static_cast<std::size_t>(m.getEncodedSize()));
-  LONGS_EQUAL(static_cast<long>(b.size()), m.encode(b.data(), 0, static_cast<int>(b.size())));
-  return b;
-}
+using test::MemoryTransport;
+using test::encode;
 
 std::int64_t utime_of(std::int64_t seq) { return kT0 + seq * kPeriodUs; }
 

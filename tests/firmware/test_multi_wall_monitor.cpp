@@ -18,6 +18,8 @@
 
 #include <CppUTest/TestHarness.h>
 
+#include "memory_transport.hpp"
+
 using namespace rockwatch;
 namespace fw = rockwatch::firmware;
 
@@ -28,33 +30,9 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr std::int64_t kPeriodUs = 5000;
 constexpr std::int64_t kT0 = 1700000000000000;
 
-struct Sent {
-  std::string channel;
-  std::vector<std::uint8_t> bytes;
-};
-
-class Capture : public fw::Transport {
- public:
-  bool publish(const char* channel, const std::uint8_t* data, std::size_t size) override {
-    sent.push_back(Sent{channel, std::vector<std::uint8_t>(data, data + size)});
-    return true;
-  }
-  std::vector<Sent> on(const std::string& channel) const {
-    std::vector<Sent> out;
-    for (const Sent& s : sent) {
-      if (s.channel == channel) out.push_back(s);
-    }
-    return out;
-  }
-  std::vector<Sent> sent;
-};
-
-template <typename T>
-std::vector<std::uint8_t> encode(const T& m) {
-  std::vector<std::uint8_t> b(static_cast<std::size_t>(m.getEncodedSize()));
-  m.encode(b.data(), 0, static_cast<int>(b.size()));
-  return b;
-}
+using Capture = test::MemoryTransport;
+using Sent = test::Published;
+using test::encode;
 
 std::vector<std::uint8_t> ground(std::int64_t seq, double pga_g) {
   ground_accel_t m{};
