@@ -150,8 +150,9 @@ struct MonitorCounters {
   std::int64_t sensor_samples_received = 0, sensor_time_untrusted = 0, sensor_duplicates = 0, estimates_published = 0;
   // Carry-over (core/work_meter.hpp): samples the engine finished in a later call than their own (published then,
   // with their own utime), the most calls one waited, those whose events it did not locate because its queue was
-  // full, and those it finished beyond a call's budget to make room in a full queue (WorkOverflow::finish; counted
-  // here and in the monitor's summary; the messages are unchanged).
+  // full, and those it finished beyond a call's budget to make room in a full queue (WorkOverflow::finish). Counted
+  // here and in the monitor's summary; the last two also flagged in the state's data_quality and the status
+  // (QUALITY_WORK_SHED, QUALITY_OVER_BUDGET).
   std::int64_t samples_late = 0, max_late_calls = 0, samples_work_shed = 0, samples_over_budget = 0;
 };
 
