@@ -149,11 +149,8 @@ EngineSample WallEngine::step_metered(core::AccelQ7_56 ug_mps2, core::AccelQ7_56
                                   kMaxFinishedPerCall,
                                   [this](const core::AlarmChainOutput<core::FixedRockingStepper>& o,
                                          std::uint32_t tag) { finish_queued(o, tag); });
-  if (report.overrun) {
-    ++work_counters_.overruns;
-    finished_[0].work_overrun = true;  // the overrun's sample is the call's first
-    if (report.overrun_units > work_counters_.max_overrun_units) work_counters_.max_overrun_units = report.overrun_units;
-  }
+  if (report.overrun) finished_[0].work_overrun = true;  // the overrun's sample is the call's first
+  work_counters_.count_call(report);
   last_call_units_ = report.units_spent + report.overrun_units;
   if (finished_count_ > 0) return finished_[finished_count_ - 1];
   return sample();  // nothing finished: the state as it stands (the caller publishes only finished samples)
@@ -174,9 +171,7 @@ void WallEngine::finish_queued(const core::AlarmChainOutput<core::FixedRockingSt
   e = sample();
   e.late_calls = static_cast<std::uint16_t>(calls_ - tag > 65535u ? 65535u : calls_ - tag);
   e.work_shed = o.step.work_shed;
-  if (e.late_calls > 0) ++work_counters_.late_samples;
-  if (calls_ - tag > work_counters_.max_late_calls) work_counters_.max_late_calls = calls_ - tag;
-  if (e.work_shed) ++work_counters_.shed_samples;
+  work_counters_.count_sample(calls_ - tag, e.work_shed);
 }
 
 std::uint32_t WallEngine::push_sensor(const core::WallSensorSample& sample) {

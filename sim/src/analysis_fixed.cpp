@@ -1,6 +1,5 @@
 // The fixed-point engine of sim::analyse (AnalysisOptions::arithmetic == fixed_point) and the alarm-summary
 // recorder shared by both engines. The analysis loop itself is analysis.cpp's, for both.
-#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -50,11 +49,7 @@ void measure_published(const core::StepperSetup<double>& setup, const AnalysisOp
   chain.reset(inputs[0][0], inputs[0][1]);
   std::uint32_t call = 0;
   const auto on_sample = [&](const Chain::Output& out, std::uint32_t tag) {
-    if (call != tag) {
-      ++p.late_samples;
-      if (call - tag > p.max_late_calls) p.max_late_calls = call - tag;
-    }
-    if (out.step.work_shed) ++p.shed_samples;
+    p.count_sample(call - tag, out.step.work_shed);
     const double t_s = double(call) * dt_s;
     if (out.alarm.level >= core::AlarmLevel::imminent && !p.t_first_imminent_s) {
       p.t_first_imminent_s = t_s;
@@ -64,10 +59,8 @@ void measure_published(const core::StepperSetup<double>& setup, const AnalysisOp
   };
   for (std::size_t k = 1; k < inputs.size(); ++k) {
     call = static_cast<std::uint32_t>(k);
-    const Chain::CallReport report = chain.call(inputs[k][0], inputs[k][1], false, o.work_budget_units,
-                                                o.work_overflow, call, Chain::kMaxFinishedPerCall, on_sample);
-    if (report.overrun) ++p.overruns;
-    p.max_call_units = std::max(p.max_call_units, report.units_spent + report.overrun_units);
+    p.count_call(chain.call(inputs[k][0], inputs[k][1], false, o.work_budget_units, o.work_overflow, call,
+                            Chain::kMaxFinishedPerCall, on_sample));
   }
   // The monitor's input goes on after the analysis stops (a collapsed wall costs nothing): the samples still in work
   // are finished at the next calls, each with a budget.

@@ -274,11 +274,7 @@ class StepperAlarmChain {
   // queue still full (a sample's trials alone exceed the budget) first finishes the oldest without a budget, shedding
   // (an overrun); finish — a sample arriving at a full queue first finishes the oldest without a budget and without
   // shedding (an overrun), so nothing is ever shed. An overrun's sample is the call's first on_sample.
-  struct CallReport {
-    bool overrun = false;
-    std::int32_t units_spent = 0;    // of the budget
-    std::int32_t overrun_units = 0;  // beyond it: the overrun's work (cost model's units)
-  };
+  using CallReport = WorkCallReport;
   template <typename OnSample>
   CallReport call(Input ug_mps2, Input vg_mps2, bool restart, std::int32_t budget_units, WorkOverflow overflow,
                   std::uint32_t tag, int max_samples, OnSample&& on_sample) {

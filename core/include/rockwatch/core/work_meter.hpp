@@ -66,6 +66,35 @@ struct WorkMeter {
   }
 };
 
+// What one call of a budgeted engine did (StepperAlarmChain::call).
+struct WorkCallReport {
+  bool overrun = false;            // it worked beyond the budget to make room in a full queue
+  std::int32_t units_spent = 0;    // of the budget
+  std::int32_t overrun_units = 0;  // beyond it: the overrun's work (cost model's units)
+};
+
+// What a budgeted engine's calls did, counted one way by the firmware's engine (firmware::WallEngine::work_counters)
+// and by the studies that measure its publication (sim::AlarmSummary::Published).
+struct WorkTally {
+  std::uint32_t late_samples = 0;    // samples finished in a later call than their own
+  std::uint32_t max_late_calls = 0;  // the most calls a sample waited
+  std::uint32_t shed_samples = 0;    // samples whose events were not located (the queue was full)
+  std::uint32_t overruns = 0;        // calls that worked beyond the budget to make room in a full queue
+  std::int32_t max_call_units = 0;   // the most work one call did, an overrun's included [work units]
+
+  // A finished sample: the calls after its own that finished it, and whether it was shed.
+  void count_sample(std::uint32_t calls_waited, bool shed) {
+    if (calls_waited > 0) ++late_samples;
+    if (calls_waited > max_late_calls) max_late_calls = calls_waited;
+    if (shed) ++shed_samples;
+  }
+  void count_call(const WorkCallReport& r) {
+    if (r.overrun) ++overruns;
+    const std::int32_t units = r.units_spent + r.overrun_units;
+    if (units > max_call_units) max_call_units = units;
+  }
+};
+
 // The meter of work done all at once (hosts, tests, the double engine, the steps of the observer): every piece is
 // paid and nothing is shed, known at compile time, so the unmetered path — every analysis of a study — carries no
 // meter checks (RockingSegments and StepperAlarmChain take either meter as a template parameter).

@@ -69,13 +69,7 @@ class WallEngine final : public SampleEngine {
   // finish per call; at a full queue (WallEngineConfig::work_overflow, StepperAlarmChain::call) the engine sheds or
   // finishes the oldest sample beyond the budget (an overrun: flagged EngineSample::work_overrun, counted).
   static constexpr int kMaxFinishedPerCall = core::StepperAlarmChain<core::FixedRockingStepper>::kMaxFinishedPerCall;
-  struct WorkCounters {
-    std::uint32_t late_samples = 0;    // samples finished in a later call than their own
-    std::uint32_t max_late_calls = 0;  // the most calls a sample waited
-    std::uint32_t shed_samples = 0;    // samples whose events were not located (the queue was full)
-    std::uint32_t overruns = 0;        // calls that worked beyond the budget to make room in a full queue
-    std::int32_t max_overrun_units = 0;  // the most work one overrun did beyond its budget [work units]
-  };
+  using WorkCounters = core::WorkTally;
   const WorkCounters& work_counters() const { return work_counters_; }
   std::int32_t work_budget_units() const { return work_budget_units_; }
   core::WorkOverflow work_overflow() const { return work_overflow_; }

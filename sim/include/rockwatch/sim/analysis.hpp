@@ -90,13 +90,10 @@ struct AlarmSummary {
   std::vector<AlarmTransition> transitions;  // the first max_alarm_transitions_kept
   // As the monitor publishes it (AnalysisOptions::work_budget_units): a sample whose work exceeds a call's budget is
   // published at the call of a later input sample.
-  struct Published {
+  // The calls' tally (late samples, the longest wait, samples shed, overruns, the most work in a call) as the
+  // firmware's engine counts it.
+  struct Published : core::WorkTally {
     bool measured = false;
-    std::uint32_t late_samples = 0;     // samples published at a later sample's call
-    std::uint32_t max_late_calls = 0;   // the most calls a sample waited
-    std::uint32_t shed_samples = 0;     // samples whose events were not located (the engine's queue was full)
-    std::uint32_t overruns = 0;         // calls that worked beyond the budget
-    std::int32_t max_call_units = 0;    // the most work one call did, an overrun's included [work units]
     std::optional<double> t_first_imminent_s;  // time of the input sample whose call published IMMINENT or above [s]
     std::uint32_t imminent_late_calls = 0;      // calls that sample waited
     std::optional<double> t_first_collapsed_s; // ... COLLAPSED [s]
