@@ -8,6 +8,7 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <filesystem>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -24,6 +25,7 @@
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/realtime_options.hpp"
 #include "rockwatch/options/usage_error.hpp"
+#include "rockwatch/options/wall_file.hpp"
 #include "rockwatch/options/wall_options.hpp"
 #include "rockwatch/sim/analysis.hpp"
 #include "monitor_walls.hpp"
@@ -66,6 +68,8 @@ const char* const kFooter =
     "\n"
     "Configuration file (--config, JSON; every key optional, unknown keys refused; the command line overrides it):\n"
     "  wall {b, h1, h2, rho, fp, a, a_prime, g}   fields replacing the paper wall's (as --b ... --g)\n"
+    "  wall_file \"W.json\"   base wall and r from a wall file (rockwatch identify --wall-out; as --wall-file;\n"
+    "    relative to the configuration's folder); the wall fields above and r replace its values\n"
     "  r \"ana\"|\"exp\"|\"impulse\"|number   model \"linear\"   kappa K\n"
     "  alarm {lambda_w, hold_s, energy_margin}   (as --lambda-w, --alarm-hold, --energy-margin)\n"
     "  sample_rate_hz (--rate, 200)   max_step_s (--max-step, 0.001)   max_bridge_samples (10)   sensor_range_mps2 (80)   late_limit_s (0.05)\n"
@@ -201,6 +205,7 @@ const char* arith_name(firmware::MonitorArithmetic a) {
 // What the file set; absent keys keep the defaults.
 struct FileValues {
   std::optional<double> wall[8];  // in kWallFields order
+  std::optional<std::string> wall_file;  // a wall file (rockwatch/options/wall_file.hpp), relative to the config's folder
   std::optional<core::Restitution> r;
   std::optional<core::ModelKind> model;
   std::optional<firmware::MonitorArithmetic> arith;
@@ -279,13 +284,20 @@ class ConfigReader {
   FileValues read() {
     const json root = parse();
     if (!root.is_object()) fail("the top level", "expected a JSON object {...}, got " + json_type(root));
-    check_keys(root, "", {"arith", "wall", "r", "model", "kappa", "alarm", "sample_rate_hz", "max_step_s",
+    check_keys(root, "", {"arith", "wall", "wall_file", "r", "model", "kappa", "alarm", "sample_rate_hz", "max_step_s",
                           "max_bridge_samples", "sensor_range_mps2", "late_limit_s", "channels", "lcm_url",
                           "accept_from", "observer", "walls", "clock_tolerance_s", "work_budget_units", "work_overflow", "realtime_priority", "cpu",
                           "busy_poll_us"});
     FileValues v;
     if (root.contains("wall")) read_wall(root.at("wall"), v);
     if (root.contains("r")) v.r = read_restitution(root.at("r"));
+    if (root.contains("wall_file")) {
+      const json& f = root.at("wall_file");
+      if (!f.is_string() || f.get<std::string>().empty()) fail("wall_file", "expected a file name, got " + json_type(f));
+      const std::filesystem::path given_path(f.get<std::string>());
+      v.wall_file = given_path.is_absolute() ? given_path.string()
+                                             : (std::filesystem::path(path_).parent_path() / given_path).string();
+    }
     if (root.contains("arith")) v.arith = read_arith(root.at("arith"));
     if (root.contains("model")) v.model = read_model(root.at("model"));
     if (root.contains("kappa")) v.kappa = number(root.at("kappa"), "kappa", "");
@@ -560,15 +572,19 @@ void check_range(bool ok, const std::string& name, const std::string& expected, 
 // The wall: the command line's when the file has none (exactly `rockwatch simulate`'s parsing and messages);
 // otherwise the file's fields with the options given on the command line replacing them.
 core::WallParameters merge_wall(const CLI::App& app, const RawOptions& raw, const FileValues& file,
-                                const ConfigReader* reader, std::string& origin) {
+                                const ConfigReader* reader, std::string& origin,
+                                const std::optional<options::WallFile>& wall_file) {
   bool file_wall = false;
   for (const auto& f : file.wall) file_wall = file_wall || f.has_value();
-  if (!file_wall || options::given(app, "--wall")) {
+  const bool config_wall_file = file.wall_file && !options::given(app, "--wall-file");
+  if ((!file_wall && !config_wall_file) || options::given(app, "--wall")) {
     const options::WallChoice choice = options::parse_wall_options(app, raw.wall);
-    origin = choice.options_given.empty() ? "paper wall" : "paper wall with " + join(choice.options_given, ", ");
+    const std::string base = choice.wall_file_path ? "wall file " + *choice.wall_file_path : "paper wall";
+    origin = choice.options_given.empty() ? base : base + " with " + join(choice.options_given, ", ");
     return choice.wall;
   }
-  core::WallParameters wall = core::paper_wall();
+  core::WallParameters wall = wall_file ? wall_file->wall : core::paper_wall();
+  const std::string base_value = wall_file ? " (the wall file's value)" : " (the paper wall's value)";
   std::string sources[8];
   std::vector<std::string> given_names;
   for (int i = 0; i < 8; ++i) {
@@ -582,10 +598,11 @@ core::WallParameters merge_wall(const CLI::App& app, const RawOptions& raw, cons
       sources[i] = reader->key_label(std::string("wall.") + f.key);
       given_names.push_back(std::string("wall.") + f.key);
     } else {
-      sources[i] = std::string(f.option) + " (the paper wall's value)";
+      sources[i] = std::string(f.option) + base_value;
     }
   }
-  origin = "paper wall with " + join(given_names, ", ");
+  origin = (wall_file ? std::string("wall file") : std::string("paper wall")) +
+           (given_names.empty() ? std::string() : " with " + join(given_names, ", "));
   const core::WallCheck check = core::validate_wall(wall);
   if (check.ok()) return wall;
   for (int i = 0; i < 8; ++i) {
@@ -747,13 +764,29 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
   config.settings.engine.model = model.value;
 
   // Restitution.
-  Sourced<core::Restitution> r = pick(core::Restitution{}, file.r, file_label("r"));
+  // A wall file (--wall-file, else the configuration's wall_file): the base wall, and r unless --r or "r" is given.
+  std::optional<options::WallFile> wall_file;
+  if (options::given(app, "--wall-file")) {
+    if (raw.wall.wall_file.empty()) throw UsageError("--wall-file needs a file name");
+    wall_file = options::read_wall_file("--wall-file", raw.wall.wall_file);
+  } else if (file.wall_file) {
+    wall_file = options::read_wall_file(file_label("wall_file"), *file.wall_file);
+  }
+  core::Restitution file_r;
+  std::string file_r_origin;
+  if (wall_file) {
+    file_r.kind = core::RestitutionKind::value;
+    file_r.value = wall_file->r;
+    file_r_origin = "the wall file";
+  }
+  Sourced<core::Restitution> r = pick(wall_file ? file_r : core::Restitution{}, file.r, file_label("r"));
+  if (!file.r && wall_file) r.origin = file_r_origin;
   if (options::given(app, "--r")) r = {options::parse_restitution("--r", raw.r), "--r"};
   config.restitution = r.value;
 
   // Wall.
   firmware::WallEngineConfig& engine = config.settings.engine;
-  engine.wall = merge_wall(app, raw, file, reader ? &*reader : nullptr, config.wall_origin);
+  engine.wall = merge_wall(app, raw, file, reader ? &*reader : nullptr, config.wall_origin, wall_file);
   check_wall_computable(engine.wall, r.value, model.value, config.wall_origin);
   engine.r_energy = core::restitution_energy_ratio(engine.wall, r.value);
 

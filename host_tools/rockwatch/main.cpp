@@ -17,6 +17,8 @@ namespace {
 
 constexpr Command kCommands[] = {
     {"simulate", "response of a wall to a ground-motion record (two-block rocking model, Newmark)", simulate_main},
+    {"identify", "a wall's capacity, stiffness and r from a test record (snap-back or forced); writes a wall file",
+     identify_main},
     {"static", "allowable PGA by the static kinematic check (NTC 2008, NZSEE 2016); Figure 3 sweep", static_main},
     {"spectrum", "response spectrum and intensity measures of a record, against a design spectrum", spectrum_main},
     {"generate", "spectrum-compatible ground-motion suite (NPR 9998-like): set files, manifest, spectra plots",

@@ -56,6 +56,9 @@ void check_options(const core::WallParameters& wall, const GroundMotion& motion,
                         std::to_string(core::kMaxSubsteps));
   }
   if (o.t_end_s && !(std::isfinite(*o.t_end_s) && *o.t_end_s >= 0.0)) throw AnalysisError("t_end must be >= 0 s");
+  if (o.initial_x_m && !(std::isfinite(*o.initial_x_m) && std::fabs(*o.initial_x_m) <= 1.0)) {
+    throw AnalysisError("initial displacement x0 must be a finite number of metres with |x0| <= 1 m");
+  }
   if (!(std::isfinite(motion.dt_s) && motion.dt_s > 0.0)) throw AnalysisError("record dt must be > 0 s");
   if (motion.ug_mps2.size() < 2) throw AnalysisError("record must hold at least two samples");
   if (!motion.vg_mps2.empty() && motion.vg_mps2.size() != motion.ug_mps2.size()) {
@@ -280,7 +283,11 @@ AnalysisResult run_analysis(const core::WallParameters& wall, const GroundMotion
   note_input(sample_or_zero(motion.ug_mps2, 0), sample_or_zero(motion.vg_mps2, 0));
   const typename Engine::Input ug0 = Engine::input(sample_or_zero(motion.ug_mps2, 0));
   const typename Engine::Input vg0 = Engine::input(sample_or_zero(motion.vg_mps2, 0));
-  engine.chain().reset(ug0, vg0);
+  if (o.initial_x_m) {
+    engine.chain().reset_released(typename Engine::Length(*o.initial_x_m), typename Engine::Speed(0.0), ug0, vg0);
+  } else {
+    engine.chain().reset(ug0, vg0);
+  }
   ResponseRecorder recorder(wall, o, result);
   recorder.row(0.0, to_double(ug0), to_double(vg0), engine);
 
@@ -298,7 +305,9 @@ AnalysisResult run_analysis(const core::WallParameters& wall, const GroundMotion
   const auto free_samples = static_cast<std::size_t>(std::llround(o.free_motion_limit_s / dt));
   const typename Engine::Input zero = Engine::input(0.0);
   std::size_t free = 0;
-  for (; !engine.stepper().collapsed() && !engine.safe() && free < free_samples; ++free, ++k) {
+  const bool until_rest = o.initial_x_m.has_value();  // a release test: the whole decay
+  const auto decided = [&] { return until_rest ? !engine.stepper().moving() : engine.safe(); };
+  for (; !engine.stepper().collapsed() && !decided() && free < free_samples; ++free, ++k) {
     note_input(0.0, 0.0);
     analysis_sample(engine, zero, zero, double(k) * dt, dt, h, o, recorder, result, observer);
   }

@@ -66,6 +66,8 @@ class DoubleAnalysisEngine {
   using Stepper = core::RockingStepper<double>;
   using Chain = core::StepperAlarmChain<Stepper>;
   using Input = double;
+  using Length = double;
+  using Speed = double;
   static constexpr Arithmetic kArithmetic = Arithmetic::double_precision;
   static constexpr bool kVerdictNeedsIndicators = false;  // the verdict evaluates the exact energy
 
@@ -106,6 +108,8 @@ class FixedAnalysisEngine {
   using Stepper = core::FixedRockingStepper;
   using Chain = core::StepperAlarmChain<Stepper>;
   using Input = core::AccelQ7_56;
+  using Length = core::LengthQ1_62;
+  using Speed = core::SpeedQ3_60;
   static constexpr Arithmetic kArithmetic = Arithmetic::fixed_point;
   static constexpr bool kVerdictNeedsIndicators = true;  // the verdict is decided from ρ and |x| ≥ x_inst
 

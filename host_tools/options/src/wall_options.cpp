@@ -9,6 +9,7 @@
 #include "rockwatch/options/command_line.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
+#include "rockwatch/options/wall_file.hpp"
 
 namespace rockwatch::options {
 
@@ -38,7 +39,7 @@ constexpr WallField kWallFields[] = {
   for (const WallField& f : kWallFields) {
     if (std::string(check.field) != f.field) continue;
     std::string message = std::string(f.option) + " " + check.message + " (got " + number_text(wall.*f.member);
-    if (!given(app, f.option)) message += ", the paper wall's value";
+    if (!given(app, f.option)) message += given(app, "--wall-file") ? ", the wall file's value" : ", the paper wall's value";
     const bool compares_with_b =
         check.code == core::WallError::h1_not_above_b || check.code == core::WallError::h2_not_above_b;
     if (compares_with_b && given(app, "--b")) message += "; --b " + number_text(wall.b_m);
@@ -52,6 +53,9 @@ constexpr WallField kWallFields[] = {
 void add_wall_options(CLI::App& app, WallOptionTexts& texts) {
   app.add_option("--wall", texts.wall, "Base wall: paper (b 0.10, h1 = h2 = 1.75, rho 1800, Fp 0, a = a' = 0)")
       ->type_name("paper");
+  app.add_option("--wall-file", texts.wall_file,
+                 "Base wall from a wall file (JSON; rockwatch identify --wall-out): its fields and its r (unless --r)")
+      ->type_name("FILE.json");
   app.add_option("--b", texts.b, "Wall thickness b [m]")->type_name("M");
   app.add_option("--h1", texts.h1, "Bottom block height, ground to mid-height hinge [m]")->type_name("M");
   app.add_option("--h2", texts.h2, "Top block height, mid-height hinge to top restraint [m]")->type_name("M");
@@ -72,6 +76,15 @@ WallChoice parse_wall_options(const CLI::App& app, const WallOptionTexts& texts)
   }
   WallChoice choice;
   choice.name = texts.wall;
+  if (given(app, "--wall-file")) {
+    if (given(app, "--wall")) throw UsageError("--wall and --wall-file both name the base wall: give one");
+    if (texts.wall_file.empty()) throw UsageError("--wall-file needs a file name");
+    const WallFile file = read_wall_file("--wall-file", texts.wall_file);
+    choice.name = "file";
+    choice.wall = file.wall;
+    choice.wall_file_path = texts.wall_file;
+    choice.r_from_file = file.r;
+  }
   for (const WallField& f : kWallFields) {
     if (!given(app, f.option)) continue;
     choice.wall.*f.member = parse_finite_number(f.option, texts.*f.text);
@@ -80,6 +93,16 @@ WallChoice parse_wall_options(const CLI::App& app, const WallOptionTexts& texts)
   const core::WallCheck check = core::validate_wall(choice.wall);
   if (!check.ok()) report_invalid_wall(app, choice.wall, check);
   return choice;
+}
+
+core::Restitution restitution_of(const CLI::App& app, const WallChoice& wall, const std::string& r_text) {
+  if (!given(app, "--r") && wall.r_from_file) {
+    core::Restitution r;
+    r.kind = core::RestitutionKind::value;
+    r.value = *wall.r_from_file;
+    return r;
+  }
+  return parse_restitution("--r", r_text);
 }
 
 void check_computable(const core::WallParameters& wall, const sim::AnalysisOptions& options) {

@@ -25,5 +25,6 @@ int study_main(int argc, const char* const* argv);
 int replay_main(int argc, const char* const* argv);
 int demo_main(int argc, const char* const* argv);
 int dashboard_main(int argc, const char* const* argv);
+int identify_main(int argc, const char* const* argv);
 
 }  // namespace rockwatch::cli

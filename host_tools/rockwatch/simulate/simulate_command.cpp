@@ -1,5 +1,6 @@
 // `rockwatch simulate`: one record (pair) through sim::analyse, the engine every tool shares. This file only wires
 // the parts together and maps every failure to a one-line message and exit status 2; the CLI adds no physics.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
@@ -105,8 +106,25 @@ void check_out_paths(const SimulateRequest& q) {
   }
 }
 
+// --x0 without a record: the ground at rest, on a grid of --dt to --t-end (at least two samples).
+InputMotion ground_at_rest(const SimulateRequest& q) {
+  InputMotion in;
+  const double dt_s = q.ground_at_rest_dt_s;
+  const double t_end_s = q.analysis.t_end_s ? *q.analysis.t_end_s : 0.0;
+  const auto n = static_cast<std::size_t>(std::max(2.0, std::ceil(t_end_s / dt_s - 1e-9) + 1.0));
+  in.motion.dt_s = dt_s;
+  in.motion.ug_mps2.assign(n, 0.0);
+  in.horizontal.path = "(none: ground at rest)";
+  in.horizontal.format = "none";
+  in.horizontal.units = "m/s2";
+  in.horizontal.dt_s = dt_s;
+  in.horizontal.samples = n;
+  in.horizontal.description = "release test (--x0) on ground at rest";
+  return in;
+}
+
 int run(const SimulateRequest& q) {
-  const InputMotion input = prepare_input(InputRequest{q.record, q.scale_pga_g, q.wall.g_mps2});
+  const InputMotion input = q.ground_at_rest ? ground_at_rest(q) : prepare_input(InputRequest{q.record, q.scale_pga_g, q.wall.g_mps2});
   for (const std::string& note : input.notes) std::cerr << "note: " << note << '\n';
   check_work_size(q, input);
   check_out_paths(q);

@@ -235,6 +235,8 @@ nlohmann::ordered_json result_json(const SimulateRequest& q, const sim::Analysis
   j["duration_s"] = r.duration_s;
   j["model"] = model_name(q.analysis.model);
   j["kappa"] = q.analysis.kappa;
+  if (q.analysis.initial_x_m) j["x0_m"] = *q.analysis.initial_x_m;
+  if (q.wall_file_path) j["wall_file"] = *q.wall_file_path;
   if (q.arith_given) {
     j["arithmetic"] = arithmetic_name(r.arithmetic);
     if (r.arithmetic == sim::Arithmetic::fixed_point) j["saturated"] = r.saturated;
@@ -271,7 +273,7 @@ std::string summary_text(const SimulateRequest& q, const InputMotion& in, const 
   }
 
   out += "\nWall (per metre of wall)\n";
-  std::string base = q.wall_name + " wall (design paper, Table 2)";
+  std::string base = q.wall_file_path ? "wall file " + *q.wall_file_path : q.wall_name + " wall (design paper, Table 2)";
   if (!q.wall_options_given.empty()) {
     base += " with ";
     for (std::size_t i = 0; i < q.wall_options_given.size(); ++i) base += (i == 0 ? "" : ", ") + q.wall_options_given[i];

@@ -1,6 +1,7 @@
 #include "simulate/simulate_request.hpp"
 
 #include <cstdint>
+#include <cmath>
 #include <optional>
 #include <string>
 #include <utility>
@@ -30,7 +31,7 @@ struct RawOptions {
   AlarmOptionTexts alarm;
   std::string scale_pga;
   ObserverOptionTexts observer;
-  std::string r = "exp", model = "linear", kappa, max_step, t_end, out, engine_input_out;
+  std::string r = "exp", model = "linear", kappa, max_step, t_end, out, engine_input_out, x0;
   std::string wall_sensors, sensors_out, sensor_noise, sensor_bias, sensor_quantum, sensor_rate, sensor_accel_noise,
       sensor_seed;
   std::vector<std::string> sensor_dropouts;
@@ -97,6 +98,10 @@ void add_options(CLI::App& app, RawOptions& raw) {
   add_max_step_option(app, raw.max_step);
   app.add_option("--t-end", raw.t_end, "End of the forced phase [s] (default: record duration; zero input after it)")
       ->type_name("S");
+  app.add_option("--x0", raw.x0,
+                 "Release test (snap-back): the wall starts at x = X0 with no velocity and is followed until it rests; "
+                 "without --record/--suite the ground is at rest (sampled every --dt, default 0.005 s)")
+      ->type_name("M");
   app.add_option("--out", raw.out, "Write the time history (one row per integration step) as CSV")->type_name("FILE.csv");
   add_alarm_options(app, raw.alarm);
   app.add_option("--wall-sensors", raw.wall_sensors,
@@ -222,11 +227,30 @@ SimulateParse parse_simulate_arguments(int argc, const char* const* argv) {
   WallChoice wall = parse_wall_options(app, raw.wall);
   q.wall = wall.wall;
   q.wall_name = wall.name;
-  q.wall_options_given = std::move(wall.options_given);
-  q.record = parse_record_selection(app, raw.record, q.wall.g_mps2);
+  q.wall_options_given = wall.options_given;
+  q.wall_file_path = wall.wall_file_path;
+  if (given(app, "--x0")) {
+    const double x0_m = parse_finite_number("--x0", raw.x0);
+    if (!(std::fabs(x0_m) <= 1.0)) throw UsageError("--x0 must be a displacement in [-1, 1] m (got " + number_text(x0_m) + ")");
+    q.analysis.initial_x_m = x0_m;
+  }
+  if (q.analysis.initial_x_m && !given(app, "--record") && !given(app, "--suite")) {
+    // A snap-back test: no record, the ground at rest.
+    for (const char* option : {"--vertical", "--vertical-from-suite", "--channel", "--vertical-channel", "--gain",
+                               "--units", "--component", "--set", "--scale-pga"}) {
+      if (given(app, option)) throw UsageError(std::string(option) + " needs a record (--record or --suite); --x0 alone is a release test on ground at rest");
+    }
+    q.ground_at_rest = true;
+    if (given(app, "--dt")) {
+      q.ground_at_rest_dt_s = parse_positive_number("--dt", raw.record.dt, " s");
+      if (!(q.ground_at_rest_dt_s <= 1.0)) throw UsageError("--dt must be at most 1 s (got " + number_text(q.ground_at_rest_dt_s) + ")");
+    }
+  } else {
+    q.record = parse_record_selection(app, raw.record, q.wall.g_mps2);
+  }
   if (given(app, "--scale-pga")) q.scale_pga_g = parse_positive_number("--scale-pga", raw.scale_pga, " (a multiple of g)");
 
-  q.analysis.restitution = parse_restitution("--r", raw.r);
+  q.analysis.restitution = restitution_of(app, wall, raw.r);
   q.analysis.model = parse_model("--model", raw.model);
   check_computable(q.wall, q.analysis);
   parse_alarm_options(app, raw.alarm, q.analysis);

@@ -23,6 +23,7 @@ struct SimulateRequest {
   std::string wall_name = "paper";     // the base wall the --b … --a-prime options modify
   core::WallParameters wall = core::paper_wall();
   std::vector<std::string> wall_options_given;  // e.g. {"--b", "--h1"}, for the report
+  std::optional<std::string> wall_file_path;     // --wall-file: the base wall (and r unless --r) came from it
   sim::AnalysisOptions analysis;       // arithmetic, model, restitution, kappa, max step, t_end, alarm
   bool arith_given = false;            // --arith was given: the JSON says which arithmetic ran
   std::optional<std::string> out_csv_path;
@@ -36,6 +37,11 @@ struct SimulateRequest {
   // --engine-input-out FILE: the engine's configuration and every input it stepped on, for the Cortex-M4 replay
   // (scripts/m4-replay.sh; format: firmware/include/rockwatch/firmware/engine_input_format.hpp).
   std::optional<std::string> engine_input_out_path;
+  // --x0 M: a release (snap-back) test: the wall starts at x = x0 with no velocity (analysis.initial_x_m) and is
+  // followed until it rests. Without --record/--suite the ground is at rest, sampled every ground_at_rest_dt_s
+  // (--dt, default 0.005 s) to --t-end (default 0: free motion only).
+  bool ground_at_rest = false;
+  double ground_at_rest_dt_s = 0.005;
 };
 
 // Outcome of reading the command line: either a request to run, or text to print and an exit status

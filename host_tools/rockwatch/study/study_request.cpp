@@ -289,7 +289,12 @@ void parse_analysis(const CLI::App& app, const RawOptions& raw, StudyRequest& q)
       if (given(app, name)) throw UsageError(std::string(name) + " sets the wall observer: give --observer too");
     }
   }
-  q.restitutions = parse_restitution_list(raw.r);
+  if (q.wall.r_from_file && !given(app, "--r")) {
+    // A wall file's r is the one restitution case (its label the value), unless --r lists others.
+    q.restitutions = parse_restitution_list(number_text(*q.wall.r_from_file));
+  } else {
+    q.restitutions = parse_restitution_list(raw.r);
+  }
   for (const sim::study::RestitutionCase& c : q.restitutions) {
     sim::AnalysisOptions options = q.analysis;
     options.restitution = c.restitution;

@@ -148,6 +148,14 @@ class StepperAlarmChain {
     alarm_.reset();
   }
 
+  // A release test (snap-back): the wall held at displacement x and released with velocity ẋ under this input as
+  // the current one; alarm QUIET. Length/Speed are the stepper's formats (double, or LengthQ1_62 and SpeedQ3_60).
+  template <typename Length, typename Speed>
+  void reset_released(Length x_m, Speed xd_mps, Input ug_mps2, Input vg_mps2) {
+    reset(ug_mps2, vg_mps2);
+    stepper_.set_state(x_m, xd_mps, ug_mps2, vg_mps2);
+  }
+
   // The stepper through one sample to this input (callers that do not need the indicators this sample).
   // on_substep(j, report, ug, vg) runs after each sub-step j = 1..n with that sub-step's report and input.
   // All at once: the queue of run() must be empty.

@@ -41,6 +41,10 @@ struct AnalysisOptions {
   double max_step_s = core::kDefaultMaxStep_s;  // longest integration step: ceil(dt / max_step) sub-steps per
                                         // record sample (at most core::kMaxSubsteps) [s]
   std::optional<double> t_end_s;        // integrate the input to this time (zero input past the record) [s]
+  // A release (snap-back) test: the wall starts at x = initial_x_m with ẋ = 0 instead of at rest, and the free
+  // motion after the record goes on until the wall is at rest (or collapses), not only until it is safe, so the
+  // whole decay is integrated. None: the wall starts at rest [m].
+  std::optional<double> initial_x_m;
   double free_motion_limit_s = 600.0;   // longest free motion after t_end before giving up [s]
   bool keep_history = false;            // fill AnalysisResult::history (one row per integration step)
   std::size_t max_impacts_kept = 32;    // impacts listed in AnalysisResult::impacts

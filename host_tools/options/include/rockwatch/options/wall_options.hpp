@@ -3,11 +3,13 @@
 // agree on what a valid wall is, with messages that name the option at fault.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 
+#include "rockwatch/core/restitution.hpp"
 #include "rockwatch/core/wall.hpp"
 #include "rockwatch/sim/analysis.hpp"
 
@@ -16,17 +18,24 @@ namespace rockwatch::options {
 // The options as typed; parse_wall_options converts and checks them, so every message has one form.
 struct WallOptionTexts {
   std::string wall = "paper";
+  std::string wall_file;   // --wall-file FILE.json (rockwatch/options/wall_file.hpp)
   std::string b, h1, h2, rho, fp, a, a_prime, g;
 };
 
-// Registers --wall, --b, --h1, --h2, --rho, --fp, --a, --a-prime and --g, in that order.
+// Registers --wall, --wall-file, --b, --h1, --h2, --rho, --fp, --a, --a-prime and --g, in that order.
 void add_wall_options(CLI::App& app, WallOptionTexts& texts);
 
 struct WallChoice {
   std::string name = "paper";                   // the base wall the field options modify
   core::WallParameters wall = core::paper_wall();
   std::vector<std::string> options_given;       // e.g. {"--b", "--h1"}, for the reports
+  // --wall-file: the base wall is the file's (name "file"), and its r is the restitution unless --r is given.
+  std::optional<std::string> wall_file_path;
+  std::optional<double> r_from_file;            // [-]
 };
+
+// The restitution of a tool: --r when given, else the wall file's r, else r_text (the tool's default).
+core::Restitution restitution_of(const CLI::App& app, const WallChoice& wall, const std::string& r_text);
 
 // The base wall with the given fields replaced. Throws UsageError naming the option at fault, and saying when its
 // value was the base wall's rather than the user's.

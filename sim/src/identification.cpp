@@ -1,0 +1,410 @@
+#include "rockwatch/sim/identification.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "rockwatch/core/restitution.hpp"
+
+namespace rockwatch::sim {
+
+ReducedParameters reduced_parameters(const core::WallParameters& wall) {
+  const core::ModelConstants<double> c = core::model_constants(wall, core::ModelKind::linear);
+  ReducedParameters r;
+  double c_min = std::numeric_limits<double>::infinity();
+  for (const core::Side side : {core::Side::negative, core::Side::positive}) {
+    const core::Coefficients<double> k = core::evaluate(c, side, 0.0, wall.g_mps2);
+    const int i = core::side_index(side);
+    r.c_mps2[i] = std::fabs(k.p6) / k.p1;
+    r.k_ps2 = std::fabs(k.p4) / k.p1;
+    c_min = std::min(c_min, r.c_mps2[i]);
+  }
+  r.gamma = c.c6_u / c.c1;
+  r.x_inst_m = c_min / r.k_ps2;
+  r.omega_radps = std::sqrt(r.k_ps2);
+  r.threshold_mps2 = c_min / r.gamma;
+  return r;
+}
+
+namespace {
+
+std::string text(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+// θ: the fitted parameters. kX0 only for a snap-back test.
+enum : int { kB = 0, kScale = 1, kE = 2, kOffset = 3, kX0 = 4 };
+
+class Problem {
+ public:
+  explicit Problem(const IdentificationInput& in) : in_(in) {
+    for (const core::WallSensorSample& s : in.samples) {
+      if (!s.x_valid || s.utime_us < 0) continue;
+      t_s_.push_back(double(s.utime_us) * 1e-6);
+      z_m_.push_back(s.x_mid_m);
+    }
+    snap_back_ = in.ground == nullptr;
+    if (snap_back_) {
+      quiet_.dt_s = 0.005;
+      quiet_.ug_mps2.assign(2, 0.0);
+    }
+  }
+
+  const std::vector<double>& t_s() const { return t_s_; }
+  const std::vector<double>& z_m() const { return z_m_; }
+  bool snap_back() const { return snap_back_; }
+  int n_params() const { return snap_back_ ? 5 : 4; }
+  int evaluations() const { return evaluations_; }
+
+  core::WallParameters wall_of(const Eigen::VectorXd& th) const {
+    core::WallParameters w = in_.start_wall;
+    w.b_m = th(kB);
+    w.h1_m = in_.start_wall.h1_m * th(kScale);
+    w.h2_m = in_.start_wall.h2_m * th(kScale);
+    return w;
+  }
+
+  bool feasible(const Eigen::VectorXd& th) const {
+    if (!th.allFinite()) return false;
+    if (!(th(kE) >= 0.0 && th(kE) <= 1.0)) return false;
+    const double b0 = in_.start_wall.b_m;
+    if (!(th(kB) > 0.2 * b0 && th(kB) < 5.0 * b0 && th(kScale) > 0.2 && th(kScale) < 5.0)) return false;
+    if (snap_back_ && !(std::fabs(th(kX0)) < 1.0)) return false;
+    return core::validate_wall(wall_of(th)).ok();
+  }
+
+  // The response x(t_i) at the sample times (without the offset); false when θ is outside the model's range.
+  // Counted impacts of the response in `impacts`.
+  bool response(const Eigen::VectorXd& th, std::vector<double>& x, int* impacts = nullptr) {
+    if (!feasible(th)) return false;
+    ++evaluations_;
+    AnalysisOptions o;
+    o.model = in_.model;
+    o.max_step_s = in_.max_step_s;
+    o.kappa = in_.kappa;
+    o.restitution.kind = core::RestitutionKind::value;
+    o.restitution.value = th(kE) * th(kE);
+    o.keep_history = true;
+    o.max_impacts_kept = 0;
+    o.t_end_s = t_s_.back();
+    o.free_motion_limit_s = 0.0;
+    if (snap_back_) o.initial_x_m = th(kX0);
+    AnalysisResult r;
+    try {
+      r = analyse(wall_of(th), snap_back_ ? quiet_ : *in_.ground, o);
+    } catch (const AnalysisError&) {
+      return false;
+    }
+    if (impacts) *impacts = r.n_impacts;
+    const std::vector<HistoryRow>& h = r.history;
+    x.resize(t_s_.size());
+    std::size_t j = 0;
+    for (std::size_t i = 0; i < t_s_.size(); ++i) {
+      const double t = t_s_[i];
+      if (h.empty()) {
+        x[i] = 0.0;
+      } else if (t <= h.front().t_s) {
+        x[i] = h.front().x_m;
+      } else if (t >= h.back().t_s) {
+        x[i] = h.back().x_m;  // at rest (or collapsed) before the record's end
+      } else {
+        while (h[j + 1].t_s < t) ++j;
+        const double u = (t - h[j].t_s) / (h[j + 1].t_s - h[j].t_s);
+        x[i] = h[j].x_m + u * (h[j + 1].x_m - h[j].x_m);
+      }
+    }
+    for (double v : x) {
+      if (!std::isfinite(v)) return false;
+    }
+    return true;
+  }
+
+  // Residuals z − (x + offset); false when infeasible.
+  bool residuals(const Eigen::VectorXd& th, Eigen::VectorXd& res, int* impacts = nullptr) {
+    std::vector<double> x;
+    if (!response(th, x, impacts)) return false;
+    res.resize(Eigen::Index(x.size()));
+    for (std::size_t i = 0; i < x.size(); ++i) res(Eigen::Index(i)) = z_m_[i] - (x[i] + th(kOffset));
+    return true;
+  }
+
+  // Central differences (one-sided at a bound); the offset's column is exact (−1).
+  bool jacobian(const Eigen::VectorXd& th, Eigen::MatrixXd& jac) {
+    const Eigen::Index n = Eigen::Index(t_s_.size());
+    jac.resize(n, n_params());
+    Eigen::VectorXd plus, minus;
+    for (int p = 0; p < n_params(); ++p) {
+      if (p == kOffset) {
+        jac.col(p).setConstant(-1.0);
+        continue;
+      }
+      double h = 0.0;
+      switch (p) {
+        case kB: h = 1e-5 * th(kB); break;
+        case kScale: h = 1e-5; break;
+        case kE: h = 1e-5; break;
+        default: h = 1e-5 * std::fabs(th(kX0)) + 1e-7; break;
+      }
+      Eigen::VectorXd a = th, b = th;
+      a(p) += h;
+      b(p) -= h;
+      const bool ok_a = residuals(a, plus);
+      const bool ok_b = residuals(b, minus);
+      if (ok_a && ok_b) {
+        jac.col(p) = (plus - minus) / (2.0 * h);
+      } else {
+        Eigen::VectorXd base;
+        if (!residuals(th, base)) return false;
+        if (ok_a) {
+          jac.col(p) = (plus - base) / h;
+        } else if (ok_b) {
+          jac.col(p) = (base - minus) / h;
+        } else {
+          return false;
+        }
+      }
+    }
+    return true;
+  }
+
+ private:
+  const IdentificationInput& in_;
+  std::vector<double> t_s_, z_m_;
+  bool snap_back_ = false;
+  GroundMotion quiet_;
+  int evaluations_ = 0;
+};
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  const std::size_t m = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(m), v.end());
+  return v[m];
+}
+
+// σ of the transducer's noise from the first differences (robust: the median absolute difference), and whether the
+// record moves at all beyond it.
+struct DataCheck {
+  double noise_m = 0.0;
+  double spread_m = 0.0;  // max |z − median z|
+};
+
+DataCheck check_data(const std::vector<double>& z) {
+  DataCheck d;
+  std::vector<double> diffs;
+  for (std::size_t i = 1; i < z.size(); ++i) diffs.push_back(std::fabs(z[i] - z[i - 1]));
+  d.noise_m = median(diffs) / 0.6745 / std::sqrt(2.0);
+  const double mid = median(z);
+  for (double v : z) d.spread_m = std::max(d.spread_m, std::fabs(v - mid));
+  return d;
+}
+
+}  // namespace
+
+IdentificationResult identify(const IdentificationInput& in) {
+  {
+    const core::WallCheck wc = core::validate_wall(in.start_wall);
+    if (!wc.ok()) throw AnalysisError(std::string("starting wall parameter ") + wc.field + " " + wc.message);
+  }
+  if (in.model != core::ModelKind::linear) {
+    throw AnalysisError("identification fits the linear model (SPEC §9): the full model is not supported");
+  }
+  Problem problem(in);
+  const std::vector<double>& t = problem.t_s();
+  const std::vector<double>& z = problem.z_m();
+  const std::size_t n = t.size();
+  if (n == 0) {
+    throw IdentificationError("no displacement samples (x_mid_m) at t >= 0: identification needs the displacement "
+                              "transducer at the mid-height hinge");
+  }
+  if (n < 20 || t.back() - t.front() < 0.5) {
+    throw IdentificationError("too short: " + std::to_string(n) + " displacement samples over " +
+                              text(t.back() - t.front()) + " s (at least 20 samples over 0.5 s are needed)");
+  }
+  const DataCheck data = check_data(z);
+  if (data.spread_m < std::max(1e-3, 8.0 * data.noise_m)) {
+    throw IdentificationError("at rest throughout: the displacement varies by at most " + text(data.spread_m) +
+                              " m about its median (noise " + text(data.noise_m) +
+                              " m); a test must move the wall by more than 1 mm and 8 times the noise");
+  }
+
+  const int np = problem.n_params();
+  const double r_start = in.start_r > 0.0 ? in.start_r : core::restitution_energy_ratio(in.start_wall, core::Restitution{});
+  // The start: the starting wall, r, an offset and x0 from the data. A snap-back test ends at rest: its last tenth
+  // is the offset; without rest the median is the best guess.
+  Eigen::VectorXd start(np);
+  start(kB) = in.start_wall.b_m;
+  start(kScale) = 1.0;
+  start(kE) = std::sqrt(std::clamp(r_start, 0.0, 1.0));
+  {
+    const std::size_t tail = std::max<std::size_t>(n / 10, 1);
+    const std::vector<double> last(z.end() - std::ptrdiff_t(tail), z.end());
+    const DataCheck end = check_data(last);
+    start(kOffset) = end.spread_m < std::max(1e-3, 6.0 * data.noise_m) ? median(last) : median(z);
+  }
+  if (problem.snap_back()) start(kX0) = z.front() - start(kOffset);
+
+  // A coarse grid around the start (thickness ±25 %, heights ×0.45…1.5: an overburden of a few kN/m looks like a
+  // shorter wall, SPEC §9; r 0.7…0.98), the offset solved exactly at each point; the best point starts the fit.
+  const auto cost_of = [&](Eigen::VectorXd& th, bool solve_offset) {
+    Eigen::VectorXd res;
+    if (!problem.residuals(th, res)) return std::numeric_limits<double>::infinity();
+    if (solve_offset) {
+      const double shift = res.mean();
+      th(kOffset) += shift;
+      res.array() -= shift;
+      if (problem.snap_back()) {
+        // x0 follows the offset: the first reading is x0 + offset.
+        th(kX0) -= shift;
+        if (!problem.residuals(th, res)) return std::numeric_limits<double>::infinity();
+      }
+    }
+    return res.squaredNorm();
+  };
+  Eigen::VectorXd best = start;
+  double best_cost = cost_of(best, false);
+  const double b_factors[] = {0.75, 0.8, 0.85, 0.9, 0.95, 1.0, 1.05, 1.1, 1.15, 1.2, 1.25};
+  const double scales[] = {0.45, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.15, 1.3, 1.5};
+  const double rs[] = {0.7, 0.8, 0.88, 0.94, 0.98};
+  for (double fb : b_factors) {
+    for (double sc : scales) {
+      for (double rv : rs) {
+        Eigen::VectorXd th = start;
+        th(kB) = start(kB) * fb;
+        th(kScale) = sc;
+        th(kE) = std::sqrt(rv);
+        const double c = cost_of(th, true);
+        if (c < best_cost) {
+          best_cost = c;
+          best = th;
+        }
+      }
+    }
+  }
+  if (!std::isfinite(best_cost)) {
+    throw IdentificationError("the model cannot follow this record from the starting wall (every trial left the "
+                              "model's range): check the starting wall and the record");
+  }
+
+  // Levenberg–Marquardt (Marquardt's scaling by diag JᵀJ).
+  Eigen::VectorXd th = best;
+  Eigen::VectorXd res;
+  problem.residuals(th, res);
+  double cost = res.squaredNorm();
+  double lambda = 1e-3;
+  Eigen::MatrixXd jac;
+  IdentificationResult out;
+  out.snap_back = problem.snap_back();
+  for (int it = 0; it < in.max_iterations; ++it) {
+    out.iterations = it + 1;
+    if (!problem.jacobian(th, jac)) break;
+    const Eigen::MatrixXd jtj = jac.transpose() * jac;
+    const Eigen::VectorXd jtr = jac.transpose() * res;
+    bool improved = false;
+    for (int tries = 0; tries < 12; ++tries) {
+      Eigen::MatrixXd a = jtj;
+      for (int p = 0; p < np; ++p) a(p, p) += lambda * std::max(jtj(p, p), 1e-30);
+      const Eigen::VectorXd step = a.ldlt().solve(-jtr);
+      Eigen::VectorXd trial = th + step;
+      Eigen::VectorXd trial_res;
+      if (problem.residuals(trial, trial_res) && trial_res.squaredNorm() < cost) {
+        const double new_cost = trial_res.squaredNorm();
+        const double change = (cost - new_cost) / std::max(cost, 1e-300);
+        const double rel_step = (step.array().abs() / (th.array().abs() + 1e-6)).maxCoeff();
+        th = trial;
+        res = trial_res;
+        cost = new_cost;
+        lambda = std::max(lambda / 10.0, 1e-12);
+        improved = true;
+        if (change < 1e-12 || rel_step < 1e-9) out.converged = true;
+        break;
+      }
+      lambda *= 10.0;
+    }
+    if (!improved) {
+      out.converged = true;  // no step lowers the cost: a minimum to the finite differences' precision
+      break;
+    }
+    if (out.converged) break;
+  }
+
+  int impacts = 0;
+  std::vector<double> x;
+  problem.response(th, x, &impacts);
+  out.n_impacts = impacts;
+  if (impacts == 0) {
+    throw IdentificationError("no impact: the fitted response never crosses x = 0 with |x'| >= 1 mm/s, so r (and "
+                              "the capacity) are not identified; a test must rock the wall through its vertical");
+  }
+  if (!problem.jacobian(th, jac)) {
+    throw IdentificationError("the fit ended at the edge of the model's range: the record does not identify the wall");
+  }
+  const Eigen::MatrixXd jtj = jac.transpose() * jac;
+  // Scaled to unit diagonal, the normal matrix's conditioning says whether the parameters are separately identified.
+  Eigen::VectorXd d = jtj.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
+  const Eigen::MatrixXd scaled = d.asDiagonal() * jtj * d.asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(scaled);
+  const double cond = eig.eigenvalues().maxCoeff() / std::max(eig.eigenvalues().minCoeff(), 1e-300);
+  if (!(cond < 1e12) || (jtj.diagonal().array() <= 0.0).any()) {
+    throw IdentificationError("the record does not identify the wall: the fit's normal matrix is singular "
+                              "(condition number " + text(cond) + "): the motion does not separate thickness, "
+                              "stiffness and r");
+  }
+  const double dof = double(n) - double(np);
+  const double s2 = dof > 0 ? cost / dof : 0.0;
+  const Eigen::MatrixXd cov = s2 * jtj.inverse();
+
+  out.wall = problem.wall_of(th);
+  out.reduced = reduced_parameters(out.wall);
+  out.r = th(kE) * th(kE);
+  out.sigma_r = 2.0 * th(kE) * std::sqrt(std::max(0.0, cov(kE, kE)));
+  out.offset_m = th(kOffset);
+  out.sigma_offset_m = std::sqrt(std::max(0.0, cov(kOffset, kOffset)));
+  if (problem.snap_back()) {
+    out.x0_m = th(kX0);
+    out.sigma_x0_m = std::sqrt(std::max(0.0, cov(kX0, kX0)));
+  }
+  out.sigma_b_m = std::sqrt(std::max(0.0, cov(kB, kB)));
+  out.sigma_h1_m = in.start_wall.h1_m * std::sqrt(std::max(0.0, cov(kScale, kScale)));
+  out.sigma_h2_m = in.start_wall.h2_m * std::sqrt(std::max(0.0, cov(kScale, kScale)));
+  // The derived parameters' errors by the delta method over (b, scale).
+  {
+    const auto derived = [&](double db, double ds) {
+      Eigen::VectorXd p = th;
+      p(kB) += db;
+      p(kScale) += ds;
+      const ReducedParameters rp = reduced_parameters(problem.wall_of(p));
+      return std::array<double, 4>{rp.x_inst_m, rp.omega_radps, rp.k_ps2, std::min(rp.c_mps2[0], rp.c_mps2[1])};
+    };
+    const double hb = 1e-6 * th(kB), hs = 1e-6;
+    const std::array<double, 4> bp = derived(hb, 0), bm = derived(-hb, 0), sp = derived(0, hs), sm = derived(0, -hs);
+    std::array<double, 4> sig{};
+    for (int q = 0; q < 4; ++q) {
+      Eigen::Vector2d g((bp[q] - bm[q]) / (2 * hb), (sp[q] - sm[q]) / (2 * hs));
+      Eigen::Matrix2d c2;
+      c2 << cov(kB, kB), cov(kB, kScale), cov(kScale, kB), cov(kScale, kScale);
+      sig[q] = std::sqrt(std::max(0.0, double(g.transpose() * c2 * g)));
+    }
+    out.sigma_x_inst_m = sig[0];
+    out.sigma_omega_radps = sig[1];
+    out.sigma_k_ps2 = sig[2];
+    out.sigma_c_mps2 = sig[3];
+  }
+  out.residual_rms_m = std::sqrt(cost / double(n));
+  out.samples_used = n;
+  out.model_evaluations = problem.evaluations();
+  out.t_s = t;
+  out.measured_m = z;
+  out.fitted_m.resize(n);
+  for (std::size_t i = 0; i < n; ++i) out.fitted_m[i] = x[i] + th(kOffset);
+  return out;
+}
+
+}  // namespace rockwatch::sim
