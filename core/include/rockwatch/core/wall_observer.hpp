@@ -64,6 +64,8 @@ struct ObserverOptions {
   std::int32_t stuck_after = 40;        // identical consecutive displacement readings while rocking: stuck
   double quiet_fraction = 0.5;          // the ground is quiet when |ü| < this × the smaller start threshold [-]
   double v_min_mps = 0.01;              // |ẋ⁻| floor in the saltation matrix (bounds it at grazing impacts) [m/s]
+  double inform_sigmas = 3.0;           // an impact informs √r only when |ẋ⁻| ≥ this × σ(ẋ⁻) and ≥ v_min [-]
+  double inform_peak_noises = 10.0;     // … and the half-cycle before it peaked at ≥ this × x_noise [-]
 };
 
 // Why init() refused. Values are stable: append, never renumber.
@@ -106,7 +108,8 @@ inline ObserverError validate_observer_options(const ObserverOptions& o) {
   if (!(o.dropout_s > 0.0 && o.dropout_s <= 60.0 && in(o.max_age_s, 0.0, 10.0)))
     return ObserverError::timing_out_of_range;
   if (!(o.x_range_m > 0.0 && o.x_range_m <= 2.0 && o.a_range_mps2 > 0.0 && o.a_range_mps2 <= 128.0 &&
-        in(o.quiet_fraction, 0.0, 1.0) && o.v_min_mps > 0.0 && o.v_min_mps <= 1.0))
+        in(o.quiet_fraction, 0.0, 1.0) && o.v_min_mps > 0.0 && o.v_min_mps <= 1.0 && in(o.inform_sigmas, 0.0, 100.0) &&
+        in(o.inform_peak_noises, 0.0, 1000.0)))
     return ObserverError::range_out_of_range;
   return ObserverError::ok;
 }
@@ -278,6 +281,8 @@ class WallObserver {
     g_over_h1_ = Scalar(setup.g_mps2 / wall.h1_m);
     inv_h1_ = Scalar(1.0 / wall.h1_m);
     v_min_ = Scalar(o.v_min_mps);
+    inform_var_ = Scalar(o.inform_sigmas * o.inform_sigmas);
+    inform_peak_var_ = Scalar(o.inform_peak_noises * o.inform_peak_noises);
     x_range_ = o.x_range_m;
     a_range_ = o.a_range_mps2;
     us_to_s_ = Scalar(1e-6);
@@ -315,6 +320,7 @@ class WallObserver {
     have_last_raw_ = false;
     last_raw_x_ = 0.0;
     impact_last_step_ = false;
+    peak_x_ = Scalar(0);
     last_innovation_x_ = Scalar(0);
     last_innovation_a_ = Scalar(0);
     innovation_x_sq_sum_ = Scalar(0);
@@ -472,8 +478,20 @@ class WallObserver {
         j(X, X) = e_;
         j(V, X) = (a_after - e_ * a_before) / v_floored;
         j(V, V) = e_;
-        j(V, E) = v;
+        // The impact informs e only when it is certain: |ẋ⁻| well above its own uncertainty (inform_sigmas σ).
+        // Below, whether the real wall hit the hinge at all is a coin toss decided by the sensor noise (a wall
+        // rocking at sub-noise amplitude, or one the corrections push across the hinge): the linearised jump would
+        // attribute that noise to e and drag r̂ far from the truth with a confident σ. There the velocity jump
+        // (1 − e)·ẋ⁻ is treated as noise instead.
+        const bool certain = v * v >= inform_var_ * p_(V, V) && abs(v) >= v_min_ &&
+                             peak_x_ * peak_x_ >= inform_peak_var_ * r_x_;
+        peak_x_ = Scalar(0);
+        if (certain) j(V, E) = v;
         p_ = (j * p_ * j.transpose()).eval();
+        if (!certain) {
+          const Scalar jump = (Scalar(1) - e_) * v;
+          p_(V, V) = p_(V, V) + jump * jump;
+        }
       }
       p_ += q_;
     } else {
@@ -481,6 +499,9 @@ class WallObserver {
       p_(B, B) += q_(B, B);
     }
     if (!stepper.moving()) zero_motion_covariance();
+    const Scalar x_now = abs(Traits::x(stepper));
+    if (!stepper.moving()) peak_x_ = Scalar(0);
+    else if (x_now > peak_x_) peak_x_ = x_now;
   }
 
   // One scalar measurement: innovation y with H = h (4-vector), variance r. Returns false when gated out.
@@ -621,6 +642,7 @@ class WallObserver {
   Scalar ha_[2]{};     // accelerometer sensitivity to x per side [1/s²]
   Scalar r_x_{}, r_a_{}, gate_{}, g_over_h1_{}, v_min_{}, us_to_s_{}, reinit_v_var_{}, quiet_ug_{};
   Scalar inv_h1_{};     // 1/h1 [1/m]
+  Scalar inform_var_{}, inform_peak_var_{};  // inform_sigmas², inform_peak_noises² [-]
   Scalar e0_{}, e_sigma0_{}, b_sigma0_{};
   double x_range_ = 0.5, a_range_ = 80.0;
   std::int64_t dropout_us_ = 250000, max_age_us_ = 50000;
@@ -640,6 +662,7 @@ class WallObserver {
   bool have_last_raw_ = false;
   double last_raw_x_ = 0.0;
   bool impact_last_step_ = false;
+  Scalar peak_x_{};  // the model's largest |x| since the last impact (the half-cycle's amplitude) [m]
   Scalar last_innovation_x_{}, last_innovation_a_{}, innovation_x_sq_sum_{};
 };
 
