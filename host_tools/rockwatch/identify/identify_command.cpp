@@ -1,5 +1,7 @@
 // `rockwatch identify`: a wall from a test record (SPEC §9) through sim::identify — the engine every tool shares —
 // reported as text or JSON, drawn (--plot), and written as a wall file (--wall-out) that the other tools read.
+#include <malloc.h>
+
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -131,6 +133,11 @@ std::string summary_text(const IdentifyRequest& q, const sim::IdentificationResu
 }
 
 int run(const IdentifyRequest& q) {
+  // The fit runs the engine about a thousand times, each run keeping a history of the record's length (about 1 MB
+  // for 10 s): keep freed memory in the heap for the next run instead of returning it to the system at every run
+  // (mmap/munmap and page faults were half the run time, docs/BENCHMARKS.md).
+  mallopt(M_MMAP_THRESHOLD, 256 * 1024 * 1024);
+  mallopt(M_TRIM_THRESHOLD, 512 * 1024 * 1024);
   sim::IdentificationInput in;
   in.start_wall = q.start_wall;
   in.start_r = core::restitution_energy_ratio(q.start_wall, q.start_r);
