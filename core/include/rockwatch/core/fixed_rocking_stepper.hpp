@@ -170,6 +170,7 @@ class FixedRockingStepper : public RockingSegments<FixedRockingStepper, FixedRoc
 
   FixedSetupError init(const StepperSetup<double>& setup) {
     const FixedSetupError e = make_fixed_setup(setup, setup_);
+    nominal_ = setup_;
     reset(AccelQ7_56{}, AccelQ7_56{});
     return e;
   }
@@ -218,6 +219,25 @@ class FixedRockingStepper : public RockingSegments<FixedRockingStepper, FixedRoc
 
   // The velocity ratio at impact √r from now on (the observer's estimate of the real wall's restitution).
   void set_sqrt_r(FractionQ1_62 sqrt_r) { setup_.sqrt_r = sqrt_r; }
+
+  // The wall's capacity and stiffness from now on (the observer's estimate, SPEC §9), as RockingStepper's: f's
+  // gravity and overburden parts times kc, k's times kk, x_inst and κ·x_inst times kc/kk; (ug, vg) is the current
+  // input (the start of the next step's ramp, recomputed with the new constants). Only the observer calls this.
+  // Scaling and overflow: the observer keeps kc, kk in [0.25, 4] and kc/kk in [0.3, 2]; masonry walls have |f| and
+  // |k| far below a quarter of their formats' ranges (paper wall: 1.7 m/s², 16.5 1/s²); x_collapse·kc/kk beyond
+  // ±2 m saturates (flagged through the state like any other saturation).
+  void set_capacity_scales(GainQ4_59 kc, GainQ4_59 kk, AccelQ7_56 ug_mps2, AccelQ7_56 vg_mps2) {
+    const GainQ4_59 ratio = wide_div<GainQ4_59>(kc, kk);
+    for (int i = 0; i < 2; ++i) {
+      setup_.f_fp_mps2[i] = wide_mul<AccelQ7_56>(kc, nominal_.f_fp_mps2[i]);
+      setup_.k_fp_ps2[i] = wide_mul<StiffQ8_55>(kk, nominal_.k_fp_ps2[i]);
+      setup_.x_inst_m[i] = wide_mul<LengthQ1_62>(ratio, nominal_.x_inst_m[i]);
+      setup_.x_collapse_m[i] = wide_mul<LengthQ1_62>(ratio, nominal_.x_collapse_m[i]);
+    }
+    setup_.f_g = wide_mul<GainQ4_59>(kc, nominal_.f_g);
+    setup_.k_g_pm = wide_mul<GainQ4_59>(kk, nominal_.k_g_pm);
+    coefficients(ug_mps2, vg_mps2, f_prev_, k_prev_);
+  }
 
   LengthQ1_62 x_m() const { return state_.x_m; }
   SpeedQ3_60 xd_mps() const { return state_.xd_mps; }
@@ -403,6 +423,7 @@ class FixedRockingStepper : public RockingSegments<FixedRockingStepper, FixedRoc
   }
 
   FixedStepperSetup setup_{};
+  FixedStepperSetup nominal_{};  // the setup as made by init() (set_capacity_scales scales from it)
   AccelQ7_56 f_prev_[2]{};  // f and k of both sides at the start of the step (the previous input)
   StiffQ8_55 k_prev_[2]{};
   AccelQ7_56 f_end_[2]{};   // and at its end (this step's input)

@@ -104,6 +104,7 @@ class RockingStepper : public RockingSegments<RockingStepper<Scalar>, RockingSte
 
   void init(const StepperSetup<Scalar>& setup) {
     setup_ = setup;
+    nominal_ = setup;
     reset(Scalar(0), Scalar(0));
   }
 
@@ -156,6 +157,24 @@ class RockingStepper : public RockingSegments<RockingStepper<Scalar>, RockingSte
 
   // The velocity ratio at impact √r from now on (the observer's estimate of the real wall's restitution).
   void set_sqrt_r(Scalar sqrt_r) { setup_.sqrt_r = sqrt_r; }
+
+  // The wall's capacity and stiffness from now on (the observer's estimate, SPEC §9): c_s (the gravity and overburden
+  // parts of p6) times kc, k (those of p4, and of p5) times kk, so x_inst and κ·x_inst scale by kc/kk. The ground's
+  // terms (γ, the ü·x term) stay. (1, 1) is the setup's wall; only the observer calls this (open loop never does).
+  void set_capacity_scales(Scalar kc, Scalar kk) {
+    ModelConstants<Scalar>& m = setup_.model;
+    const ModelConstants<Scalar>& n = nominal_.model;
+    for (int i = 0; i < 2; ++i) {
+      m.c6_fp[i] = n.c6_fp[i] * kc;
+      m.c4_fp[i] = n.c4_fp[i] * kk;
+      setup_.x_inst_m[i] = nominal_.x_inst_m[i] * kc / kk;
+      setup_.x_collapse_m[i] = nominal_.x_collapse_m[i] * kc / kk;
+    }
+    m.c6_g = n.c6_g * kc;
+    m.c4_g = n.c4_g * kk;
+    m.c5_fp = n.c5_fp * kk;
+    m.c5_g = n.c5_g * kk;
+  }
 
   const MotionState<Scalar>& state() const { return this->state_; }
   const StepperSetup<Scalar>& setup() const { return setup_; }
@@ -260,6 +279,7 @@ class RockingStepper : public RockingSegments<RockingStepper<Scalar>, RockingSte
   }
 
   StepperSetup<Scalar> setup_{};
+  StepperSetup<Scalar> nominal_{};  // the setup as given (set_capacity_scales scales from it)
   Scalar ug_prev_{}, vg_prev_{};
   Scalar ug_next_{}, vg_next_{};
   bool step_done_ = true;  // the step's segments are done (or there were none to do)

@@ -1,13 +1,21 @@
 // The wall observer: fuses wall-mounted sensors (SPEC §8) with the rocking model so that the monitor follows the
 // real wall, not a nominal one running open loop on the ground motion.
 //
-// A hybrid extended Kalman filter on z = (x, ẋ, e, b):
+// A hybrid extended Kalman filter on z = (x, ẋ, e, b, κc, κk):
 //   x, ẋ   the mid-height hinge displacement and velocity [m, m/s]; their mean IS the rocking stepper's state (the
 //          stepper propagates it with its impacts, start and rest logic; the observer corrects it after each step);
 //   e      √r, the velocity ratio at impact [-] (r̂ = ê², fed back into the stepper after every correction);
-//   b      the zero offset of the displacement transducer [m].
+//   b      the zero offset of the displacement transducer [m];
+//   κc, κk multiplicative corrections to the nominal wall's capacity c_s and stiffness k (SPEC §9: ẍ = −γü − s·c_s
+//          + k·x on side s, divided by p1), prior 1 ± capacity_sigma0 each; the stepper propagates the mean with
+//          κc·c_s and κk·k (set_capacity_scales after every correction), so x_inst = κc/κk·x_inst,nominal,
+//          ω = √(κk·k), the energy barrier per unit p1 (κc c_s)²/(2 κk k). Estimates leaving the physical range
+//          (κ outside [0.25, 4], κc/κk outside [0.3, 2], e outside [0, 1]) are clamped and flagged (estimate_clamped).
 // Between impacts the covariance follows the linearised model of the current side (the stepper's own Newmark step
-// with the nominal stiffness k_s = p4/p1 at ü = 0, G = g) with white model-acceleration noise. At an impact it
+// with the estimated stiffness κk·k_s, k_s = p4/p1 at ü = 0, G = g) with white model-acceleration noise; the columns
+// of κc and κk are the derivatives of that Newmark step: with f_c = ∂ẍ/∂κc = −s·c_s, D = 1 + h²κk k_s/4,
+//   ∂x₁/∂κc = h² f_c/(2D),  ∂ẋ₁/∂κc = h/2·(2 f_c − κk k_s ∂x₁/∂κc),
+//   ∂x₁/∂κk = −h² k_s (x₀ + x₁)/(4D),  ∂ẋ₁/∂κk = h/2·(−k_s (x₀ + x₁) − κk k_s ∂x₁/∂κk). At an impact it
 // follows the impact map through its saltation matrix: the guard is x = 0 and the reset ẋ⁺ = e·ẋ⁻, so
 //   δx⁺ = e δx⁻,  δẋ⁺ = (a⁺ − e a⁻)/ẋ⁻ · δx⁻ + e δẋ⁻ + ẋ⁻ δe
 // (a∓ the accelerations on the two sides at the hinge). The ẋ⁻ δe term is what makes r identifiable: the motion
@@ -66,6 +74,11 @@ struct ObserverOptions {
   double v_min_mps = 0.01;              // |ẋ⁻| floor in the saltation matrix (bounds it at grazing impacts) [m/s]
   double inform_sigmas = 3.0;           // an impact informs √r only when |ẋ⁻| ≥ this × σ(ẋ⁻) and ≥ v_min [-]
   double inform_peak_noises = 10.0;     // … and the half-cycle before it peaked at ≥ this × x_noise [-]
+  double capacity_sigma0 = 0.15;        // prior σ of κc and κk (the wall's c and k relative to the nominal) [-]
+  double capacity_walk = 0.0;           // random walk of κc and κk per step [-]
+  // The alarm's margin on the estimated capacity: it uses x_inst,est − k_σ·σ(x_inst) (and the energy barrier of that
+  // x_inst), never more than the estimate (docs: the choice, false alarms against lead time).
+  double alarm_capacity_sigmas = 1.0;
 };
 
 // Why init() refused. Values are stable: append, never renumber.
@@ -84,7 +97,8 @@ inline const char* observer_error_message(ObserverError e) {
     case ObserverError::noise_out_of_range:
       return "observer noise out of range (x_noise in [1e-6, 0.1] m, a_noise in [1e-4, 10] m/s2, process in [1e-4, 100] m/s2)";
     case ObserverError::prior_out_of_range:
-      return "observer prior out of range (r_sigma0 in (0, 1], bias_sigma0 in (0, 0.1] m, walks in [0, 0.01])";
+      return "observer prior out of range (r_sigma0 in (0, 1], bias_sigma0 in (0, 0.1] m, walks in [0, 0.01], "
+             "capacity_sigma0 in [1e-4, 1], alarm_capacity_sigmas in [0, 10])";
     case ObserverError::gate_out_of_range:
       return "observer gate out of range (gate_chi2 in [1, 1000], reinit_after in [1, 1000], stuck_after in [2, 100000])";
     case ObserverError::timing_out_of_range:
@@ -100,7 +114,8 @@ inline ObserverError validate_observer_options(const ObserverOptions& o) {
   if (!(in(o.x_noise_m, 1e-6, 0.1) && in(o.a_noise_mps2, 1e-4, 10.0) && in(o.process_accel_mps2, 1e-4, 100.0)))
     return ObserverError::noise_out_of_range;
   if (!(o.r_sigma0 > 0.0 && o.r_sigma0 <= 1.0 && o.bias_sigma0_m > 0.0 && o.bias_sigma0_m <= 0.1 &&
-        in(o.r_walk, 0.0, 0.01) && in(o.bias_walk_m, 0.0, 0.01)))
+        in(o.r_walk, 0.0, 0.01) && in(o.bias_walk_m, 0.0, 0.01) && in(o.capacity_sigma0, 1e-4, 1.0) &&
+        in(o.capacity_walk, 0.0, 0.01) && in(o.alarm_capacity_sigmas, 0.0, 10.0)))
     return ObserverError::prior_out_of_range;
   if (!(in(o.gate_chi2, 1.0, 1000.0) && o.reinit_after >= 1 && o.reinit_after <= 1000 && o.stuck_after >= 2 &&
         o.stuck_after <= 100000))
@@ -139,6 +154,7 @@ inline constexpr std::uint32_t queue_overflow = 1u << 10;   // sensor samples wi
 inline constexpr std::uint32_t reinitialised = 1u << 11;    // the motion was re-initialised from the measurement
 inline constexpr std::uint32_t sensor_flag = 1u << 12;      // the sensor set a status bit
 inline constexpr std::uint32_t jump = 1u << 13;             // a displacement jump (rejected) while the ground is quiet
+inline constexpr std::uint32_t estimate_clamped = 1u << 14; // an estimate (√r, κc, κk, x_inst) left its range: clamped
 // Any of these is a sensor fault (never silent: the monitor flags alarms that coincide with one).
 inline constexpr std::uint32_t faults = not_finite | out_of_range | stuck | motion_while_quiet | stale |
                                         queue_overflow | sensor_flag | jump;
@@ -152,6 +168,7 @@ struct ObserverCounters {
   std::int64_t misaligned = 0, stale = 0, queue_overflow = 0, reinitialised = 0, sensor_flags = 0;
   std::int64_t impacts = 0;          // impacts seen by the covariance (saltation applied)
   std::int64_t dropouts = 0;         // transitions into sensor_lost
+  std::int64_t clamped = 0;          // corrections whose estimate left its physical range (clamped)
 };
 
 // Every counter with its published name, in the published order: the one list the reports (the monitor's summary,
@@ -174,6 +191,7 @@ void visit_observer_counters(const ObserverCounters& c, Visit&& visit) {
   visit("sensor_flags", c.sensor_flags);
   visit("impacts", c.impacts);
   visit("dropouts", c.dropouts);
+  visit("clamped", c.clamped);
 }
 
 // The end of an input sample that starts t0_s after the record's start, on the wall sensors' clock [µs]: what an
@@ -208,6 +226,9 @@ struct ObserverStepperTraits<RockingStepper<double>> {
     s.set_state(x, xd, ug, vg);
   }
   static void set_sqrt_r(RockingStepper<double>& s, double e) { s.set_sqrt_r(e); }
+  static void set_capacity(RockingStepper<double>& s, double kc, double kk, Input, Input) {
+    s.set_capacity_scales(kc, kk);
+  }
 };
 
 template <>
@@ -224,6 +245,9 @@ struct ObserverStepperTraits<FixedRockingStepper> {
     s.set_state(wide_convert<LengthQ1_62>(x), wide_convert<SpeedQ3_60>(xd), ug, vg);
   }
   static void set_sqrt_r(FixedRockingStepper& s, Scalar e) { s.set_sqrt_r(wide_convert<FractionQ1_62>(e)); }
+  static void set_capacity(FixedRockingStepper& s, Scalar kc, Scalar kk, Input ug, Input vg) {
+    s.set_capacity_scales(wide_convert<GainQ4_59>(kc), wide_convert<GainQ4_59>(kk), ug, vg);
+  }
 };
 
 // What the observer did in one step.
@@ -241,10 +265,11 @@ class WallObserver {
   using Input = typename Traits::Input;
   using Report = typename Traits::Report;
   using StepOutcome = ObserverStepReport;
-  using Mat = Eigen::Matrix<Scalar, 4, 4>;
-  using Vec = Eigen::Matrix<Scalar, 4, 1>;
+  static constexpr int kStates = 6;
+  using Mat = Eigen::Matrix<Scalar, kStates, kStates>;
+  using Vec = Eigen::Matrix<Scalar, kStates, 1>;
   static constexpr int kQueueCapacity = 16;  // sensor samples waiting for the ground stream
-  enum : int { X = 0, V = 1, E = 2, B = 3 };
+  enum : int { X = 0, V = 1, E = 2, B = 3, C = 4, K = 5 };
 
   // Initialisation time (double): the stepper's setup (its dt is the step) and the wall. Starts at rest with
   // ê = √r of the setup and b̂ = 0.
@@ -257,17 +282,13 @@ class WallObserver {
     for (int i = 0; i < 2; ++i) {
       const double s = i == 1 ? 1.0 : -1.0;
       const double k = (c.c4_fp[i] + c.c4_g * setup.g_mps2) / c.c1;  // p4/p1 at ü = 0, G = g [1/s²]
-      const double q = h * h * k / 4.0, d = 1.0 + q;
-      const double f11 = (1.0 - q) / d, f12 = h / d;
-      Mat f = Mat::Identity();
-      f(X, X) = Scalar(f11);
-      f(X, V) = Scalar(f12);
-      f(V, X) = Scalar(-h * k * (1.0 + f11) / 2.0);
-      f(V, V) = Scalar(1.0 - h * k * f12 / 2.0);
-      f_[i] = f;
+      k0_[i] = Scalar(k);
       f0_[i] = Scalar(-s * (c.c6_fp[i] + c.c6_g * setup.g_mps2) / c.c1);  // ẍ at the hinge, ü = 0 [m/s²]
-      ha_[i] = Scalar(-(k + setup.g_mps2 / wall.h1_m));
+      x_inst0_[i] = setup.x_inst_m[i];
     }
+    h_ = Scalar(h);
+    half_h_ = Scalar(h / 2.0);
+    quarter_h2_ = Scalar(h * h / 4.0);
     const double sa2 = o.process_accel_mps2 * o.process_accel_mps2;
     q_ = Mat::Zero();
     q_(X, X) = Scalar(sa2 * h * h * h * h / 4.0);
@@ -275,6 +296,9 @@ class WallObserver {
     q_(V, V) = Scalar(sa2 * h * h);
     q_(E, E) = Scalar(o.r_walk * o.r_walk);
     q_(B, B) = Scalar(o.bias_walk_m * o.bias_walk_m);
+    q_(C, C) = q_(K, K) = Scalar(o.capacity_walk * o.capacity_walk);
+    capacity_sigma0_ = Scalar(o.capacity_sigma0);
+    alarm_capacity_sigmas_ = o.alarm_capacity_sigmas;
     r_x_ = Scalar(o.x_noise_m * o.x_noise_m);
     r_a_ = Scalar(o.a_noise_mps2 * o.a_noise_mps2);
     gate_ = Scalar(o.gate_chi2);
@@ -308,6 +332,9 @@ class WallObserver {
     p_ = Mat::Zero();
     p_(E, E) = e_sigma0_ * e_sigma0_;
     p_(B, B) = b_sigma0_ * b_sigma0_;
+    kc_ = kk_ = Scalar(1);
+    p_(C, C) = p_(K, K) = capacity_sigma0_ * capacity_sigma0_;
+    x_prev_ = Scalar(0);
     head_ = count_ = 0;
     counters_ = ObserverCounters{};
     last_x_used_us_ = last_x_accepted_us_ = last_a_used_us_ = 0;
@@ -418,6 +445,7 @@ class WallObserver {
     }
     if (lost_) out.flags |= observer_flag::sensor_lost;
     if (a_used_recent(t_us)) out.flags |= observer_flag::a_active;
+    x_prev_ = Traits::x(stepper);
     return out;
   }
 
@@ -429,6 +457,46 @@ class WallObserver {
   double sigma_xd_mps() const { return std::sqrt(std::fmax(0.0, to_d(p_(V, V)))); }
   double sigma_r() const { return 2.0 * to_d(e_) * std::sqrt(std::fmax(0.0, to_d(p_(E, E)))); }
   double sigma_bias_m() const { return std::sqrt(std::fmax(0.0, to_d(p_(B, B)))); }
+  // The capacity (SPEC §9), side +1 (the negative side's: x_inst_estimate_m(Side::negative)); c [m/s²] and k [1/s²]
+  // at ü = v̈ = 0 per unit p1, ω = √k [rad/s], x_inst = c/k [m]; σ by first-order propagation of the covariance.
+  double capacity_scale() const { return to_d(kc_); }
+  double stiffness_scale() const { return to_d(kk_); }
+  double sigma_capacity_scale() const { return std::sqrt(std::fmax(0.0, to_d(p_(C, C)))); }
+  double sigma_stiffness_scale() const { return std::sqrt(std::fmax(0.0, to_d(p_(K, K)))); }
+  double c_estimate_mps2(Side s = Side::positive) const {
+    return to_d(kc_) * std::fabs(to_d(f0_[side_index(s)]));
+  }
+  double sigma_c_mps2(Side s = Side::positive) const {
+    return sigma_capacity_scale() * std::fabs(to_d(f0_[side_index(s)]));
+  }
+  double k_estimate_ps2(Side s = Side::positive) const { return to_d(kk_) * std::fabs(to_d(k0_[side_index(s)])); }
+  double sigma_k_ps2(Side s = Side::positive) const {
+    return sigma_stiffness_scale() * std::fabs(to_d(k0_[side_index(s)]));
+  }
+  double omega_estimate_rps(Side s = Side::positive) const { return std::sqrt(k_estimate_ps2(s)); }
+  double sigma_omega_rps(Side s = Side::positive) const {
+    const double w = omega_estimate_rps(s);
+    return w > 0.0 ? sigma_k_ps2(s) / (2.0 * w) : 0.0;
+  }
+  double x_inst_estimate_m(Side s = Side::positive) const {
+    return to_d(kc_) / to_d(kk_) * x_inst0_[side_index(s)];
+  }
+  double sigma_x_inst_m(Side s = Side::positive) const {
+    const double kc = to_d(kc_), kk = to_d(kk_), ratio = kc / kk;
+    const double var = to_d(p_(C, C)) - 2.0 * ratio * to_d(p_(C, K)) + ratio * ratio * to_d(p_(K, K));
+    return x_inst0_[side_index(s)] / kk * std::sqrt(std::fmax(0.0, var));
+  }
+  // The x_inst the alarm may rely on: x_inst,est − k_σ·σ(x_inst) (ObserverOptions::alarm_capacity_sigmas), at least
+  // 0.3 × nominal.
+  double x_inst_alarm_m(Side s = Side::positive) const {
+    return std::fmax(0.3 * x_inst0_[side_index(s)],
+                     x_inst_estimate_m(s) - alarm_capacity_sigmas_ * sigma_x_inst_m(s));
+  }
+  // The energy barrier per unit p1, c²/(2k) [m²/s²].
+  double barrier_estimate_m2ps2(Side s = Side::positive) const {
+    const double c = c_estimate_mps2(s), k = k_estimate_ps2(s);
+    return k > 0.0 ? c * c / (2.0 * k) : 0.0;
+  }
   double last_innovation_x_m() const { return to_d(last_innovation_x_); }
   double last_innovation_a_mps2() const { return to_d(last_innovation_a_); }
   double rms_innovation_x_m() const {
@@ -439,6 +507,8 @@ class WallObserver {
   const Mat& covariance() const { return p_; }
   Scalar e() const { return e_; }
   Scalar b() const { return b_; }
+  Scalar kc() const { return kc_; }
+  Scalar kk() const { return kk_; }
 
  private:
   static double to_d(double v) { return v; }
@@ -453,7 +523,7 @@ class WallObserver {
   }
 
   void zero_motion_covariance() {
-    for (int j = 0; j < 4; ++j) {
+    for (int j = 0; j < kStates; ++j) {
       p_(X, j) = p_(j, X) = Scalar(0);
       p_(V, j) = p_(j, V) = Scalar(0);
     }
@@ -464,7 +534,7 @@ class WallObserver {
     if (!stepper.moving() || report.started) zero_motion_covariance();
     if (stepper.moving()) {
       const int i = side_index(stepper.side());
-      p_ = (f_[i] * p_ * f_[i].transpose()).eval();
+      p_ = (transition(i, x_prev_, Traits::x(stepper)) * p_ * transition(i, x_prev_, Traits::x(stepper)).transpose()).eval();
       if (report.impacts_total > 0) {
         // Saltation through the first impact of the step (the side after it is the current one).
         ++counters_.impacts;
@@ -473,7 +543,7 @@ class WallObserver {
         const Scalar v = Traits::v_before(report);
         Scalar v_floored = v;
         if (abs(v) < v_min_) v_floored = v < Scalar(0) ? -v_min_ : v_min_;
-        const Scalar a_after = f0_[i], a_before = f0_[1 - i];
+        const Scalar a_after = kc_ * f0_[i], a_before = kc_ * f0_[1 - i];
         Mat j = Mat::Identity();
         j(X, X) = e_;
         j(V, X) = (a_after - e_ * a_before) / v_floored;
@@ -497,11 +567,35 @@ class WallObserver {
     } else {
       p_(E, E) += q_(E, E);
       p_(B, B) += q_(B, B);
+      p_(C, C) += q_(C, C);
+      p_(K, K) += q_(K, K);
     }
     if (!stepper.moving()) zero_motion_covariance();
     const Scalar x_now = abs(Traits::x(stepper));
     if (!stepper.moving()) peak_x_ = Scalar(0);
     else if (x_now > peak_x_) peak_x_ = x_now;
+  }
+
+  // The covariance transition of one step on side i from x0 to x1 (the linearised Newmark step with the estimated
+  // stiffness, and its derivatives by κc and κk: see the header).
+  Mat transition(int i, Scalar x0, Scalar x1) const {
+    const Scalar k = kk_ * k0_[i];
+    const Scalar q = quarter_h2_ * k, d = Scalar(1) + q;
+    const Scalar f11 = (Scalar(1) - q) / d, f12 = h_ / d;
+    Mat f = Mat::Identity();
+    f(X, X) = f11;
+    f(X, V) = f12;
+    f(V, X) = -(half_h_ * k) * (Scalar(1) + f11);
+    f(V, V) = Scalar(1) - half_h_ * k * f12;
+    const Scalar fc = f0_[i];
+    const Scalar dx_c = (quarter_h2_ * (fc + fc)) / d;
+    f(X, C) = dx_c;
+    f(V, C) = half_h_ * (fc + fc - k * dx_c);
+    const Scalar sum = x0 + x1;
+    const Scalar dx_k = -(quarter_h2_ * k0_[i] * sum) / d;
+    f(X, K) = dx_k;
+    f(V, K) = half_h_ * (-(k0_[i] * sum) - k * dx_k);
+    return f;
   }
 
   // One scalar measurement: innovation y with H = h (4-vector), variance r. Returns false when gated out.
@@ -518,23 +612,58 @@ class WallObserver {
   }
 
   void symmetrise() {
-    for (int a = 0; a < 4; ++a) {
-      for (int c = a + 1; c < 4; ++c) p_(c, a) = p_(a, c);
+    for (int a = 0; a < kStates; ++a) {
+      for (int c = a + 1; c < kStates; ++c) p_(c, a) = p_(a, c);
     }
-    for (int a = 0; a < 4; ++a) {
+    for (int a = 0; a < kStates; ++a) {
       if (p_(a, a) < Scalar(0)) p_(a, a) = Scalar(0);
     }
   }
 
   void apply(Stepper& stepper, const Vec& dz, Input ug, Input vg) {
-    if (stepper.moving()) {
-      Traits::set_motion(stepper, Traits::x(stepper) + dz(X), Traits::xd(stepper) + dz(V), ug, vg);
-    }
+    const Scalar x = Traits::x(stepper) + dz(X), xd = Traits::xd(stepper) + dz(V);
+    bool clamped = false;
     e_ = e_ + dz(E);
-    if (e_ < Scalar(0)) e_ = Scalar(0);
-    if (e_ > Scalar(1)) e_ = Scalar(1);
+    if (e_ < Scalar(0)) {
+      e_ = Scalar(0);
+      clamped = true;
+    }
+    if (e_ > Scalar(1)) {
+      e_ = Scalar(1);
+      clamped = true;
+    }
     b_ = b_ + dz(B);
+    kc_ = kc_ + dz(C);
+    kk_ = kk_ + dz(K);
+    clamped = clamp_to(kc_, Scalar(0.25), Scalar(4)) || clamped;
+    clamped = clamp_to(kk_, Scalar(0.25), Scalar(4)) || clamped;
+    // x_inst = κc/κk·x_inst,nominal within [0.3, 2]× nominal: κc moves (the capacity is what the data pins least).
+    if (kc_ < Scalar(0.3) * kk_) {
+      kc_ = Scalar(0.3) * kk_;
+      clamped = true;
+    } else if (kc_ > Scalar(2) * kk_) {
+      kc_ = Scalar(2) * kk_;
+      clamped = true;
+    }
+    if (clamped) {
+      ++counters_.clamped;
+      pending_flags_ |= observer_flag::estimate_clamped;
+    }
     Traits::set_sqrt_r(stepper, e_);
+    Traits::set_capacity(stepper, kc_, kk_, ug, vg);
+    if (stepper.moving()) Traits::set_motion(stepper, x, xd, ug, vg);
+  }
+
+  static bool clamp_to(Scalar& v, Scalar lo, Scalar hi) {
+    if (v < lo) {
+      v = lo;
+      return true;
+    }
+    if (v > hi) {
+      v = hi;
+      return true;
+    }
+    return false;
   }
 
   void update_x(Stepper& stepper, const WallSensorSample& s, std::int64_t age_us, Input ug, Input vg, bool quiet,
@@ -619,7 +748,9 @@ class WallObserver {
     const Scalar predicted = ug_s + Traits::xdd(stepper) - gravity_over_h1 * x;
     const Scalar y = Scalar(s.a_mid_mps2) - predicted;
     Vec h = Vec::Zero();
-    h(X) = ha_[i];
+    h(X) = -(kk_ * k0_[i] + gravity_over_h1);
+    h(C) = f0_[i];
+    h(K) = -(k0_[i] * x);
     Vec dz = Vec::Zero();
     last_innovation_a_ = y;
     if (!scalar_update(h, y, r_a_, dz)) {
@@ -636,10 +767,13 @@ class WallObserver {
   }
 
   // Constants (init).
-  Mat f_[2]{};         // covariance transition over one step, per side
+  Scalar k0_[2]{};     // the nominal k_s = p4/p1 at ü = 0, G = g per side [1/s²]
+  double x_inst0_[2]{};  // the nominal x_inst per side [m]
+  Scalar h_{}, half_h_{}, quarter_h2_{};  // the step h, h/2, h²/4 [s, s, s²]
+  Scalar capacity_sigma0_{};
+  double alarm_capacity_sigmas_ = 1.0;
   Mat q_{};            // process noise per step
   Scalar f0_[2]{};     // ẍ at the hinge with ü = 0 per side [m/s²]
-  Scalar ha_[2]{};     // accelerometer sensitivity to x per side [1/s²]
   Scalar r_x_{}, r_a_{}, gate_{}, g_over_h1_{}, v_min_{}, us_to_s_{}, reinit_v_var_{}, quiet_ug_{};
   Scalar inv_h1_{};     // 1/h1 [1/m]
   Scalar inform_var_{}, inform_peak_var_{};  // inform_sigmas², inform_peak_noises² [-]
@@ -649,6 +783,8 @@ class WallObserver {
   std::int32_t reinit_after_ = 8, stuck_after_ = 40;
   // State.
   Scalar e_{}, b_{};
+  Scalar kc_{1}, kk_{1};  // κc, κk [-]
+  Scalar x_prev_{};       // x at the end of the previous step (after its corrections) [m]
   Mat p_{};
   WallSensorSample queue_[kQueueCapacity]{};
   int head_ = 0, count_ = 0;
