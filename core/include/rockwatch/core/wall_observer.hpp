@@ -347,6 +347,7 @@ class WallObserver {
     have_last_raw_ = false;
     last_raw_x_ = 0.0;
     impact_last_step_ = false;
+    last_impact_us_ = INT64_MIN;
     peak_x_ = Scalar(0);
     last_innovation_x_ = Scalar(0);
     last_innovation_a_ = Scalar(0);
@@ -407,6 +408,7 @@ class WallObserver {
     out.flags = pending_flags_;
     pending_flags_ = 0;
     const bool impact = report.impacts_total > 0;
+    if (impact) last_impact_us_ = t_us;
     predict(stepper, report);
     const Scalar ug_s = Traits::input(ug);
     const bool quiet = abs(ug_s) < quiet_ug_;
@@ -426,7 +428,11 @@ class WallObserver {
       }
       if (stepper.collapsed()) continue;  // nothing left to estimate
       if (s.x_valid) update_x(stepper, s, age_us, ug, vg, quiet, out);
-      if (s.a_valid && !impact && !impact_last_step_ && stepper.moving()) update_a(stepper, s, ug_s, vg, ug, out);
+      // An acceleration taken before the last impact (queued, applied after it) belongs to the other side: its ẍ
+      // differs by about 2·c_s from the model's now. Only samples taken after the step that held the impact are used.
+      const bool after_impact = s.utime_us > last_impact_us_;
+      if (s.a_valid && !impact && !impact_last_step_ && after_impact && stepper.moving())
+        update_a(stepper, s, ug_s, vg, ug, out);
     }
     impact_last_step_ = impact;
     if (!have_first_t_) {
@@ -798,6 +804,7 @@ class WallObserver {
   bool have_last_raw_ = false;
   double last_raw_x_ = 0.0;
   bool impact_last_step_ = false;
+  std::int64_t last_impact_us_ = INT64_MIN;  // the end of the last step with an impact [µs]
   Scalar peak_x_{};  // the model's largest |x| since the last impact (the half-cycle's amplitude) [m]
   Scalar last_innovation_x_{}, last_innovation_a_{}, innovation_x_sq_sum_{};
 };

@@ -1,0 +1,274 @@
+// Consistency of the wall observer (core/wall_observer.hpp): Monte-Carlo over sensor-noise seeds, walls, records
+// and sensor sets. A true wall (its own r, b, overburden) is simulated by sim::analyse (keep_history) and its sensors
+// synthesised (sim::synthesize_wall_sensors); the nominal wall (paper wall, r_exp) is run fused with them exactly as
+// sim::analyse runs it (sub-steps of 1 ms, samples pushed when due, the observer after every sub-step), and the
+// estimation errors are compared with the observer's covariance:
+//   - the normalised estimation error squared (NEES) of x, ẋ, r and x_inst, averaged over N runs, lies in the 95 %
+//     band of χ²(N)/N (each a scalar, d = 1);
+//   - r̂ is within 3 σ_r of the true r at the end of every run.
+// Records are short (3–4 s of a suite record, or synthetic pulses) so that the suite stays within its budget under
+// the sanitizers.
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "rockwatch/core/model.hpp"
+#include "rockwatch/core/restitution.hpp"
+#include "rockwatch/core/rocking_stepper.hpp"
+#include "rockwatch/core/wall_observer.hpp"
+#include "rockwatch/records/record.hpp"
+#include "rockwatch/records/suite_format.hpp"
+#include "rockwatch/sim/analysis.hpp"
+#include "rockwatch/sim/wall_sensor_synthesis.hpp"
+
+#include <CppUTest/TestHarness.h>
+
+using namespace rockwatch;
+
+namespace {
+
+constexpr double kMaxStep = 0.001;
+
+// Set `set`, component 0 (X) or 1 (Y), of the shipped suite from t0_s for len_s, scaled to pga_g.
+sim::GroundMotion suite_window(int set, int component, double t0_s, double len_s, double pga_g) {
+  const records::SuiteRecordFile f = records::read_suite_record(records::suite_set_path(ROCKWATCH_SUITE_DIR, set));
+  sim::GroundMotion m;
+  m.dt_s = f.dt_s;
+  const std::vector<double>& all = f.components_mps2[static_cast<std::size_t>(component)];
+  const auto k0 = static_cast<std::size_t>(t0_s / f.dt_s);
+  const auto n = std::min(all.size() - k0, static_cast<std::size_t>(len_s / f.dt_s));
+  m.ug_mps2.assign(all.begin() + static_cast<std::ptrdiff_t>(k0), all.begin() + static_cast<std::ptrdiff_t>(k0 + n));
+  // Taper the first and last 0.2 s so that the window starts and ends quietly.
+  const auto taper = static_cast<std::size_t>(0.2 / f.dt_s);
+  for (std::size_t i = 0; i < taper && i < n; ++i) {
+    const double w = double(i) / double(taper);
+    m.ug_mps2[i] *= w;
+    m.ug_mps2[n - 1 - i] *= w;
+  }
+  const double factor = pga_g * 9.81 / sim::peak_abs(m.ug_mps2);
+  for (double& u : m.ug_mps2) u *= factor;
+  return m;
+}
+
+sim::GroundMotion real_record(const char* name, double pga_g) {
+  const records::Record r = records::read_record(std::string(ROCKWATCH_TEST_DATA_DIR) + "/records/" + name);
+  sim::GroundMotion m;
+  m.dt_s = r.dt_s;
+  m.ug_mps2 = r.horizontal_mps2;
+  const double factor = pga_g * 9.81 / sim::peak_abs(m.ug_mps2);
+  for (double& u : m.ug_mps2) u *= factor;
+  return m;
+}
+
+core::Restitution restitution_value(double r) {
+  core::Restitution x;
+  x.kind = core::RestitutionKind::value;
+  x.value = r;
+  return x;
+}
+
+struct Scenario {
+  core::WallParameters true_wall;
+  double true_r;
+  sim::GroundMotion motion;
+  sim::SensorModel sensors;
+  core::ObserverOptions observer{};
+};
+
+// What one fused run gives: the errors and variances at a checkpoint and at the end.
+struct RunOutcome {
+  bool truth_collapsed = false;
+  bool have_checkpoint = false;
+  double nees_x = 0.0, nees_v = 0.0;  // at the checkpoint (both walls rocking)
+  double r_hat = 0.0, sigma_r = 0.0, r_true = 0.0;
+  double nees_r = 0.0;
+  double x_inst_hat = 0.0, sigma_x_inst = 0.0, x_inst_true = 0.0, nees_x_inst = 0.0;
+  long impacts = 0;
+};
+
+RunOutcome fused_run(const Scenario& sc) {
+  RunOutcome out;
+  // The truth.
+  sim::AnalysisOptions to;
+  to.restitution = restitution_value(sc.true_r);
+  to.keep_history = true;
+  to.max_step_s = kMaxStep;
+  const sim::AnalysisResult truth = sim::analyse(sc.true_wall, sc.motion, to);
+  out.truth_collapsed = truth.verdict_collapse();
+  const std::vector<core::WallSensorSample> samples =
+      sim::synthesize_wall_sensors(sc.true_wall, truth, sc.motion.dt_s, sc.sensors);
+  // The nominal wall, fused: the loop of sim::analyse.
+  const core::WallParameters nominal = core::paper_wall();
+  const int n = core::substeps_per_sample(sc.motion.dt_s, kMaxStep);
+  const double h = sc.motion.dt_s / double(n);
+  core::StepperOptions so;
+  so.dt_s = h;
+  const core::StepperSetup<double> setup =
+      core::make_stepper_setup(nominal, core::ModelKind::linear, core::restitution_energy_ratio(nominal, core::Restitution{}), so);
+  core::RockingStepper<double> stepper;
+  stepper.init(setup);
+  core::WallObserver<core::RockingStepper<double>> observer;
+  CHECK(observer.init(sc.observer, setup, nominal) == core::ObserverError::ok);
+  const std::vector<double>& ug = sc.motion.ug_mps2;
+  stepper.reset(ug[0], 0.0);
+  const std::int64_t step_us = std::llround(sc.motion.dt_s * 1e6);
+  std::size_t next = 0;
+  const std::size_t checkpoint_row = truth.history.size() * 2 / 3;
+  for (std::size_t k = 0; k + 1 < ug.size() && !stepper.collapsed(); ++k) {
+    const std::int64_t t_us = core::observed_step_end_us(double(k) * sc.motion.dt_s, sc.motion.dt_s);
+    while (next < samples.size() && samples[next].utime_us <= t_us) observer.push(samples[next++]);
+    for (int j = 1; j <= n; ++j) {
+      const double u = j == n ? ug[k + 1] : ug[k] + (ug[k + 1] - ug[k]) * double(j) / double(n);
+      const core::StepReport<double> rep = stepper.step(u, 0.0);
+      out.impacts += rep.impacts_counted;
+      const std::int64_t end_us = t_us - (step_us * (n - j)) / n;
+      observer.after_step(stepper, rep, u, 0.0, end_us, step_us / n);
+      const std::size_t row = k * std::size_t(n) + std::size_t(j);
+      if (!out.have_checkpoint && row >= checkpoint_row && row < truth.history.size() && stepper.moving() &&
+          truth.history[row].x_m != 0.0) {
+        const sim::HistoryRow& tr = truth.history[row];
+        const auto& p = observer.covariance();
+        const double ex = stepper.state().x_m - tr.x_m, ev = stepper.state().xd_mps - tr.xd_mps;
+        if (p(0, 0) > 0.0 && p(1, 1) > 0.0) {
+          out.nees_x = ex * ex / p(0, 0);
+          out.nees_v = ev * ev / p(1, 1);
+          out.have_checkpoint = true;
+        }
+      }
+    }
+  }
+  out.r_hat = observer.r_estimate();
+  out.sigma_r = observer.sigma_r();
+  out.r_true = sc.true_r;
+  const double er = out.r_hat - out.r_true;
+  out.nees_r = out.sigma_r > 0.0 ? er * er / (out.sigma_r * out.sigma_r) : 1e9;
+  out.x_inst_hat = observer.x_inst_estimate_m();
+  out.sigma_x_inst = observer.sigma_x_inst_m();
+  out.x_inst_true = core::x_inst_m(core::model_constants(sc.true_wall, core::ModelKind::linear), core::Side::positive,
+                                   sc.true_wall.g_mps2);
+  const double ei = out.x_inst_hat - out.x_inst_true;
+  out.nees_x_inst = ei * ei / (out.sigma_x_inst * out.sigma_x_inst);
+  return out;
+}
+
+// The 95 % band of the mean of N independent χ²(1) variables: χ²(N)/N, by the Wilson–Hilferty approximation.
+void chi2_band(int n, double& lo, double& hi) {
+  const double a = 2.0 / (9.0 * double(n));
+  lo = std::pow(1.0 - a - 1.959964 * std::sqrt(a), 3.0);
+  hi = std::pow(1.0 - a + 1.959964 * std::sqrt(a), 3.0);
+}
+
+}  // namespace
+
+TEST_GROUP(ObserverConsistency){};
+
+namespace {
+
+// A true wall: the paper wall, b × 0.9 and × 1.1, and with a light overburden (c and k both ≈ 8 % up).
+core::WallParameters true_wall(int i) {
+  core::WallParameters w = core::paper_wall();
+  if (i == 1) w.b_m *= 0.9;
+  if (i == 2) w.b_m *= 1.1;
+  if (i == 3) w.fp_npm = 300.0;
+  return w;
+}
+
+struct Tally {
+  int n = 0, n_state = 0;
+  double x = 0.0, v = 0.0, r = 0.0, x_inst = 0.0;
+  int r_outside_3sigma = 0;
+  double worst_r_sigmas = 0.0;
+};
+
+Tally monte_carlo(bool with_accelerometer, int seeds) {
+  Tally t;
+  for (int wall = 0; wall < 4; ++wall) {
+    for (int seed = 1; seed <= seeds; ++seed) {
+      Scenario sc;
+      sc.true_wall = true_wall(wall);
+      sc.true_r = seed % 2 == 0 ? 0.80 : 0.95;
+      sc.motion = suite_window(1 + (seed + wall) % 11, seed % 2, 1.0, 3.0, 0.25);
+      sc.sensors.rate_hz = 200.0;
+      sc.sensors.x_noise_m = 0.5e-3;
+      sc.sensors.x_bias_m = 1e-3 * double(seed % 3);
+      if (with_accelerometer) sc.sensors.a_noise_mps2 = 0.05;
+      sc.sensors.seed = std::uint64_t(100 * wall + seed);
+      const RunOutcome o = fused_run(sc);
+      ++t.n;
+      t.r += o.nees_r;
+      t.x_inst += o.nees_x_inst;
+      if (o.have_checkpoint) {
+        ++t.n_state;
+        t.x += o.nees_x;
+        t.v += o.nees_v;
+      }
+      const double sigmas = std::fabs(o.r_hat - o.r_true) / o.sigma_r;
+      t.worst_r_sigmas = std::fmax(t.worst_r_sigmas, sigmas);
+      if (sigmas > 3.0) ++t.r_outside_3sigma;
+    }
+  }
+  return t;
+}
+
+void check_tally(const Tally& t, const char* what) {
+  double lo = 0.0, hi = 0.0, lo_s = 0.0, hi_s = 0.0;
+  chi2_band(t.n, lo, hi);
+  chi2_band(t.n_state, lo_s, hi_s);
+  const double r = t.r / t.n, xi = t.x_inst / t.n, x = t.x / t.n_state, v = t.v / t.n_state;
+  std::printf("\n%s: %d runs (%d with both walls rocking at the checkpoint); mean NEES r %.2f, x_inst %.2f "
+              "[%.2f, %.2f]; x %.2f, xd %.2f [%.2f, %.2f]; r outside 3 sigma: %d (worst %.1f sigma)",
+              what, t.n, t.n_state, r, xi, lo, hi, x, v, lo_s, hi_s, t.r_outside_3sigma, t.worst_r_sigmas);
+  CHECK(t.n >= 25);
+  CHECK(t.n_state >= 20);
+  CHECK(r >= lo && r <= hi);
+  CHECK(xi >= lo && xi <= hi);
+  CHECK(x >= lo_s && x <= hi_s);
+  CHECK(v >= lo_s && v <= hi_s);
+  LONGS_EQUAL(0, t.r_outside_3sigma);
+}
+
+}  // namespace
+
+// NOT YET MET (measured with the defaults, 64 runs each: 4 walls × 16 seeds, 3 s windows of the suite at 0.25 g,
+// true r 0.80 / 0.95, 200 Hz, 0.5 mm, offsets 0–2 mm; band of the mean of 64 χ²(1): [0.68, 1.38]):
+//   displacement only:           NEES r 1.19, x_inst 0.54, x 3.43, ẋ 4.83; r outside 3 σ in 2 runs (worst 4.7 σ)
+//   displacement + accelerometer: NEES r 39.8, x_inst 2.15, x 1.89, ẋ 6.05; 3 runs outside (worst 49 σ: one run
+//                                 diverges, r̂ 0.33 and x_inst 0.19 on the overburden wall, seed 16)
+// The medians are near 0.5 (consistent); the means are carried by a few runs where the model's and the wall's impacts
+// fall at different times (a velocity error of (1 − e)·ẋ⁻ with σ(ẋ) far smaller). Ignored until the filter handles
+// that (docs: issue 27, what is left); run with -ri to measure.
+IGNORE_TEST(ObserverConsistency, DisplacementTransducerAloneIsConsistent) {
+  check_tally(monte_carlo(false, 16), "displacement");
+}
+
+IGNORE_TEST(ObserverConsistency, DisplacementAndAccelerometerAreConsistent) {
+  check_tally(monte_carlo(true, 16), "displacement + accelerometer");
+}
+
+
+
+TEST(ObserverConsistency, ReportedRBiasIsGone) {
+  // The reported case: true r = 0.80, nominal r_exp (0.894), 16833_H1.cor.acc at 0.2 g (the wall rocks at
+  // sub-noise amplitude), a 200 Hz transducer with 0.5 mm noise. Was r̂ 0.49 ± 0.037 and 0.52 ± 0.024 (seeds 1, 2):
+  // the fused model's noise-driven impacts were read as a low r. Now r̂ stays within 3 σ of the truth (nothing about
+  // r is observable there: the prior stays), and so on the other real records at 0.2 and 0.3 g (r̂ ≈ 0.80 ± 0.005).
+  Scenario sc;
+  sc.true_wall = core::paper_wall();
+  sc.true_r = 0.80;
+  sc.sensors.rate_hz = 200.0;
+  sc.sensors.x_noise_m = 0.5e-3;
+  for (const char* name : {"16833_H1.cor.acc", "RSN6_IMPVALL.I_I-ELC180-hor1.AT2", "RSN960_NORTHR_LOS270.AT2"}) {
+    for (const double pga : {0.2, 0.3}) {
+      sc.motion = real_record(name, pga);
+      for (int seed = 1; seed <= 2; ++seed) {
+        sc.sensors.seed = std::uint64_t(seed);
+        const RunOutcome o = fused_run(sc);
+        CHECK(std::fabs(o.r_hat - o.r_true) <= 3.0 * o.sigma_r);
+      }
+    }
+  }
+}
