@@ -71,6 +71,8 @@ nlohmann::ordered_json result_json(const IdentifyRequest& q, const sim::Identifi
   j["x0_m"] = or_null(r.x0_m);
   j["sigma_x0_m"] = or_null(r.sigma_x0_m);
   j["residual_rms_m"] = r.residual_rms_m;
+  j["noise_estimate_m"] = r.noise_estimate_m;
+  j["fit_explains_record"] = r.fit_explains_record;
   j["wall"] = wall_json(r.wall);
   j["wall_sigma"] = {{"b_m", r.sigma_b_m}, {"h1_m", r.sigma_h1_m}, {"h2_m", r.sigma_h2_m}};
   j["identified"] = {"b_m", "h1_m", "h2_m", "r"};
@@ -119,6 +121,12 @@ std::string summary_text(const IdentifyRequest& q, const sim::IdentificationResu
   o << "  offset             " << pm(r.offset_m, r.sigma_offset_m, 6, "m") << '\n';
   if (r.x0_m) o << "  x0 (release)       " << pm(*r.x0_m, *r.sigma_x0_m, 6, "m") << '\n';
   o << "  residual RMS       " << number_text(r.residual_rms_m) + " m (" + std::to_string(r.n_impacts) + " impacts in the fitted response)" << '\n';
+  if (!r.fit_explains_record) {
+    o << "  WARNING            the residual is " << fixed(r.residual_rms_m / std::fmax(r.noise_estimate_m, 1e-9), 1)
+      << " times the transducer's noise (" << number_text(r.noise_estimate_m)
+      << " m): the identified wall does not explain the record (a chaotic response near collapse, SPEC 4, or a wall\n"
+         "                     the two-block model does not describe): do not use these estimates\n";
+  }
   o << "\nEquivalent wall (b, h1, h2 identified; h1:h2, rho, Fp, a, a', g held)\n";
   o << "  b                  " << pm(r.wall.b_m, r.sigma_b_m, 6, "m") << '\n';
   o << "  h1                 " << pm(r.wall.h1_m, r.sigma_h1_m, 5, "m") << '\n';
@@ -184,6 +192,10 @@ int run(const IdentifyRequest& q) {
         },
         {*q.plot_path, title});
     if (!plot.ok) throw UsageError("--plot " + *q.plot_path + ": " + plot.message);
+  }
+  if (!r.fit_explains_record && q.json) {
+    std::cerr << "warning: the residual RMS " << number_text(r.residual_rms_m) << " m is above 3 times the noise ("
+              << number_text(r.noise_estimate_m) << " m): the identified wall does not explain the record\n";
   }
   if (q.json) {
     std::cout << result_json(q, r, in.start_r).dump(2) << '\n';
