@@ -80,10 +80,10 @@ WallFile read_wall_file(const std::string& option, const std::string& path) {
     return j.at(name);
   };
   if (!require("format").is_string() || j.at("format").get<std::string>() != "rockwatch-wall") {
-    throw UsageError(where + ": field \"format\" must be \"rockwatch-wall\"");
+    throw UsageError(where + ": field 'format' must be \"rockwatch-wall\"");
   }
   if (!require("version").is_number_integer() || j.at("version").get<long long>() != 1) {
-    throw UsageError(where + ": field \"version\" must be 1 (the only version this rockwatch reads)");
+    throw UsageError(where + ": field 'version' must be 1 (the only version this rockwatch reads)");
   }
   const auto number = [&](const char* name) {
     const nlohmann::json& v = require(name);
@@ -109,7 +109,7 @@ WallFile read_wall_file(const std::string& option, const std::string& path) {
   }
   file.r = number("r");
   if (!(file.r >= 0.0 && file.r <= 1.0)) {
-    throw UsageError(where + ": field \"r\" must be in [0, 1] (got " + number_text(file.r) + ")");
+    throw UsageError(where + ": field 'r' must be in [0, 1] (got " + number_text(file.r) + ")");
   }
   const sim::ReducedParameters own = sim::reduced_parameters(file.wall);
   if (!(std::isfinite(own.x_inst_m) && own.x_inst_m > 0.0 && std::isfinite(own.k_ps2) && own.k_ps2 > 0.0 &&
@@ -119,7 +119,7 @@ WallFile read_wall_file(const std::string& option, const std::string& path) {
   }
   if (j.contains("reduced")) {
     const nlohmann::json& red = j.at("reduced");
-    if (!red.is_object()) throw UsageError(where + ": field \"reduced\" must be an object");
+    if (!red.is_object()) throw UsageError(where + ": field 'reduced' must be an object");
     const nlohmann::ordered_json expect = reduced_json(file.wall);
     for (auto it = red.begin(); it != red.end(); ++it) {
       const std::string name = "reduced." + it.key();
@@ -137,11 +137,11 @@ WallFile read_wall_file(const std::string& option, const std::string& path) {
     }
   }
   if (j.contains("identified")) {
-    if (!j.at("identified").is_object()) throw UsageError(where + ": field \"identified\" must be an object");
+    if (!j.at("identified").is_object()) throw UsageError(where + ": field 'identified' must be an object");
     file.identified = nlohmann::ordered_json::parse(j.at("identified").dump());
   }
   if (j.contains("comment")) {
-    if (!j.at("comment").is_string()) throw UsageError(where + ": field \"comment\" must be a string");
+    if (!j.at("comment").is_string()) throw UsageError(where + ": field 'comment' must be a string");
     file.comment = j.at("comment").get<std::string>();
   }
   return file;

@@ -1,6 +1,7 @@
 // `rockwatch identify`: a wall from a test record (SPEC §9) through sim::identify — the engine every tool shares —
 // reported as text or JSON, drawn (--plot), and written as a wall file (--wall-out) that the other tools read.
 #include <malloc.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -157,7 +158,9 @@ int run(const IdentifyRequest& q) {
     for (const std::string& note : motion->notes) std::cerr << "note: " << note << '\n';
     in.ground = &motion->motion;
   }
-  if (!q.json) std::cerr << "identify: fitting " << in.samples.size() << " samples through the engine...\n";
+  if (isatty(STDERR_FILENO) != 0) {
+    std::cerr << "identify: fitting " << in.samples.size() << " samples through the engine...\n";
+  }
   sim::IdentificationResult r;
   try {
     r = sim::identify(in);
