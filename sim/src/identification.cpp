@@ -51,6 +51,7 @@ class Problem {
       t_s_.push_back(double(s.utime_us) * 1e-6);
       z_m_.push_back(s.x_mid_m);
     }
+    active_ = t_s_.size();
     snap_back_ = in.ground == nullptr;
     if (snap_back_) {
       quiet_.dt_s = 0.005;
@@ -59,6 +60,10 @@ class Problem {
   }
 
   const std::vector<double>& t_s() const { return t_s_; }
+  // The fit's window: the first n samples (a long record is fitted on growing windows, so the phase of a slowly
+  // decaying wall never wraps by a whole cycle between two steps of the continuation).
+  void set_window(std::size_t n) { active_ = std::max<std::size_t>(1, std::min(n, t_s_.size())); }
+  std::size_t window() const { return active_; }
   const std::vector<double>& z_m() const { return z_m_; }
   bool snap_back() const { return snap_back_; }
   int n_params() const { return snap_back_ ? 5 : 4; }
@@ -94,7 +99,7 @@ class Problem {
     o.restitution.value = th(kE) * th(kE);
     o.keep_history = true;
     o.max_impacts_kept = 0;
-    o.t_end_s = t_s_.back();
+    o.t_end_s = t_s_[active_ - 1];
     o.free_motion_limit_s = 0.0;
     if (snap_back_) o.initial_x_m = th(kX0);
     AnalysisResult r;
@@ -105,9 +110,9 @@ class Problem {
     }
     if (impacts) *impacts = r.n_impacts;
     const std::vector<HistoryRow>& h = r.history;
-    x.resize(t_s_.size());
+    x.resize(active_);
     std::size_t j = 0;
-    for (std::size_t i = 0; i < t_s_.size(); ++i) {
+    for (std::size_t i = 0; i < active_; ++i) {
       const double t = t_s_[i];
       if (h.empty()) {
         x[i] = 0.0;
@@ -138,7 +143,7 @@ class Problem {
 
   // Central differences (one-sided at a bound); the offset's column is exact (−1).
   bool jacobian(const Eigen::VectorXd& th, Eigen::MatrixXd& jac) {
-    const Eigen::Index n = Eigen::Index(t_s_.size());
+    const Eigen::Index n = Eigen::Index(active_);
     jac.resize(n, n_params());
     Eigen::VectorXd plus, minus;
     for (int p = 0; p < n_params(); ++p) {
@@ -178,6 +183,7 @@ class Problem {
  private:
   const IdentificationInput& in_;
   std::vector<double> t_s_, z_m_;
+  std::size_t active_ = 0;
   bool snap_back_ = false;
   GroundMotion quiet_;
   int evaluations_ = 0;
@@ -269,6 +275,20 @@ IdentificationResult identify(const IdentificationInput& in) {
     }
     return res.squaredNorm();
   };
+  // The windows of the continuation: the first 5 s, then ×3 until the whole record. The grid and the several starts
+  // work on the first window; each longer one starts from the last one's minimum.
+  std::vector<std::size_t> windows;
+  for (double span_s = 5.0;; span_s *= 3.0) {
+    std::size_t m = 0;
+    while (m < n && t[m] <= t.front() + span_s) ++m;
+    if (m >= n || n - m < 10) {
+      windows.push_back(n);
+      break;
+    }
+    windows.push_back(m);
+  }
+  problem.set_window(windows.front());
+
   // Every grid point with its cost; the kStarts best start Levenberg–Marquardt, the lowest minimum wins (a forced
   // test near the uplift threshold has local minima in which the wall starts rocking at other pulses).
   constexpr std::size_t kStarts = 3;
@@ -279,7 +299,7 @@ IdentificationResult identify(const IdentificationInput& in) {
   }
   const double b_factors[] = {0.75, 0.8125, 0.875, 0.9375, 1.0, 1.0625, 1.125, 1.1875, 1.25};
   const double scales[] = {0.45, 0.55, 0.7, 0.85, 1.0, 1.15, 1.3, 1.5};
-  const double rs[] = {0.72, 0.85, 0.95};
+  const double rs[] = {0.72, 0.85, 0.95, 0.99};
   for (double fb : b_factors) {
     for (double sc : scales) {
       for (double rv : rs) {
@@ -298,23 +318,18 @@ IdentificationResult identify(const IdentificationInput& in) {
                               "model's range): check the starting wall and the record");
   }
 
-  // Levenberg–Marquardt (Marquardt's scaling by diag JᵀJ) from each start.
   IdentificationResult out;
   out.snap_back = problem.snap_back();
   Eigen::MatrixXd jac;
-  Eigen::VectorXd th;
-  Eigen::VectorXd res;
-  double cost = std::numeric_limits<double>::infinity();
-  for (std::size_t k = 0; k < std::min(kStarts, grid.size()); ++k) {
-    Eigen::VectorXd t_th = grid[k].second;
-    Eigen::VectorXd t_res;
-    if (!problem.residuals(t_th, t_res)) continue;
+  // Levenberg–Marquardt (Marquardt's scaling by diag JᵀJ) on the current window from `th`. Returns its cost (inf:
+  // the start is outside the model's range).
+  const auto levenberg_marquardt = [&](Eigen::VectorXd& t_th, Eigen::VectorXd& t_res, bool& converged) {
+    if (!problem.residuals(t_th, t_res)) return std::numeric_limits<double>::infinity();
     double t_cost = t_res.squaredNorm();
     double lambda = 1e-3;
-    int iterations = 0;
-    bool converged = false;
+    converged = false;
     for (int it = 0; it < in.max_iterations; ++it) {
-      iterations = it + 1;
+      ++out.iterations;
       if (!problem.jacobian(t_th, jac)) break;
       const Eigen::MatrixXd jtj = jac.transpose() * jac;
       const Eigen::VectorXd jtr = jac.transpose() * t_res;
@@ -345,13 +360,25 @@ IdentificationResult identify(const IdentificationInput& in) {
       }
       if (converged) break;
     }
-    out.iterations += iterations;
+    return t_cost;
+  };
+  Eigen::VectorXd th;
+  Eigen::VectorXd res;
+  double cost = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < std::min(kStarts, grid.size()); ++k) {
+    Eigen::VectorXd t_th = grid[k].second, t_res;
+    bool converged = false;
+    const double t_cost = levenberg_marquardt(t_th, t_res, converged);
     if (t_cost < cost) {
       cost = t_cost;
       th = t_th;
       res = t_res;
       out.converged = converged;
     }
+  }
+  for (std::size_t w = 1; w < windows.size() && std::isfinite(cost); ++w) {
+    problem.set_window(windows[w]);
+    cost = levenberg_marquardt(th, res, out.converged);
   }
   if (!std::isfinite(cost)) {
     throw IdentificationError("the fit left the model's range from every start: the record does not identify the wall");
