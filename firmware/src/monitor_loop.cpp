@@ -27,7 +27,7 @@ static_assert(Estimate::SENSOR_X_ACTIVE == flag::x_active && Estimate::SENSOR_A_
               Estimate::SENSOR_MISALIGNED == flag::misaligned && Estimate::SENSOR_STALE == flag::stale &&
               Estimate::SENSOR_QUEUE_OVERFLOW == flag::queue_overflow &&
               Estimate::SENSOR_REINITIALISED == flag::reinitialised && Estimate::SENSOR_FLAG == flag::sensor_flag &&
-              Estimate::SENSOR_JUMP == flag::jump,
+              Estimate::SENSOR_JUMP == flag::jump && Estimate::SENSOR_ESTIMATE_CLAMPED == flag::estimate_clamped,
               "wall_estimate_t SENSOR_* must equal core::observer_flag");
 static_assert(rockwatch::alarm_event_t::REASON_MEASURED == core::alarm_reason::measured &&
               rockwatch::alarm_event_t::REASON_PREDICTED == core::alarm_reason::predicted &&
@@ -526,6 +526,16 @@ void MonitorLoop::publish_estimate(std::int64_t utime, std::int64_t seq, const E
   m.sensor_flags = c.sensor_flags;
   m.time_untrusted = counters_.sensor_time_untrusted;
   m.duplicates = counters_.sensor_duplicates;
+  m.x_inst_estimate_m = e.observer.x_inst_estimate_m;
+  m.sigma_x_inst_m = e.observer.sigma_x_inst_m;
+  m.x_inst_alarm_m = e.observer.x_inst_alarm_m;
+  m.omega_estimate_rps = e.observer.omega_estimate_rps;
+  m.sigma_omega_rps = e.observer.sigma_omega_rps;
+  m.c_estimate_mps2 = e.observer.c_estimate_mps2;
+  m.sigma_c_mps2 = e.observer.sigma_c_mps2;
+  m.k_estimate_ps2 = e.observer.k_estimate_ps2;
+  m.sigma_k_ps2 = e.observer.sigma_k_ps2;
+  m.clamped = c.clamped;
   const int size = m.getEncodedSize();
   if (size <= static_cast<int>(sizeof out_buffer_) &&
       m.encode(out_buffer_, 0, static_cast<int>(sizeof out_buffer_)) == size) {

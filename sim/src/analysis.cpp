@@ -172,6 +172,7 @@ class ObservedSteps {
     const std::int64_t t_us = core::observed_step_end_us(t0_s, dt_s);
     while (next_ < samples_.size() && samples_[next_].utime_us <= t_us) observer_.push(samples_[next_++]);
     r_before_step_ = observer_.r_estimate();
+    x_inst_before_step_ = observer_.x_inst_estimate_m();
     const core::ObserverStepReport outcome =
         engine.chain().step_observed(ug, vg, observer_, t_us, step_us_, engine.out(), on_substep);
     flags_ |= outcome.flags;
@@ -181,7 +182,10 @@ class ObservedSteps {
   // After the step's events (counted impacts before and after it): keeps r̂ as it stood before the step in which
   // impact number r_after_impacts + 1 happened.
   void impacts(int before, int after) {
-    if (!r_after_ && before >= r_after_impacts_ && after > before) r_after_ = r_before_step_;
+    if (!r_after_ && before >= r_after_impacts_ && after > before) {
+      r_after_ = r_before_step_;
+      x_inst_after_ = x_inst_before_step_;
+    }
   }
 
   void summarise(ObserverSummary& s, int n_impacts) const {
@@ -201,7 +205,24 @@ class ObservedSteps {
     s.samples_pushed = next_;
     s.steps_sensor_lost = steps_lost_;
     s.r_estimate_after_impacts = r_after_;
-    if (!r_after_ && n_impacts >= r_after_impacts_) s.r_estimate_after_impacts = s.r_estimate;
+    s.x_inst_estimate_m = observer_.x_inst_estimate_m();
+    s.sigma_x_inst_m = observer_.sigma_x_inst_m();
+    s.omega_estimate_rps = observer_.omega_estimate_rps();
+    s.sigma_omega_rps = observer_.sigma_omega_rps();
+    s.c_estimate_mps2 = observer_.c_estimate_mps2();
+    s.sigma_c_mps2 = observer_.sigma_c_mps2();
+    s.k_estimate_ps2 = observer_.k_estimate_ps2();
+    s.sigma_k_ps2 = observer_.sigma_k_ps2();
+    s.barrier_estimate_m2ps2 = observer_.barrier_estimate_m2ps2();
+    s.capacity_scale = observer_.capacity_scale();
+    s.sigma_capacity_scale = observer_.sigma_capacity_scale();
+    s.stiffness_scale = observer_.stiffness_scale();
+    s.sigma_stiffness_scale = observer_.sigma_stiffness_scale();
+    s.x_inst_estimate_after_impacts_m = x_inst_after_;
+    if (!r_after_ && n_impacts >= r_after_impacts_) {
+      s.r_estimate_after_impacts = s.r_estimate;
+      s.x_inst_estimate_after_impacts_m = s.x_inst_estimate_m;
+    }
   }
 
  private:
@@ -212,8 +233,8 @@ class ObservedSteps {
   std::size_t next_ = 0;
   std::uint32_t flags_ = 0;
   std::size_t steps_lost_ = 0;
-  double r_before_step_ = 0.0;
-  std::optional<double> r_after_;
+  double r_before_step_ = 0.0, x_inst_before_step_ = 0.0;
+  std::optional<double> r_after_, x_inst_after_;
 };
 
 // One input sample of the engine: the chain's sub-steps to the input (ug, vg), each followed by its events and row

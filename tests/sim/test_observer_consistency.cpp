@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -88,6 +89,7 @@ struct RunOutcome {
   double nees_r = 0.0;
   double x_inst_hat = 0.0, sigma_x_inst = 0.0, x_inst_true = 0.0, nees_x_inst = 0.0;
   long impacts = 0;
+  double t_cp = 0.0;
 };
 
 RunOutcome fused_run(const Scenario& sc) {
@@ -128,6 +130,16 @@ RunOutcome fused_run(const Scenario& sc) {
       const std::int64_t end_us = t_us - (step_us * (n - j)) / n;
       observer.after_step(stepper, rep, u, 0.0, end_us, step_us / n);
       const std::size_t row = k * std::size_t(n) + std::size_t(j);
+      if (const char* w = std::getenv("OBS_TRACE_WIN")) {
+        const double tt = double(end_us) * 1e-6;
+        if (tt >= std::atof(w) && tt <= std::atof(w) + 0.12 && row < truth.history.size()) {
+          const auto& p = observer.covariance();
+          std::printf("\n  t %.4f imp %d v- %.4f | x %.5f xd %.4f | true %.5f %.4f | sx %.5f sv %.4f innov %.5f e %.3f", tt,
+                      int(rep.impacts_total), rep.first_impact_v_before_mps, stepper.state().x_m, stepper.state().xd_mps,
+                      truth.history[row].x_m, truth.history[row].xd_mps, std::sqrt(p(0, 0)), std::sqrt(p(1, 1)),
+                      observer.last_innovation_x_m(), observer.sqrt_r_estimate());
+        }
+      }
       if (!out.have_checkpoint && row >= checkpoint_row && row < truth.history.size() && stepper.moving() &&
           truth.history[row].x_m != 0.0) {
         const sim::HistoryRow& tr = truth.history[row];
@@ -137,6 +149,7 @@ RunOutcome fused_run(const Scenario& sc) {
           out.nees_x = ex * ex / p(0, 0);
           out.nees_v = ev * ev / p(1, 1);
           out.have_checkpoint = true;
+          out.t_cp = tr.t_s;
         }
       }
     }
@@ -188,6 +201,9 @@ Tally monte_carlo(bool with_accelerometer, int seeds) {
   Tally t;
   for (int wall = 0; wall < 4; ++wall) {
     for (int seed = 1; seed <= seeds; ++seed) {
+      if (const char* only = std::getenv("OBS_ONLY")) {
+        if (std::atoi(only) != wall * 100 + seed) continue;
+      }
       Scenario sc;
       sc.true_wall = true_wall(wall);
       sc.true_r = seed % 2 == 0 ? 0.80 : 0.95;
@@ -197,6 +213,9 @@ Tally monte_carlo(bool with_accelerometer, int seeds) {
       sc.sensors.x_bias_m = 1e-3 * double(seed % 3);
       if (with_accelerometer) sc.sensors.a_noise_mps2 = 0.05;
       sc.sensors.seed = std::uint64_t(100 * wall + seed);
+      if (const char* pa = std::getenv("OBS_PROC")) sc.observer.process_accel_mps2 = std::atof(pa);
+      if (const char* pa = std::getenv("OBS_RS")) sc.observer.r_sigma0 = std::atof(pa);
+      if (const char* pa = std::getenv("OBS_KS")) sc.observer.capacity_sigma0 = std::atof(pa);
       const RunOutcome o = fused_run(sc);
       ++t.n;
       t.r += o.nees_r;
@@ -207,6 +226,10 @@ Tally monte_carlo(bool with_accelerometer, int seeds) {
         t.v += o.nees_v;
       }
       const double sigmas = std::fabs(o.r_hat - o.r_true) / o.sigma_r;
+      if (std::getenv("OBS_TRACE_MC"))
+        std::printf("\n wall %d seed %d: r %.4f +- %.4f (%.3f) xi %.4f +- %.4f (%.4f) nees x %.2f v %.2f coll %d t %.3f", wall,
+                    seed, o.r_hat, o.sigma_r, o.r_true, o.x_inst_hat, o.sigma_x_inst, o.x_inst_true, o.nees_x, o.nees_v,
+                    int(o.truth_collapsed), o.t_cp);
       t.worst_r_sigmas = std::fmax(t.worst_r_sigmas, sigmas);
       if (sigmas > 3.0) ++t.r_outside_3sigma;
     }

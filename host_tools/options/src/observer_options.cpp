@@ -94,7 +94,8 @@ std::vector<std::string> observer_flag_list(std::uint32_t flags) {
                {bit::queue_overflow, "queue_overflow"},
                {bit::reinitialised, "reinitialised"},
                {bit::sensor_flag, "sensor_flag"},
-               {bit::jump, "jump"}};
+               {bit::jump, "jump"},
+               {bit::estimate_clamped, "estimate_clamped"}};
   std::vector<std::string> list;
   std::uint32_t known = 0;
   for (const auto& n : names) {

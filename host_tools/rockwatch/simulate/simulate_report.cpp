@@ -161,6 +161,20 @@ nlohmann::ordered_json observer_json(const SimulateRequest& q, const sim::Observ
   j["r_after_impacts_count"] = q.analysis.observer_r_after_impacts;
   j["bias_estimate_m"] = s.bias_estimate_m;
   j["sigma_bias_m"] = s.sigma_bias_m;
+  j["x_inst_estimate_m"] = s.x_inst_estimate_m;
+  j["sigma_x_inst_m"] = s.sigma_x_inst_m;
+  j["x_inst_estimate_after_impacts_m"] = number_or_null(s.x_inst_estimate_after_impacts_m);
+  j["omega_estimate_rps"] = s.omega_estimate_rps;
+  j["sigma_omega_rps"] = s.sigma_omega_rps;
+  j["c_estimate_mps2"] = s.c_estimate_mps2;
+  j["sigma_c_mps2"] = s.sigma_c_mps2;
+  j["k_estimate_ps2"] = s.k_estimate_ps2;
+  j["sigma_k_ps2"] = s.sigma_k_ps2;
+  j["barrier_estimate_m2ps2"] = s.barrier_estimate_m2ps2;
+  j["capacity_scale"] = s.capacity_scale;
+  j["sigma_capacity_scale"] = s.sigma_capacity_scale;
+  j["stiffness_scale"] = s.stiffness_scale;
+  j["sigma_stiffness_scale"] = s.sigma_stiffness_scale;
   j["sigma_x_m"] = s.sigma_x_m;
   j["n_updates"] = s.n_updates;
   j["n_accel_updates"] = s.n_accel_updates;
@@ -198,6 +212,10 @@ void observer_text(std::string& out, const SimulateRequest& q, const sim::Observ
   line(out, "", "after " + std::to_string(q.analysis.observer_r_after_impacts) + " impacts: " +
                     (s.r_estimate_after_impacts ? format("%.4f", *s.r_estimate_after_impacts)
                                                 : std::string("fewer impacts")));
+  line(out, "capacity x_inst", format("%.4f +- %.4f m estimated (omega %.3f +- %.3f rad/s, c %.3f +- %.3f m/s2, "
+                                      "k %.3f +- %.3f 1/s2)", s.x_inst_estimate_m, s.sigma_x_inst_m,
+                                      s.omega_estimate_rps, s.sigma_omega_rps, s.c_estimate_mps2, s.sigma_c_mps2,
+                                      s.k_estimate_ps2, s.sigma_k_ps2));
   line(out, "transducer offset", format("%.6f +- %.6f m", s.bias_estimate_m, s.sigma_bias_m));
   line(out, "x innovation RMS", format("%.6f m", s.x_rms_innovation_m));
   if (s.steps_sensor_lost > 0) {

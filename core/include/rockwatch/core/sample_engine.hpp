@@ -109,6 +109,11 @@ struct ObserverSample {
   double bias_m = 0.0;            // estimated zero offset of the displacement transducer [m]
   double innovation_x_m = 0.0;    // last displacement innovation [m]
   double innovation_a_mps2 = 0.0; // last acceleration innovation [m/s²]
+  // The estimated capacity and stiffness (SPEC §9, side +1): x_inst, the alarm's x_inst (estimate − k_σ·σ), ω, c, k.
+  double x_inst_estimate_m = 0.0, sigma_x_inst_m = 0.0, x_inst_alarm_m = 0.0;
+  double omega_estimate_rps = 0.0, sigma_omega_rps = 0.0;
+  double c_estimate_mps2 = 0.0, sigma_c_mps2 = 0.0;
+  double k_estimate_ps2 = 0.0, sigma_k_ps2 = 0.0;
 };
 
 struct EngineSample {
@@ -140,6 +145,15 @@ ObserverSample observer_sample(const Observer& observer, const ObserverStepRepor
   o.bias_m = observer.bias_m();
   o.innovation_x_m = observer.last_innovation_x_m();
   o.innovation_a_mps2 = observer.last_innovation_a_mps2();
+  o.x_inst_estimate_m = observer.x_inst_estimate_m();
+  o.sigma_x_inst_m = observer.sigma_x_inst_m();
+  o.x_inst_alarm_m = observer.x_inst_alarm_m();
+  o.omega_estimate_rps = observer.omega_estimate_rps();
+  o.sigma_omega_rps = observer.sigma_omega_rps();
+  o.c_estimate_mps2 = observer.c_estimate_mps2();
+  o.sigma_c_mps2 = observer.sigma_c_mps2();
+  o.k_estimate_ps2 = observer.k_estimate_ps2();
+  o.sigma_k_ps2 = observer.sigma_k_ps2();
   return o;
 }
 

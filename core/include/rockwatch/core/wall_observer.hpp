@@ -169,6 +169,7 @@ struct ObserverCounters {
   std::int64_t impacts = 0;          // impacts seen by the covariance (saltation applied)
   std::int64_t dropouts = 0;         // transitions into sensor_lost
   std::int64_t clamped = 0;          // corrections whose estimate left its physical range (clamped)
+  std::int64_t impacts_in_corrections = 0;  // impacts implied by a correction across the hinge (in `impacts` too)
 };
 
 // Every counter with its published name, in the published order: the one list the reports (the monitor's summary,
@@ -192,6 +193,7 @@ void visit_observer_counters(const ObserverCounters& c, Visit&& visit) {
   visit("impacts", c.impacts);
   visit("dropouts", c.dropouts);
   visit("clamped", c.clamped);
+  visit("impacts_in_corrections", c.impacts_in_corrections);
 }
 
 // The end of an input sample that starts t0_s after the record's start, on the wall sensors' clock [µs]: what an
@@ -605,16 +607,33 @@ class WallObserver {
   }
 
   // One scalar measurement: innovation y with H = h (4-vector), variance r. Returns false when gated out.
-  bool scalar_update(const Vec& h, Scalar y, Scalar r, Vec& correction) {
+  // learn = false: the wall's parameters (e, κc, κk) are considered, not estimated (Schmidt–Kalman: their gain is
+  // zero and the covariance follows the Joseph form of that gain, so it stays the covariance of the errors).
+  bool scalar_update(const Vec& h, Scalar y, Scalar r, Vec& correction, bool learn = true) {
     const Vec ph = p_ * h;
     const Scalar s = h.dot(ph) + r;
     if (!(s > Scalar(0))) return false;
     if (y * y > gate_ * s) return false;
-    const Vec k = ph / s;
-    correction = k * y;
-    p_ = (p_ - k * ph.transpose()).eval();
+    Vec k = ph / s;
+    if (learn) {
+      correction = k * y;
+      p_ = (p_ - k * ph.transpose()).eval();
+    } else {
+      k(E) = k(C) = k(K) = Scalar(0);
+      correction = k * y;
+      const Mat a = (Mat::Identity() - k * h.transpose()).eval();
+      p_ = (a * p_ * a.transpose() + (k * r) * k.transpose()).eval();
+    }
     symmetrise();
     return true;
+  }
+
+  // The motion is large enough to say something about the wall's parameters: this half-cycle's peak (or |x| now)
+  // at least inform_peak_noises × the transducer's σ. Below, the fused model's motion is mostly the sensor noise
+  // (a wall rocking at sub-noise amplitude, or at rest): fitting c, k or r to it biases them with a confident σ.
+  bool informative(Scalar x) const {
+    const Scalar a = abs(x) > peak_x_ ? abs(x) : peak_x_;
+    return a * a >= inform_peak_var_ * r_x_;
   }
 
   void symmetrise() {
@@ -657,7 +676,32 @@ class WallObserver {
     }
     Traits::set_sqrt_r(stepper, e_);
     Traits::set_capacity(stepper, kc_, kk_, ug, vg);
-    if (stepper.moving()) Traits::set_motion(stepper, x, xd, ug, vg);
+    if (stepper.moving()) {
+      const Scalar x_before = Traits::x(stepper);
+      Scalar xd_after = xd;
+      // The correction carried the wall across the hinge in the direction it moves: the wall hit the hinge between
+      // the model's state and the measured one, an impact the stepper did not see (it would otherwise be lost: the
+      // motion is placed on the new side with the velocity it had before). Its map: ẋ⁺ = e·ẋ⁻, covariance through
+      // the reset's Jacobian (δẋ⁺ = e δẋ⁻ + ẋ⁻ δe; the timing term is not needed, x is the measured one).
+      const bool crossed = (x_before > Scalar(0) && x < Scalar(0) && xd < Scalar(0)) ||
+                           (x_before < Scalar(0) && x > Scalar(0) && xd > Scalar(0));
+      if (crossed) {
+        xd_after = e_ * xd;
+        Mat j = Mat::Identity();
+        j(V, V) = e_;
+        const bool certain = xd * xd >= inform_var_ * p_(V, V) && abs(xd) >= v_min_ && informative(x_before);
+        if (certain) j(V, E) = xd;
+        p_ = (j * p_ * j.transpose()).eval();
+        if (!certain) {
+          const Scalar jump = (Scalar(1) - e_) * xd;
+          p_(V, V) = p_(V, V) + jump * jump;
+        }
+        peak_x_ = Scalar(0);
+        ++counters_.impacts;
+        ++counters_.impacts_in_corrections;
+      }
+      Traits::set_motion(stepper, x, xd_after, ug, vg);
+    }
   }
 
   static bool clamp_to(Scalar& v, Scalar lo, Scalar hi) {
@@ -697,7 +741,7 @@ class WallObserver {
     h(B) = Scalar(1);
     Vec dz = Vec::Zero();
     last_innovation_x_ = y;
-    if (scalar_update(h, y, r_x_, dz)) {
+    if (scalar_update(h, y, r_x_, dz, informative(x))) {
       apply(stepper, dz, ug, vg);
       ++counters_.x_updates;
       ++out.x_updates;
@@ -759,7 +803,7 @@ class WallObserver {
     h(K) = -(k0_[i] * x);
     Vec dz = Vec::Zero();
     last_innovation_a_ = y;
-    if (!scalar_update(h, y, r_a_, dz)) {
+    if (!scalar_update(h, y, r_a_, dz, informative(x))) {
       ++counters_.rejected;
       out.flags |= observer_flag::rejected;
       return;

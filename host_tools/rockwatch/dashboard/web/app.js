@@ -43,9 +43,10 @@
         { label: 'x measured', stroke: COLORS.measured, width: 1, spanGaps: true },
         line('+x_inst', COLORS.inst, null), line('−x_inst', COLORS.inst, null),
         line('+warning', COLORS.warning, dash), line('−warning', COLORS.warning, dash),
-        line('+collapse', COLORS.collapse, dash), line('−collapse', COLORS.collapse, dash)],
+        line('+collapse', COLORS.collapse, dash), line('−collapse', COLORS.collapse, dash),
+        line('+x_inst estimated', COLORS.inst, [2, 3]), line('−x_inst estimated', COLORS.inst, [2, 3])],
       legend: { live: false },
-    }, [[], [], [], [], [], [], [], [], []], el);
+    }, [[], [], [], [], [], [], [], [], [], [], []], el);
   }
 
   function makeEChart(el, limits) {
@@ -182,7 +183,10 @@
     view.reasons.textContent = w.reasons.length ? w.reasons.join(', ') : 'none';
     view.time.textContent = w.t_s === null ? '—' : clock(w.t_s);
     view.quality.textContent = w.data_quality.length ? w.data_quality.join(', ') : 'ok';
+    view.estimateData = w.estimate || null;
     view.estimate.textContent = w.estimate ? 'σx ' + mm(w.estimate.sigma_x_m) + ', r ' + fmt(w.estimate.r_estimate, 3) +
+      (w.estimate.x_inst_estimate_m != null ? ', x_inst ' + mm(w.estimate.x_inst_estimate_m) + ' ± ' +
+        mm(w.estimate.sigma_x_inst_m) : '') +
       (w.estimate.sensor_health.length ? ' (' + w.estimate.sensor_health.join(', ') + ')' : '') : 'off';
     renderTransitions(view);
     renderStatus(view);
@@ -201,9 +205,13 @@
     const joined = meas[0].length ? uPlot.join([pred, meas]) : [pred[0], pred[1], pred[0].map(() => null)];
     const n = joined[0].length;
     const constant = (v) => new Array(n).fill(v);
+    // The observer's estimated x_inst (side +1, the wall_estimate_t of the last sample; side −1 by the same κc/κk),
+    // beside the nominal one.
+    const est = view.estimateData;
+    const xEst = est && est.x_inst_estimate_m != null ? est.x_inst_estimate_m : null;
     view.xChart.setData([joined[0], joined[1], joined[2], constant(L.x_inst_m[1]), constant(-L.x_inst_m[0]),
       constant(L.x_warning_m[1]), constant(-L.x_warning_m[0]), constant(L.x_collapse_m[1]),
-      constant(-L.x_collapse_m[0])]);
+      constant(-L.x_collapse_m[0]), constant(xEst), constant(xEst === null ? null : -xEst * L.x_inst_m[0] / L.x_inst_m[1])]);
     const t = pred[0];
     view.eChart.setData([t, view.points.map((p) => p[3]), t.map(() => L.energy_barrier),
       t.map(() => L.energy_margin)]);

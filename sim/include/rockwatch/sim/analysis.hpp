@@ -124,6 +124,16 @@ struct ObserverSummary {
   std::optional<double> r_estimate_after_impacts;  // r̂ just before impact number n+1 (n = observer_r_after_impacts
                                                    // counted impacts, |ẋ⁻| ≥ 1 mm/s), or at the end after n; none
                                                    // with fewer impacts [-]
+  // The wall's capacity and stiffness (SPEC §9, side +1, ü = v̈ = 0) at the end, with their σ: x_inst = c/k,
+  // ω = √k, c, k per unit p1, the energy barrier per unit p1 c²/(2k); the scales κc, κk on the nominal c, k.
+  double x_inst_estimate_m = 0.0, sigma_x_inst_m = 0.0;
+  double omega_estimate_rps = 0.0, sigma_omega_rps = 0.0;
+  double c_estimate_mps2 = 0.0, sigma_c_mps2 = 0.0;
+  double k_estimate_ps2 = 0.0, sigma_k_ps2 = 0.0;
+  double barrier_estimate_m2ps2 = 0.0;
+  double capacity_scale = 1.0, sigma_capacity_scale = 0.0;
+  double stiffness_scale = 1.0, sigma_stiffness_scale = 0.0;
+  std::optional<double> x_inst_estimate_after_impacts_m;  // x̂_inst when r_estimate_after_impacts was taken [m]
 };
 
 struct HistoryRow {
