@@ -1,0 +1,113 @@
+// Ensemble forecast of collapse (SPEC §10, issue 29): from the wall's current state and its uncertainty, and a
+// stochastic model of the ground motion still to come fitted to the recent record, N members are integrated over a
+// horizon H with core::RockingStepper<double>; the answer is P(collapse within H) (the fraction of members that reach
+// κ·x_inst), its Monte-Carlo standard error √(p(1−p)/N), and quantiles of max |x| / x_inst over the horizon.
+//
+// The ground model: a second-order filter of white noise (the relative displacement of a Kanai–Tajimi soil
+// oscillator, ÿ + 2ζω_g ẏ + ω_g² y = w, normalised to unit variance), whose dominant frequency ω_g is π × the
+// record's zero-crossing rate over the last window_s seconds, times an envelope σ(τ) = σ_now·exp(β τ) fitted to the
+// RMS of the record in blocks of that window (log-linear least squares). See SPEC §10 for every parameter.
+//
+// Deterministic: member m draws from its own synthesis::RandomStream seeded from (seed, m) alone, so the same input
+// and seed give the same bits on every machine (IEEE double, the same libm for log/sin/cos/exp). The same member
+// seeds are used for every forecast (common random numbers: a series of forecasts moves with the state, not with
+// sampling noise). Allocation-free after construction: the one buffer (N values) is allocated by the constructor.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <stdexcept>
+#include <vector>
+
+#include "rockwatch/core/model.hpp"
+#include "rockwatch/core/rocking_stepper.hpp"
+#include "rockwatch/core/wall.hpp"
+
+namespace rockwatch::sim {
+
+// Ranges (checked by the constructor; the CLI names the option at fault).
+inline constexpr int kForecastMembersMin = 1;
+inline constexpr int kForecastMembersMax = 100000;
+inline constexpr double kForecastHorizonMax_s = 60.0;
+
+struct ForecastSettings {
+  int members = 200;                 // N, in [1, 100000]
+  double horizon_s = 5.0;            // H, in (0, 60] s
+  double step_s = 0.005;             // the members' integration step (the paper's 5 ms), in [1e-4, 0.01] s
+  double window_s = 4.0;             // the ground model is fitted to the record over the last window_s, in [0.5, 60] s
+  double block_s = 1.0;              // envelope: RMS in blocks of this length (at most 8 blocks), in [0.1, window_s]
+  double damping = 0.4;              // ζ_g of the ground filter, in [0.05, 1)
+  double growth_min_per_s = -1.5;    // β is clamped to [growth_min, growth_max] [1/s]
+  double growth_max_per_s = 0.2;
+  double sigma_now_cap = 1.5;        // σ_now ≤ this × the largest block RMS of the window [-]
+  // State uncertainty when the caller has none (open loop): σ_x = this × x_inst, σ_ẋ = this × v_b, where
+  // v_b = √(2 E_barrier / p1) is the speed that carries the wall from x = 0 over the barrier.
+  double default_sigma_fraction = 0.01;
+  std::uint64_t seed = 29;
+};
+
+// The stochastic ground model of one forecast (fit_ground_model, or given directly).
+struct GroundModel {
+  double sigma_now_mps2 = 0.0;       // envelope at the forecast time (the RMS of the ground to come at τ = 0) [m/s²]
+  double growth_per_s = 0.0;         // β: σ(τ) = σ_now·exp(β τ) [1/s]
+  double omega_rps = 0.0;            // ω_g: dominant circular frequency [rad/s]
+  double zero_crossing_rate_hz = 0.0;  // sign changes of ü per second over the window [1/s]
+  double window_used_s = 0.0;        // length of record the model was fitted to [s]
+};
+
+// The record's samples ug[0 .. n) (the last one at the forecast time), sampled every dt_s: the ground model over the
+// last settings.window_s (or what there is). Needs n ≥ 2.
+GroundModel fit_ground_model(const double* ug_mps2, std::size_t n, double dt_s, const ForecastSettings& settings);
+
+// The wall's state at the forecast time.
+struct ForecastState {
+  bool moving = false;               // false: the wall is at rest (no forecast is run; ForecastResult says so)
+  double x_m = 0.0, xd_mps = 0.0;    // mid-height displacement and velocity
+  double ug_now_mps2 = 0.0;          // the ground acceleration at the forecast time [m/s²]
+  // The state's uncertainty (the observer's covariance when sensors are present); negative: the settings' default.
+  double sigma_x_m = -1.0, sigma_xd_mps = -1.0;
+  double rho_x_xd = 0.0;             // correlation of x and ẋ, in [-1, 1]
+  // The observer's estimates of the wall (1, 1 and the setup's r: the nominal wall).
+  double capacity_scale = 1.0, stiffness_scale = 1.0;
+  double sqrt_r = -1.0;              // negative: the setup's
+};
+
+enum class ForecastStatus : std::uint8_t { ok = 0, wall_at_rest = 1 };
+
+struct ForecastResult {
+  ForecastStatus status = ForecastStatus::ok;
+  int members = 0;                   // members run (0 at rest)
+  int collapsed = 0;                 // members that reached κ·x_inst within the horizon
+  double p_collapse = 0.0;           // collapsed / members
+  double p_collapse_se = 0.0;        // √(p(1−p)/N)
+  double q50_max_x_over_x_inst = 0.0;  // quantiles (linear between order statistics) of max |x|/x_inst over the
+  double q90_max_x_over_x_inst = 0.0;  // horizon (κ for a member that collapsed)
+  GroundModel ground;
+};
+
+class EnsembleForecaster {
+ public:
+  // Throws std::invalid_argument (naming the setting) for settings out of range. r_energy: the energy ratio at impact.
+  EnsembleForecaster(const core::WallParameters& wall, core::ModelKind model, double r_energy, double kappa,
+                     const ForecastSettings& settings);
+
+  // The forecast from a state and a ground model. No allocation.
+  ForecastResult forecast(const ForecastState& state, const GroundModel& ground);
+  // The same with the ground model fitted to the record's last samples ug[0 .. n) (the last at the forecast time).
+  ForecastResult forecast(const ForecastState& state, const double* ug_mps2, std::size_t n, double dt_s);
+
+  const ForecastSettings& settings() const { return settings_; }
+  const core::StepperSetup<double>& setup() const { return setup_; }
+  double velocity_scale_mps() const { return v_barrier_mps_; }
+
+ private:
+  ForecastSettings settings_;
+  core::StepperSetup<double> setup_{};
+  double v_barrier_mps_ = 0.0;
+  std::vector<double> max_ratio_;  // per member: max |x|/x_inst
+};
+
+// Validates settings; returns nullptr when valid, else the name of the first setting out of range.
+const char* forecast_settings_error(const ForecastSettings& s);
+
+}  // namespace rockwatch::sim

@@ -1,0 +1,250 @@
+// Ensemble forecast of collapse (SPEC §10): the ground model's fit and the members.
+#include "rockwatch/sim/ensemble_forecast.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "rockwatch/sim/synthesis/random_stream.hpp"
+
+namespace rockwatch::sim {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr int kMaxBlocks = 8;
+constexpr double kOmegaMin_rps = 2.0 * kPi * 0.2;  // ω_g range [rad/s]: 0.2 Hz ...
+constexpr double kInitialFilterClamp = 4.0;        // |y(0)| ≤ 4 (the record's ü now over σ_now)
+
+bool in(double v, double lo, double hi) { return v >= lo && v <= hi; }
+
+// The discretised ground filter (symplectic Euler at step h on the state (y, v = ẏ)):
+//   v' = a v + b y + c ξ,  y' = y + h v',  ξ of unit variance,
+// with c chosen so that the stationary variance of y is exactly 1 (discrete Lyapunov equation, by doubling).
+struct GroundFilter {
+  double a = 0.0, b = 0.0, c = 0.0, h = 0.0;
+  double p_yy = 1.0, p_yv = 0.0, p_vv = 0.0;  // stationary covariance with that c
+
+  GroundFilter(double omega, double zeta, double h_s) : h(h_s) {
+    a = 1.0 - 2.0 * zeta * omega * h;
+    b = -omega * omega * h;
+    // x' = A x + G ξ with x = (y, v): A = [[1 + h b, h a], [b, a]], G = [h, 1] (c = 1 for now).
+    double A[2][2] = {{1.0 + h * b, h * a}, {b, a}};
+    double P[2][2] = {{h * h, h}, {h, 1.0}};
+    for (int it = 0; it < 60; ++it) {  // Smith's doubling: P ← P + A P Aᵀ, A ← A²
+      double AP[2][2], APA[2][2], A2[2][2];
+      for (int i = 0; i < 2; ++i)
+        for (int j = 0; j < 2; ++j) AP[i][j] = A[i][0] * P[0][j] + A[i][1] * P[1][j];
+      for (int i = 0; i < 2; ++i)
+        for (int j = 0; j < 2; ++j) APA[i][j] = AP[i][0] * A[j][0] + AP[i][1] * A[j][1];
+      for (int i = 0; i < 2; ++i)
+        for (int j = 0; j < 2; ++j) A2[i][j] = A[i][0] * A[0][j] + A[i][1] * A[1][j];
+      for (int i = 0; i < 2; ++i)
+        for (int j = 0; j < 2; ++j) {
+          P[i][j] += APA[i][j];
+          A[i][j] = A2[i][j];
+        }
+      if (std::fabs(A[0][0]) + std::fabs(A[0][1]) + std::fabs(A[1][0]) + std::fabs(A[1][1]) < 1e-18) break;
+    }
+    c = 1.0 / std::sqrt(P[0][0]);
+    p_yy = 1.0;
+    p_yv = P[0][1] * c * c;
+    p_vv = P[1][1] * c * c;
+  }
+};
+
+// A uniform variate of unit variance and zero mean: √3·(2u − 1). The filter's output is a weighted sum of many of
+// them, Gaussian for every practical purpose, at a fraction of a normal variate's cost.
+inline double unit_uniform(synthesis::RandomStream& rs) { return 1.7320508075688772 * (2.0 * rs.uniform() - 1.0); }
+
+std::uint64_t member_seed(std::uint64_t seed, int member) {
+  std::uint64_t s = seed;
+  const std::uint64_t base = synthesis::splitmix64(s);
+  return base + 0x9E3779B97F4A7C15ULL * (static_cast<std::uint64_t>(member) + 1);
+}
+
+// Linear interpolation between order statistics (Hyndman & Fan type 7) of v[0 .. n), reordering v.
+double quantile(std::vector<double>& v, int n, double q) {
+  const double pos = q * double(n - 1);
+  const int lo = static_cast<int>(std::floor(pos));
+  const int hi = std::min(lo + 1, n - 1);
+  std::nth_element(v.begin(), v.begin() + lo, v.begin() + n);
+  const double v_lo = v[static_cast<std::size_t>(lo)];
+  if (hi == lo) return v_lo;
+  const double v_hi = *std::min_element(v.begin() + lo + 1, v.begin() + n);
+  return v_lo + (pos - double(lo)) * (v_hi - v_lo);
+}
+
+}  // namespace
+
+const char* forecast_settings_error(const ForecastSettings& s) {
+  if (!(s.members >= kForecastMembersMin && s.members <= kForecastMembersMax)) return "members";
+  if (!(s.horizon_s > 0.0 && s.horizon_s <= kForecastHorizonMax_s)) return "horizon_s";
+  if (!in(s.step_s, 1e-4, 0.01)) return "step_s";
+  if (!in(s.window_s, 0.5, 60.0)) return "window_s";
+  if (!in(s.block_s, 0.1, s.window_s)) return "block_s";
+  if (!(s.damping >= 0.05 && s.damping < 1.0)) return "damping";
+  if (!(in(s.growth_min_per_s, -10.0, 0.0) && in(s.growth_max_per_s, 0.0, 2.0))) return "growth";
+  if (!in(s.sigma_now_cap, 1.0, 10.0)) return "sigma_now_cap";
+  if (!in(s.default_sigma_fraction, 0.0, 0.5)) return "default_sigma_fraction";
+  return nullptr;
+}
+
+GroundModel fit_ground_model(const double* ug, std::size_t n, double dt_s, const ForecastSettings& s) {
+  GroundModel g;
+  if (n < 2 || !(dt_s > 0.0)) return g;
+  const std::size_t want = static_cast<std::size_t>(std::ceil(s.window_s / dt_s)) + 1;
+  const std::size_t m = std::min(n, want);
+  const double* w = ug + (n - m);
+  const double span = dt_s * double(m - 1);
+  g.window_used_s = span;
+  // Dominant frequency: sign changes per second (zeros skipped).
+  int crossings = 0;
+  int last_sign = 0;
+  for (std::size_t i = 0; i < m; ++i) {
+    const int sg = w[i] > 0.0 ? 1 : (w[i] < 0.0 ? -1 : 0);
+    if (sg == 0) continue;
+    if (last_sign != 0 && sg != last_sign) ++crossings;
+    last_sign = sg;
+  }
+  g.zero_crossing_rate_hz = span > 0.0 ? double(crossings) / span : 0.0;
+  const double omega_max = 1.0 / s.step_s;  // ω_g h ≤ 1: the discrete filter stays accurate and stable
+  g.omega_rps = std::clamp(kPi * g.zero_crossing_rate_hz, kOmegaMin_rps, omega_max);
+  // Envelope: RMS in equal blocks ending at the forecast time, log-linear least squares against the blocks' centres.
+  int nb = static_cast<int>(std::floor(span / s.block_s + 1e-9));
+  nb = std::clamp(nb, 1, kMaxBlocks);
+  const std::size_t per = std::max<std::size_t>(1, m / static_cast<std::size_t>(nb));
+  double rms[kMaxBlocks] = {}, centre[kMaxBlocks] = {};
+  double rms_max = 0.0;
+  for (int b = 0; b < nb; ++b) {
+    const std::size_t end = m - static_cast<std::size_t>(nb - 1 - b) * per;  // exclusive
+    const std::size_t begin = end >= per ? end - per : 0;
+    double sum = 0.0;
+    for (std::size_t i = begin; i < end; ++i) sum += w[i] * w[i];
+    rms[b] = std::sqrt(sum / double(end - begin));
+    centre[b] = -dt_s * (double(m - 1) - 0.5 * double(begin + end - 1));  // ≤ 0: seconds before the forecast time
+    rms_max = std::max(rms_max, rms[b]);
+  }
+  if (!(rms_max > 0.0)) return g;  // a record of zeros: σ_now = 0, no ground to come
+  if (nb == 1) {
+    g.sigma_now_mps2 = rms[0];
+    g.growth_per_s = 0.0;
+    return g;
+  }
+  const double floor_rms = 1e-6 * rms_max;
+  double st = 0.0, sl = 0.0, stt = 0.0, stl = 0.0;
+  for (int b = 0; b < nb; ++b) {
+    const double l = std::log(std::max(rms[b], floor_rms));
+    st += centre[b];
+    sl += l;
+    stt += centre[b] * centre[b];
+    stl += centre[b] * l;
+  }
+  const double nbd = double(nb);
+  const double den = nbd * stt - st * st;
+  const double beta = den > 0.0 ? (nbd * stl - st * sl) / den : 0.0;
+  const double alpha = (sl - beta * st) / nbd;  // log σ at τ = 0 (the forecast time)
+  g.growth_per_s = std::clamp(beta, s.growth_min_per_s, s.growth_max_per_s);
+  // With β clamped, the level is refitted through the blocks' mean: log σ_now = mean(l) − β·mean(t).
+  const double level = g.growth_per_s == beta ? alpha : (sl - g.growth_per_s * st) / nbd;
+  g.sigma_now_mps2 = std::min(std::exp(level), s.sigma_now_cap * rms_max);
+  return g;
+}
+
+EnsembleForecaster::EnsembleForecaster(const core::WallParameters& wall, core::ModelKind model, double r_energy,
+                                       double kappa, const ForecastSettings& settings)
+    : settings_(settings) {
+  if (const char* bad = forecast_settings_error(settings)) {
+    throw std::invalid_argument(std::string("forecast setting out of range: ") + bad);
+  }
+  if (!(kappa >= 1.0) || !(r_energy >= 0.0 && r_energy <= 1.0)) {
+    throw std::invalid_argument("forecast: kappa must be >= 1 and r in [0, 1]");
+  }
+  core::StepperOptions so;
+  so.dt_s = settings.step_s;
+  so.kappa = kappa;
+  setup_ = core::make_stepper_setup(wall, model, r_energy, so);
+  const double barrier = std::min(core::energy_barrier_jpm(setup_.model, core::Side::negative, wall.g_mps2),
+                                  core::energy_barrier_jpm(setup_.model, core::Side::positive, wall.g_mps2));
+  v_barrier_mps_ = std::sqrt(2.0 * barrier / setup_.model.c1);
+  max_ratio_.assign(static_cast<std::size_t>(settings.members), 0.0);
+}
+
+ForecastResult EnsembleForecaster::forecast(const ForecastState& st, const double* ug, std::size_t n, double dt_s) {
+  return forecast(st, fit_ground_model(ug, n, dt_s, settings_));
+}
+
+ForecastResult EnsembleForecaster::forecast(const ForecastState& st, const GroundModel& ground) {
+  ForecastResult res;
+  res.ground = ground;
+  if (!st.moving) {
+    res.status = ForecastStatus::wall_at_rest;
+    return res;
+  }
+  const ForecastSettings& s = settings_;
+  core::RockingStepper<double> stepper;
+  stepper.init(setup_);
+  if (st.capacity_scale != 1.0 || st.stiffness_scale != 1.0) {
+    stepper.set_capacity_scales(st.capacity_scale, st.stiffness_scale);
+  }
+  if (st.sqrt_r >= 0.0) stepper.set_sqrt_r(st.sqrt_r);
+  const core::StepperSetup<double>& su = stepper.setup();
+  const double x_inst_ref = std::min(su.x_inst_m[0], su.x_inst_m[1]);
+  const double sigma_x = st.sigma_x_m >= 0.0 ? st.sigma_x_m : s.default_sigma_fraction * x_inst_ref;
+  const double v_scale = v_barrier_mps_ * std::sqrt(st.capacity_scale * st.capacity_scale / st.stiffness_scale);
+  const double sigma_v = st.sigma_xd_mps >= 0.0 ? st.sigma_xd_mps : s.default_sigma_fraction * v_scale;
+  const double rho = std::clamp(st.rho_x_xd, -1.0, 1.0);
+  const double rho_c = std::sqrt(std::max(0.0, 1.0 - rho * rho));
+
+  const int n_steps = static_cast<int>(std::ceil(s.horizon_s / s.step_s - 1e-9));
+  const GroundFilter f(ground.omega_rps > 0.0 ? ground.omega_rps : kOmegaMin_rps, s.damping, s.step_s);
+  const double decay = std::exp(ground.growth_per_s * s.step_s);
+  const double sigma_now = ground.sigma_now_mps2;
+  const double y_start =
+      sigma_now > 0.0 ? std::clamp(st.ug_now_mps2 / sigma_now, -kInitialFilterClamp, kInitialFilterClamp) : 0.0;
+  // ẏ(0) given y(0) under the stationary covariance.
+  const double v_mean = f.p_yv / f.p_yy * y_start;
+  const double v_sd = std::sqrt(std::max(0.0, f.p_vv - f.p_yv * f.p_yv / f.p_yy));
+  const double kappa_ratio = su.x_collapse_m[1] / su.x_inst_m[1];
+
+  int collapsed = 0;
+  const int N = s.members;
+  for (int m = 0; m < N; ++m) {
+    synthesis::RandomStream rs(member_seed(s.seed, m));
+    const double z1 = rs.normal(), z2 = rs.normal(), z3 = rs.normal();
+    const double x0 = st.x_m + sigma_x * z1;
+    const double v0 = st.xd_mps + sigma_v * (rho * z1 + rho_c * z2);
+    stepper.set_state(x0, v0, st.ug_now_mps2, 0.0);
+    double y = y_start;
+    double yv = v_mean + v_sd * z3;
+    double env = sigma_now;
+    const int side0 = core::side_index(stepper.side());
+    double max_ratio = std::fabs(x0) / su.x_inst_m[side0];
+    bool fell = std::fabs(x0) >= su.x_collapse_m[side0];
+    for (int k = 0; !fell && k < n_steps; ++k) {
+      yv = f.a * yv + f.b * y + f.c * unit_uniform(rs);
+      y += f.h * yv;
+      env *= decay;
+      const auto report = stepper.step(env * y, 0.0);
+      if (report.collapsed) {
+        fell = true;
+        break;
+      }
+      const double r = std::fabs(stepper.state().x_m) / su.x_inst_m[core::side_index(stepper.side())];
+      if (r > max_ratio) max_ratio = r;
+    }
+    if (fell) {
+      ++collapsed;
+      max_ratio = kappa_ratio;
+    }
+    max_ratio_[static_cast<std::size_t>(m)] = max_ratio;
+  }
+  res.members = N;
+  res.collapsed = collapsed;
+  res.p_collapse = double(collapsed) / double(N);
+  res.p_collapse_se = std::sqrt(res.p_collapse * (1.0 - res.p_collapse) / double(N));
+  res.q50_max_x_over_x_inst = quantile(max_ratio_, N, 0.5);
+  res.q90_max_x_over_x_inst = quantile(max_ratio_, N, 0.9);
+  return res;
+}
+
+}  // namespace rockwatch::sim
