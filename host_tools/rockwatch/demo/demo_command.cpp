@@ -151,6 +151,13 @@ class Demo {
   Demo(const DemoRequest& q, const MonitorLocation& monitor, const WorkDir& work, const SignalInterrupt& interrupt)
       : q_(q), monitor_(monitor), work_(work), interrupt_(interrupt) {}
 
+  // The offline runs' options: the monitor's restitution (r_exp, or the wall file's r).
+  sim::AnalysisOptions nominal_options() const {
+    sim::AnalysisOptions o;
+    o.restitution = q_.restitution;
+    return o;
+  }
+
   CaseResult run_case(char component, int index, int total) {
     CaseResult result;
     const std::string name = "set" + std::string(q_.set < 10 ? "0" : "") + std::to_string(q_.set) + "_" + component;
@@ -158,7 +165,7 @@ class Demo {
 
     const ReplayStream stream = suite_stream(component);
     const sim::GroundMotion motion = stream_motion(stream, stream.size());
-    const OfflineRun offline = run_offline(core::paper_wall(), motion, sim::AnalysisOptions{});
+    const OfflineRun offline = run_offline(q_.wall, motion, nominal_options());
     result.verdict = offline_verdict(offline);
 
     std::cout << "\n== " << index << "/" << total << "  " << result.title << " at PGA " << number_text(q_.pga_g)
@@ -205,7 +212,7 @@ class Demo {
     result.title = "instrumented wall, set " + std::to_string(q_.set) + " component " + component;
     const ReplayStream stream = suite_stream(component);
     const sim::GroundMotion motion = stream_motion(stream, stream.size());
-    const core::WallParameters wall = core::paper_wall();
+    const core::WallParameters wall = q_.wall;
     const OfflineRun truth = run_truth(wall, motion, core::Restitution{core::RestitutionKind::ana, 0.0});
     sim::SensorModel sensor;
     sensor.rate_hz = q_.rate_hz;
@@ -213,8 +220,8 @@ class Demo {
     sensor.x_bias_m = 2e-3;
     sensor.seed = 1;
     const std::vector<core::WallSensorSample> sensors = sim::synthesize_wall_sensors(wall, truth.result, motion.dt_s, sensor);
-    const OfflineRun open_loop = run_offline(wall, motion, sim::AnalysisOptions{});
-    sim::AnalysisOptions fused_options;
+    const OfflineRun open_loop = run_offline(wall, motion, nominal_options());
+    sim::AnalysisOptions fused_options = nominal_options();
     fused_options.wall_sensors = &sensors;
     const OfflineRun fused = run_offline(wall, motion, fused_options);
     result.verdict = "true wall " + offline_verdict(truth);
@@ -295,8 +302,12 @@ class Demo {
                    const std::vector<core::WallSensorSample>* wall_sensors) {
     LiveRun live;
     const std::string out_path = work_.file(name + "_monitor.jsonl"), err_path = work_.file(name + "_monitor.err");
-    std::vector<std::string> arguments{"--lcm-url", q_.lcm_url, "--rate", number_text(q_.rate_hz), "--r", "exp",
-                                       "--kappa", "2"};
+    std::vector<std::string> arguments{"--lcm-url", q_.lcm_url, "--rate", number_text(q_.rate_hz), "--kappa", "2"};
+    if (q_.wall_file) {
+      arguments.insert(arguments.end(), {"--wall-file", *q_.wall_file});  // its wall and r
+    } else {
+      arguments.insert(arguments.end(), {"--r", "exp"});
+    }
     arguments.insert(arguments.end(), extra.begin(), extra.end());
     if (q_.monitor_config) {
       arguments.emplace_back("--config");
@@ -406,14 +417,19 @@ class Demo {
 // `rockwatch dashboard` as a child process (this executable: a command never includes another command's code), on
 // the demo's LCM URL, with the demo monitor's wall (paper wall, kappa 2: the dashboard's defaults).
 class DemoDashboard {
+  static std::vector<std::string> dashboard_arguments(const DemoRequest& q) {
+    std::vector<std::string> a{"dashboard", "--http", q.dashboard_http, "--lcm-url", q.lcm_url};
+    if (q.wall_file) a.insert(a.end(), {"--wall-file", *q.wall_file});
+    return a;
+  }
+
  public:
   DemoDashboard(const DemoRequest& q, const WorkDir& work) : out_(work.file("dashboard.out")) {
     std::error_code ec;
     const std::string self = std::filesystem::read_symlink("/proc/self/exe", ec).string();
     if (ec) throw std::runtime_error("cannot find this executable to start the dashboard: " + ec.message());
     process_ = std::make_unique<MonitorProcess>(
-        self, std::vector<std::string>{"dashboard", "--http", q.dashboard_http, "--lcm-url", q.lcm_url}, out_,
-        work.file("dashboard.err"));
+        self, dashboard_arguments(q), out_, work.file("dashboard.err"));
     err_ = work.file("dashboard.err");
   }
 
@@ -449,8 +465,9 @@ class DemoDashboard {
 
 int run(const DemoRequest& q) {
   const MonitorLocation monitor = find_monitor(q.monitor);
-  const core::WallParameters wall = core::paper_wall();
-  std::cout << "rockwatch demo: the paper's wall (b " << number_text(wall.b_m) << " m, h "
+  const core::WallParameters wall = q.wall;
+  std::cout << "rockwatch demo: " << (q.wall_file ? "the wall of " + *q.wall_file : std::string("the paper's wall"))
+            << " (b " << number_text(wall.b_m) << " m, h "
             << number_text(wall.h1_m + wall.h2_m) << " m), watched live by rockwatch-monitor over LCM\n"
             << "  each record is replayed to a fresh monitor as a sensor would send it, then compared with the\n"
                "  offline simulation of the same samples\n"

@@ -14,6 +14,7 @@
 #include "rockwatch/options/command_line.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
+#include "rockwatch/options/wall_file.hpp"
 #include "common/options_namespace.hpp"
 
 namespace rockwatch::cli {
@@ -29,7 +30,8 @@ constexpr double kMinDemoRateHz = 1.0 / 0.03;
 constexpr double kMaxDemoPga_g = 10.0;
 
 struct RawOptions {
-  std::string suite, set, pga, rate, speed, lcm_url, monitor, out, dashboard_http, dashboard_hold, monitor_config;
+  std::string suite, set, pga, rate, speed, lcm_url, monitor, out, dashboard_http, dashboard_hold, monitor_config,
+      wall_file;
   bool dashboard = false;
 };
 
@@ -87,6 +89,10 @@ void add_options(CLI::App& app, RawOptions& raw) {
                  "motion): the transitions compared are those of the wall named \"wall\" (the paper wall, unsuffixed "
                  "channels), the summary lists every wall's highest level")
       ->type_name("FILE");
+  app.add_option("--wall-file", raw.wall_file,
+                 "The wall (and r) of the monitor and the offline runs, from a wall file (rockwatch identify "
+                 "--wall-out; default: the paper wall, r exp)")
+      ->type_name("FILE.json");
   app.footer(kFooter);
 }
 
@@ -104,6 +110,14 @@ DemoParse parse_demo_arguments(int argc, const char* const* argv) {
     return DemoParse{std::nullopt, std::move(*help)};
   }
   DemoRequest q;
+  if (given(app, "--wall-file")) {
+    if (raw.wall_file.empty()) throw UsageError("--wall-file needs a file name");
+    const options::WallFile file = options::read_wall_file("--wall-file", raw.wall_file);
+    q.wall_file = raw.wall_file;
+    q.wall = file.wall;
+    q.restitution.kind = core::RestitutionKind::value;
+    q.restitution.value = file.r;
+  }
   if (given(app, "--suite")) {
     if (raw.suite.empty()) throw UsageError("--suite needs a suite directory");
     check_input_directory("--suite", raw.suite, "a suite directory written by rockwatch generate");

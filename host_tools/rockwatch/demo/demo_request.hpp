@@ -4,6 +4,9 @@
 #include <optional>
 #include <string>
 
+#include "rockwatch/core/restitution.hpp"
+#include "rockwatch/core/wall.hpp"
+
 namespace rockwatch::cli {
 
 struct DemoRequest {
@@ -20,6 +23,11 @@ struct DemoRequest {
   bool dashboard = false;              // --dashboard: run `rockwatch dashboard` during the demo
   std::string dashboard_http = "127.0.0.1:8080";  // --dashboard-http ADDR:PORT
   double dashboard_hold_s = 0.0;       // --dashboard-hold S: keep it serving this long after the demo
+  // --wall-file FILE.json: the monitor's wall and r (and the offline runs'), e.g. from `rockwatch identify`; none: the
+  // paper wall with r_exp.
+  std::optional<std::string> wall_file;
+  core::WallParameters wall = core::paper_wall();
+  core::Restitution restitution{};     // r_exp unless the wall file gives r
 };
 
 struct DemoParse {

@@ -194,4 +194,15 @@ TEST(IdentifyCommand, AWrongWallFileIsRefusedNamingTheField) {
     expect_command_rejected("simulate", {"--wall-file", dir.file("bad.json"), "--x0", "0.02"}, mentions);
   }
   expect_command_rejected("simulate", {"--wall-file", dir.file("missing.json"), "--x0", "0.02"}, {"missing.json"});
+  // Every tool that reads a wall file refuses a wrong one the same way.
+  write_text(dir.file("bad.json"), replaced("\"h1_m\": 1.75, ", ""));
+  for (const char* command : {"demo", "study", "identify", "dashboard"}) {
+    std::vector<std::string> args{"--wall-file", dir.file("bad.json")};
+    if (std::string(command) == "study") args.insert(args.end(), {"--out", dir.file("s")});
+    if (std::string(command) == "identify") args.insert(args.end(), {"--wall-sensors", dir.file("good.json")});
+    expect_command_rejected(command, args, {"'h1_m'", "missing"});
+  }
+  const ProcessResult m = run_program(ROCKWATCH_MONITOR_PATH, {"--wall-file", dir.file("bad.json"), "--print-config"});
+  CHECK_EQUAL_TEXT(2, m.exit_status, describe(m).c_str());
+  CHECK_TEXT(m.err.find("'h1_m'") != std::string::npos, describe(m).c_str());
 }
