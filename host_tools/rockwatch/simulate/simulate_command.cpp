@@ -23,6 +23,7 @@
 #include "rockwatch/sim/analysis.hpp"
 #include "rockwatch/sim/wall_sensor_synthesis.hpp"
 #include "simulate/engine_input_file.hpp"
+#include "simulate/simulate_forecast.hpp"
 #include "simulate/simulate_report.hpp"
 #include "simulate/simulate_request.hpp"
 
@@ -153,14 +154,20 @@ int run(const SimulateRequest& q) {
     });
   }
 
+  std::optional<ForecastSeries> forecast;
+  if (q.forecast) forecast = run_forecasts(q, input.motion, result);
+
   if (q.json) {
     if (result.free_motion_undecided) {
       std::cerr << "note: free rocking after the record neither settled nor collapsed within "
                 << number_text(q.analysis.free_motion_limit_s) << " s; collapse_after_end is false but undecided\n";
     }
-    std::cout << result_json(q, result).dump(2) << '\n';
+    nlohmann::ordered_json j = result_json(q, result);
+    if (forecast) j["forecast"] = forecast_json(*forecast, q.analysis.evaluate_alarm);
+    std::cout << j.dump(2) << '\n';
   } else {
     std::cout << summary_text(q, input, result);
+    if (forecast) std::cout << forecast_text(*forecast);
   }
   return finish_stdout(kErrors);
 }

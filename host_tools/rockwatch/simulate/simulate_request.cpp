@@ -34,6 +34,7 @@ struct RawOptions {
   std::string r = "exp", model = "linear", kappa, max_step, t_end, out, engine_input_out, x0;
   std::string wall_sensors, sensors_out, sensor_noise, sensor_bias, sensor_quantum, sensor_rate, sensor_accel_noise,
       sensor_seed;
+  std::string forecast_members, forecast_horizon, forecast_every, forecast_seed;
   std::vector<std::string> sensor_dropouts;
   bool json = false;
 };
@@ -60,6 +61,13 @@ const char* const kFooter =
     "channel, with --vertical-channel vertical_channel, with --gain gain_counts_per_mps2, with --arith arithmetic\n"
     "(and saturated for fixed), with --alarms alarm (settings, max_level, first times, transitions), with\n"
     "--wall-sensors observer (r_estimate, sigma_r, bias_estimate_m, n_updates, n_rejected, x_rms_innovation_m, ...).\n"
+    "\n"
+    "Ensemble forecast (--forecast-members N --forecast-horizon-s H, SPEC section 10): every --forecast-every-s S\n"
+    "seconds while the wall is not at rest, N futures of the wall from its state then, the ground still to come\n"
+    "drawn from filtered noise fitted to the last 4 s of the record: P(collapse within H), its Monte-Carlo standard\n"
+    "error and quantiles of max |x|/x_inst. --json adds forecast (members, horizon_s, every_s, step_s, seed,\n"
+    "at_rest_skipped, series [t_s, p_collapse, p_collapse_se, q50_max_x_over_x_inst, q90_max_x_over_x_inst, and\n"
+    "with --alarms alarm: the alarm's level at t_s]).\n"
     "\n"
     "--engine-input-out FILE writes the wall engine's configuration (wall, r, kappa, model, step, alarm settings\n"
     "and, with --wall-sensors, the observer's) and the input of every sample as run (the record's samples, then the\n"
@@ -137,6 +145,19 @@ void add_options(CLI::App& app, RawOptions& raw) {
                  "Write the engine's configuration and its input of every step (binary) for the Cortex-M4 replay "
                  "(scripts/m4-replay.sh)")
       ->type_name("FILE");
+  app.add_option("--forecast-members", raw.forecast_members,
+                 "Ensemble forecast of collapse (SPEC section 10): N members per forecast, 1 to 100000 (needs "
+                 "--forecast-horizon-s)")
+      ->type_name("N");
+  app.add_option("--forecast-horizon-s", raw.forecast_horizon,
+                 "Ensemble forecast: P(collapse) within H seconds, H in (0, 60]")
+      ->type_name("H");
+  app.add_option("--forecast-every-s", raw.forecast_every,
+                 "Ensemble forecast: one every S seconds while the wall is not at rest, S in [0.01, 60] (default 0.1)")
+      ->type_name("S");
+  app.add_option("--forecast-seed", raw.forecast_seed,
+                 "Ensemble forecast: seed of the members, 0 to 2^64-1 (default 29)")
+      ->type_name("K");
   app.add_flag("--json", raw.json, "Print the result as one JSON object on stdout");
   app.footer(kFooter);
 }
@@ -211,6 +232,48 @@ void parse_sensor_options(const CLI::App& app, const RawOptions& raw, SimulateRe
   q.analysis.keep_history = true;  // the samples are taken from the history
 }
 
+void parse_forecast_options(const CLI::App& app, const RawOptions& raw, SimulateRequest& q) {
+  const bool members = given(app, "--forecast-members"), horizon = given(app, "--forecast-horizon-s");
+  if (!members && !horizon) {
+    for (const char* name : {"--forecast-every-s", "--forecast-seed"}) {
+      if (given(app, name)) {
+        throw UsageError(std::string(name) + " sets the ensemble forecast: give --forecast-members and "
+                         "--forecast-horizon-s too");
+      }
+    }
+    return;
+  }
+  if (!members) throw UsageError("--forecast-horizon-s needs --forecast-members N too");
+  if (!horizon) throw UsageError("--forecast-members needs --forecast-horizon-s H too");
+  sim::ForecastSettings f;
+  const std::optional<std::uint64_t> n =
+      whole_number(raw.forecast_members, sim::kForecastMembersMin, sim::kForecastMembersMax);
+  if (!n) {
+    throw UsageError("--forecast-members must be a whole number from " + std::to_string(sim::kForecastMembersMin) +
+                     " to " + std::to_string(sim::kForecastMembersMax) + " (got " + quoted(raw.forecast_members) +
+                     ")");
+  }
+  f.members = static_cast<int>(*n);
+  f.horizon_s = parse_finite_number("--forecast-horizon-s", raw.forecast_horizon);
+  if (!(f.horizon_s > 0.0 && f.horizon_s <= sim::kForecastHorizonMax_s)) {
+    throw UsageError("--forecast-horizon-s must be in (0, " + number_text(sim::kForecastHorizonMax_s) +
+                     "] s (got " + number_text(f.horizon_s) + ")");
+  }
+  if (given(app, "--forecast-every-s")) {
+    q.forecast_every_s = parse_in("--forecast-every-s", raw.forecast_every, 0.01, 60.0, " s");
+  }
+  if (given(app, "--forecast-seed")) {
+    const std::optional<std::uint64_t> seed = whole_number(raw.forecast_seed, 0, UINT64_MAX);
+    if (!seed) {
+      throw UsageError("--forecast-seed must be a whole number from 0 to 2^64-1 (got " + quoted(raw.forecast_seed) +
+                       ")");
+    }
+    f.seed = *seed;
+  }
+  q.forecast = f;
+  q.analysis.keep_history = true;  // the forecasts start from the history's states
+}
+
 }  // namespace
 
 SimulateParse parse_simulate_arguments(int argc, const char* const* argv) {
@@ -270,6 +333,7 @@ SimulateParse parse_simulate_arguments(int argc, const char* const* argv) {
     q.analysis.keep_history = true;
   }
   parse_sensor_options(app, raw, q);
+  parse_forecast_options(app, raw, q);
   if (given(app, "--engine-input-out")) {
     if (raw.engine_input_out.empty()) throw UsageError("--engine-input-out needs a file name");
     check_output_file("--engine-input-out", raw.engine_input_out);

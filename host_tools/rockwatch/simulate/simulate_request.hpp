@@ -9,6 +9,7 @@
 #include "common/record_selection.hpp"
 #include "rockwatch/core/wall.hpp"
 #include "rockwatch/sim/analysis.hpp"
+#include "rockwatch/sim/ensemble_forecast.hpp"
 #include "rockwatch/sim/wall_sensor_synthesis.hpp"
 
 namespace rockwatch::cli {
@@ -42,6 +43,10 @@ struct SimulateRequest {
   // (--dt, default 0.005 s) to --t-end (default 0: free motion only).
   bool ground_at_rest = false;
   double ground_at_rest_dt_s = 0.005;
+  // --forecast-members N --forecast-horizon-s H [--forecast-every-s S] [--forecast-seed K]: the ensemble forecast of
+  // collapse (SPEC §10) from the simulated state every S seconds while the wall is not at rest (JSON `forecast`).
+  std::optional<sim::ForecastSettings> forecast;
+  double forecast_every_s = 0.1;
 };
 
 // Outcome of reading the command line: either a request to run, or text to print and an exit status

@@ -1,0 +1,128 @@
+#include "simulate/simulate_forecast.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace rockwatch::cli {
+
+namespace {
+
+// The alarm's level at t (the last listed transition at or before t); none when transitions beyond the listed ones
+// may have happened before t.
+std::optional<core::AlarmLevel> alarm_level_at(const sim::AlarmSummary& a, double t_s) {
+  core::AlarmLevel level = core::AlarmLevel::quiet;
+  for (const sim::AlarmTransition& tr : a.transitions) {
+    if (tr.t_s > t_s + 1e-9) return level;
+    level = tr.level;
+  }
+  if (a.n_transitions > a.transitions.size()) return std::nullopt;
+  return level;
+}
+
+}  // namespace
+
+ForecastSeries run_forecasts(const SimulateRequest& q, const sim::GroundMotion& motion,
+                             const sim::AnalysisResult& result) {
+  ForecastSeries series;
+  series.settings = *q.forecast;
+  series.every_s = q.forecast_every_s;
+  const std::vector<sim::HistoryRow>& h = result.history;
+  if (h.empty()) return series;
+  sim::EnsembleForecaster forecaster(q.wall, q.analysis.model, result.r, q.analysis.kappa, series.settings);
+  // The ground as run: the record's ü to t_end, zero after it (the free motion), to the end of the history.
+  const double dt = motion.dt_s;
+  const double t_last = h.back().t_s;
+  const auto n_ext = static_cast<std::size_t>(std::floor(t_last / dt + 1e-9)) + 1;
+  std::vector<double> ug(std::max<std::size_t>(n_ext, 2), 0.0);
+  for (std::size_t i = 0; i < ug.size() && i < motion.ug_mps2.size(); ++i) {
+    if (double(i) * dt <= result.t_end_s + 1e-9) ug[i] = motion.ug_mps2[i];
+  }
+  const double t_stop = result.t_collapse_s ? *result.t_collapse_s : t_last;
+  std::size_t row = 0;
+  for (long k = 0;; ++k) {
+    const double t = std::round(double(k) * series.every_s * 1e9) / 1e9;  // 2.3, not 2.3000000000000003
+    if (t > t_stop + 1e-9 || (result.t_collapse_s && t >= *result.t_collapse_s)) break;
+    while (row + 1 < h.size() && h[row + 1].t_s <= t + 1e-9) ++row;
+    const sim::HistoryRow& s = h[row];
+    sim::ForecastState st;
+    st.moving = !(s.x_m == 0.0 && s.xd_mps == 0.0);
+    if (!st.moving) {
+      ++series.at_rest;
+      continue;
+    }
+    st.x_m = s.x_m;
+    st.xd_mps = s.xd_mps;
+    st.ug_now_mps2 = s.ug_mps2;
+    const std::size_t n = std::min(ug.size(), static_cast<std::size_t>(std::floor(s.t_s / dt + 1e-9)) + 1);
+    ForecastEntry e;
+    e.t_s = t;
+    e.result = forecaster.forecast(st, ug.data(), std::max<std::size_t>(n, 2), dt);
+    if (result.alarm.evaluated) e.alarm = alarm_level_at(result.alarm, t);
+    series.entries.push_back(e);
+  }
+  return series;
+}
+
+nlohmann::ordered_json forecast_json(const ForecastSeries& s, bool with_alarm) {
+  nlohmann::ordered_json j;
+  j["members"] = s.settings.members;
+  j["horizon_s"] = s.settings.horizon_s;
+  j["every_s"] = s.every_s;
+  j["step_s"] = s.settings.step_s;
+  j["seed"] = s.settings.seed;
+  j["at_rest_skipped"] = s.at_rest;
+  nlohmann::ordered_json series = nlohmann::ordered_json::array();
+  for (const ForecastEntry& e : s.entries) {
+    nlohmann::ordered_json x;
+    x["t_s"] = e.t_s;
+    x["p_collapse"] = e.result.p_collapse;
+    x["p_collapse_se"] = e.result.p_collapse_se;
+    x["q50_max_x_over_x_inst"] = e.result.q50_max_x_over_x_inst;
+    x["q90_max_x_over_x_inst"] = e.result.q90_max_x_over_x_inst;
+    if (with_alarm) {
+      if (e.alarm) {
+        x["alarm"] = core::alarm_level_name(*e.alarm);
+      } else {
+        x["alarm"] = nullptr;
+      }
+    }
+    series.push_back(x);
+  }
+  j["series"] = series;
+  return j;
+}
+
+std::string forecast_text(const ForecastSeries& s) {
+  char buf[256];
+  std::string out = "\nEnsemble forecast (SPEC section 10)\n";
+  std::snprintf(buf, sizeof buf, "  %d members over %g s, one every %g s while the wall moves (seed %llu)\n",
+                s.settings.members, s.settings.horizon_s, s.every_s,
+                static_cast<unsigned long long>(s.settings.seed));
+  out += buf;
+  if (s.entries.empty()) {
+    out += "  the wall was at rest at every forecast time: no forecast\n";
+    return out;
+  }
+  const ForecastEntry* top = &s.entries.front();
+  const ForecastEntry* first_half = nullptr;
+  for (const ForecastEntry& e : s.entries) {
+    if (e.result.p_collapse > top->result.p_collapse) top = &e;
+    if (!first_half && e.result.p_collapse >= 0.5) first_half = &e;
+  }
+  std::snprintf(buf, sizeof buf, "  forecasts                  %zu (%zu times at rest skipped)\n", s.entries.size(),
+                s.at_rest);
+  out += buf;
+  std::snprintf(buf, sizeof buf, "  highest P(collapse)        %.3f +- %.3f at t = %.3f s\n", top->result.p_collapse,
+                top->result.p_collapse_se, top->t_s);
+  out += buf;
+  if (first_half) {
+    std::snprintf(buf, sizeof buf, "  first P(collapse) >= 0.5   t = %.3f s\n", first_half->t_s);
+  } else {
+    std::snprintf(buf, sizeof buf, "  first P(collapse) >= 0.5   never\n");
+  }
+  out += buf;
+  return out;
+}
+
+}  // namespace rockwatch::cli

@@ -1,0 +1,40 @@
+// `rockwatch simulate --forecast-members N --forecast-horizon-s H`: the ensemble forecast of collapse (SPEC §10) from
+// the simulated (or fused) state every --forecast-every-s seconds while the wall is not at rest, the ground model
+// fitted to the record up to each forecast time.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "rockwatch/core/alarm.hpp"
+#include "rockwatch/sim/analysis.hpp"
+#include "rockwatch/sim/ensemble_forecast.hpp"
+#include "simulate/simulate_request.hpp"
+
+namespace rockwatch::cli {
+
+struct ForecastEntry {
+  double t_s = 0.0;
+  sim::ForecastResult result;
+  std::optional<core::AlarmLevel> alarm;  // the alarm's level at t_s (with --alarms; none past the listed transitions)
+};
+
+struct ForecastSeries {
+  sim::ForecastSettings settings;
+  double every_s = 0.1;
+  std::vector<ForecastEntry> entries;
+  std::size_t at_rest = 0;  // forecast times skipped because the wall was at rest
+};
+
+// Needs request.forecast and result.history (keep_history).
+ForecastSeries run_forecasts(const SimulateRequest& request, const sim::GroundMotion& motion,
+                             const sim::AnalysisResult& result);
+
+nlohmann::ordered_json forecast_json(const ForecastSeries& series, bool with_alarm);
+std::string forecast_text(const ForecastSeries& series);
+
+}  // namespace rockwatch::cli

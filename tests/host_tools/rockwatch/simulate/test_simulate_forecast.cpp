@@ -1,0 +1,170 @@
+// `rockwatch simulate --forecast-members N --forecast-horizon-s H [--forecast-every-s S]` (issue 29, SPEC §10): the JSON
+// `forecast` object and its series (one entry every S s while the wall moves, the alarm's level beside each with
+// --alarms), an entry equal to sim::EnsembleForecaster run in-process on sim::analyse's state, the same output on a
+// second run, a wall at rest, and out-of-range options refused naming the option.
+#include <cmath>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_process.hpp"
+#include "cli_test_files.hpp"
+#include "rockwatch/core/restitution.hpp"
+#include "rockwatch/core/wall.hpp"
+#include "rockwatch/records/record.hpp"
+#include "rockwatch/sim/analysis.hpp"
+#include "rockwatch/sim/ensemble_forecast.hpp"
+
+#include "cli_expect.hpp"  // brings in CppUTest, after every standard header
+
+#include <CppUTest/TestHarness.h>
+
+using rockwatch::test::describe;
+using rockwatch::test::expect_command_rejected;
+using rockwatch::test::kG;
+using rockwatch::test::ProcessResult;
+using rockwatch::test::record_path;
+using rockwatch::test::run_rockwatch;
+namespace sim = rockwatch::sim;
+namespace core = rockwatch::core;
+
+namespace {
+
+const char* const kElCentro180 = "RSN6_IMPVALL.I_I-ELC180-hor1.AT2";
+
+std::vector<std::string> el_centro(const std::string& pga_g, const std::vector<std::string>& more) {
+  std::vector<std::string> a{"simulate", "--record", record_path(kElCentro180), "--scale-pga", pga_g};
+  a.insert(a.end(), more.begin(), more.end());
+  return a;
+}
+
+const std::vector<std::string> kForecast{"--forecast-members", "20", "--forecast-horizon-s", "1",
+                                         "--forecast-every-s", "0.25"};
+
+void check_ok(const ProcessResult& r) {
+  const std::string what = describe(r);
+  CHECK_EQUAL_TEXT(0, r.signal, what.c_str());
+  CHECK_EQUAL_TEXT(0, r.exit_status, what.c_str());
+}
+
+}  // namespace
+
+TEST_GROUP(SimulateForecast){};
+
+TEST(SimulateForecast, SeriesWhileTheWallMovesWithTheAlarmBeside) {
+  std::vector<std::string> args = kForecast;
+  args.insert(args.end(), {"--alarms", "--json"});
+  const ProcessResult r = run_rockwatch(el_centro("0.3", args));
+  check_ok(r);
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  CHECK_TRUE(j["collapsed"].get<bool>());
+  const double t_collapse = j["t_collapse_s"].get<double>();
+  const nlohmann::json& f = j["forecast"];
+  std::vector<std::string> keys;
+  for (auto it = f.begin(); it != f.end(); ++it) keys.push_back(it.key());
+  const std::vector<std::string> expected{"at_rest_skipped", "every_s", "horizon_s", "members", "seed", "series",
+                                          "step_s"};
+  CHECK_TRUE(keys == expected);  // nlohmann::json sorts its keys
+  LONGS_EQUAL(20, f["members"].get<int>());
+  DOUBLES_EQUAL(1.0, f["horizon_s"].get<double>(), 0.0);
+  DOUBLES_EQUAL(0.25, f["every_s"].get<double>(), 0.0);
+  const nlohmann::json& series = f["series"];
+  CHECK_TRUE(series.size() >= 2);
+  // Every forecast time before the collapse is either an entry or a time at rest.
+  const std::size_t times = static_cast<std::size_t>(std::floor(t_collapse / 0.25 - 1e-9)) + 1;
+  LONGS_EQUAL(times, series.size() + f["at_rest_skipped"].get<std::size_t>());
+  double previous_t = -1.0;
+  for (const nlohmann::json& e : series) {
+    const double t = e["t_s"].get<double>();
+    CHECK_TRUE(t > previous_t && t < t_collapse);
+    DOUBLES_EQUAL(0.0, std::remainder(t, 0.25), 1e-9);
+    previous_t = t;
+    const double p = e["p_collapse"].get<double>();
+    CHECK_TRUE(p >= 0.0 && p <= 1.0);
+    DOUBLES_EQUAL(std::sqrt(p * (1.0 - p) / 20.0), e["p_collapse_se"].get<double>(), 1e-15);
+    CHECK_TRUE(e["q90_max_x_over_x_inst"].get<double>() >= e["q50_max_x_over_x_inst"].get<double>());
+    CHECK_TRUE(e["q90_max_x_over_x_inst"].get<double>() <= 2.0);
+    CHECK_TRUE(e["alarm"].is_string());
+  }
+  // Just before the collapse the wall is past x_inst moving out: every member falls.
+  DOUBLES_EQUAL(1.0, series.back()["p_collapse"].get<double>(), 0.0);
+  // The same command gives the same bytes.
+  CHECK_TRUE(run_rockwatch(el_centro("0.3", args)).out == r.out);
+  // Without --alarms no alarm beside the entries.
+  std::vector<std::string> plain = kForecast;
+  plain.push_back("--json");
+  const ProcessResult p = run_rockwatch(el_centro("0.3", plain));
+  check_ok(p);
+  const nlohmann::json jp = nlohmann::json::parse(p.out);
+  CHECK_FALSE(jp["forecast"]["series"][0].contains("alarm"));
+  DOUBLES_EQUAL(series[0]["p_collapse"].get<double>(), jp["forecast"]["series"][0]["p_collapse"].get<double>(), 0.0);
+}
+
+TEST(SimulateForecast, AnEntryIsTheForecasterOnTheAnalysedState) {
+  std::vector<std::string> args = kForecast;
+  args.push_back("--json");
+  const ProcessResult r = run_rockwatch(el_centro("0.3", args));
+  check_ok(r);
+  const nlohmann::json e = nlohmann::json::parse(r.out)["forecast"]["series"][0];
+  const double t = e["t_s"].get<double>();
+
+  const rockwatch::records::Record rec = rockwatch::records::read_record(record_path(kElCentro180));
+  sim::GroundMotion m;
+  m.dt_s = rec.dt_s;
+  m.ug_mps2 = rec.horizontal_mps2;
+  const double factor = 0.3 * kG / sim::peak_abs(m.ug_mps2);
+  for (double& u : m.ug_mps2) u *= factor;
+  sim::AnalysisOptions o;
+  o.keep_history = true;
+  const core::WallParameters w = core::paper_wall();
+  const sim::AnalysisResult a = sim::analyse(w, m, o);
+  std::size_t row = 0;
+  while (row + 1 < a.history.size() && a.history[row + 1].t_s <= t + 1e-9) ++row;
+  sim::ForecastSettings s;
+  s.members = 20;
+  s.horizon_s = 1.0;
+  sim::EnsembleForecaster f(w, o.model, a.r, o.kappa, s);
+  sim::ForecastState st;
+  st.moving = true;
+  st.x_m = a.history[row].x_m;
+  st.xd_mps = a.history[row].xd_mps;
+  st.ug_now_mps2 = a.history[row].ug_mps2;
+  const std::size_t n = static_cast<std::size_t>(std::floor(a.history[row].t_s / m.dt_s + 1e-9)) + 1;
+  const sim::ForecastResult fr = f.forecast(st, m.ug_mps2.data(), n, m.dt_s);
+  DOUBLES_EQUAL(fr.p_collapse, e["p_collapse"].get<double>(), 0.0);
+  DOUBLES_EQUAL(fr.q50_max_x_over_x_inst, e["q50_max_x_over_x_inst"].get<double>(), 0.0);
+  DOUBLES_EQUAL(fr.q90_max_x_over_x_inst, e["q90_max_x_over_x_inst"].get<double>(), 0.0);
+}
+
+TEST(SimulateForecast, AWallThatNeverMovesHasNoForecastAndSaysSo) {
+  const ProcessResult j = run_rockwatch(el_centro("0.05", {"--forecast-members", "10", "--forecast-horizon-s", "1",
+                                                           "--forecast-every-s", "1", "--json"}));
+  check_ok(j);
+  const nlohmann::json f = nlohmann::json::parse(j.out)["forecast"];
+  CHECK_TRUE(f["series"].empty());
+  CHECK_TRUE(f["at_rest_skipped"].get<int>() > 0);
+  const ProcessResult t = run_rockwatch(el_centro("0.05", {"--forecast-members", "10", "--forecast-horizon-s", "1",
+                                                           "--forecast-every-s", "1"}));
+  check_ok(t);
+  CHECK_TEXT(t.out.find("at rest at every forecast time: no forecast") != std::string::npos, t.out.c_str());
+}
+
+TEST(SimulateForecast, OptionsOutOfRangeAreRefusedNamingTheOption) {
+  const std::string rec = record_path(kElCentro180);
+  auto reject = [&](const std::vector<std::string>& more, const std::string& option) {
+    std::vector<std::string> a{"--record", rec};
+    a.insert(a.end(), more.begin(), more.end());
+    expect_command_rejected("simulate", a, {option});
+  };
+  reject({"--forecast-members", "0", "--forecast-horizon-s", "1"}, "--forecast-members");
+  reject({"--forecast-members", "100001", "--forecast-horizon-s", "1"}, "--forecast-members");
+  reject({"--forecast-members", "2.5", "--forecast-horizon-s", "1"}, "--forecast-members");
+  reject({"--forecast-members", "10", "--forecast-horizon-s", "0"}, "--forecast-horizon-s");
+  reject({"--forecast-members", "10", "--forecast-horizon-s", "61"}, "--forecast-horizon-s");
+  reject({"--forecast-members", "10", "--forecast-horizon-s", "1", "--forecast-every-s", "0.001"},
+         "--forecast-every-s");
+  reject({"--forecast-members", "10"}, "--forecast-horizon-s");
+  reject({"--forecast-every-s", "0.5"}, "--forecast-every-s");
+}
