@@ -26,6 +26,7 @@ DEMO_PACKAGES=(
   liblcm-dev liblcm-bin libglib2.0-dev   # LCM transport (firmware); lcm.pc needs glib-2.0
   iproute2               # ip: scripts/multicast-route.sh adds the multicast route on lo when there is none
   python3-matplotlib     # PNG plots (host_tools)
+  python3-dev pybind11-dev python3-numpy   # import rockwatch, the Python module (host_tools/python; built when found)
   libboost-dev           # Boost.Beast: HTTP + WebSocket server of `rockwatch dashboard` (header-only)
   openmpi-bin libopenmpi-dev   # rockwatch study --mpi (mpirun, MPI); the tool builds without them, --mpi then refuses
 )
@@ -39,6 +40,7 @@ TEST_PACKAGES=(
   valgrind               # callgrind instruction counts (tests/bench)
   clang libclang-rt-dev  # fuzzing (scripts/fuzz.sh, preset "fuzz"): clang++ and its libFuzzer/ASan/UBSan runtimes
   chromium               # headless browser of the dashboard's browser test (driven by playwright-core from npm)
+  python3-pytest         # the Python module's test (tests/python, ctest test_python_module)
 )
 
 case "$set_name" in

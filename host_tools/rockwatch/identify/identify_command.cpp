@@ -20,6 +20,7 @@
 #include "common/python_plot.hpp"
 #include "common/text_report.hpp"
 #include "common/wall_sensors.hpp"
+#include "identify/identify_report.hpp"
 #include "identify/identify_request.hpp"
 #include "rockwatch/core/restitution.hpp"
 #include "rockwatch/options/option_values.hpp"
@@ -52,7 +53,9 @@ nlohmann::ordered_json or_null(const std::optional<T>& v) {
   return v ? nlohmann::ordered_json(*v) : nlohmann::ordered_json(nullptr);
 }
 
-nlohmann::ordered_json result_json(const IdentifyRequest& q, const sim::IdentificationResult& r, double start_r) {
+}  // namespace
+
+nlohmann::ordered_json identify_json(const IdentifyRequest& q, const sim::IdentificationResult& r, double start_r) {
   nlohmann::ordered_json j;
   j["test"] = r.snap_back ? "snap-back" : "forced";
   j["r"] = r.r;
@@ -91,6 +94,8 @@ nlohmann::ordered_json result_json(const IdentifyRequest& q, const sim::Identifi
   j["wall_out"] = or_null(q.wall_out_path);
   return j;
 }
+
+namespace {
 
 // "value +- sigma unit" with `digits` decimals.
 std::string pm(double value, double sigma, int digits, const std::string& unit) {
@@ -201,7 +206,7 @@ int run(const IdentifyRequest& q) {
               << number_text(r.noise_estimate_m) << " m): the identified wall does not explain the record\n";
   }
   if (q.json) {
-    std::cout << result_json(q, r, in.start_r).dump(2) << '\n';
+    std::cout << identify_json(q, r, in.start_r).dump(2) << '\n';
   } else {
     std::cout << summary_text(q, r, in.start_r);
   }

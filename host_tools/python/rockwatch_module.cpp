@@ -1,0 +1,705 @@
+// `import rockwatch`: the engine of the `rockwatch` tool for Python (docs/python.md).
+//
+// Nothing here computes: every function reads its arguments through the tool's own option parsers (a CLI11
+// application with the options registered by the shared functions of host_tools/options and rockwatch/common, fed
+// the arguments as `--option=value` text with 17 significant digits, which round-trips every double), so the
+// validation and the messages are the tool's; then it calls what the command calls (records::read_record through
+// prepare_input, sim::analyse, sim::response_spectrum and the intensity measures, core::static_check, sim::identify)
+// and returns what the command's --json prints, with the same keys (simulate's result_json itself). Errors the tool
+// reports as "rockwatch COMMAND: error: MESSAGE" (exit 2) are ValueError(MESSAGE) here. The GIL is released while
+// the engine runs.
+#include <cstddef>
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "common/input_motion.hpp"
+#include "common/output_file.hpp"
+#include "common/record_selection.hpp"
+#include "common/wall_sensors.hpp"
+#include "rockwatch/core/wall.hpp"
+#include "rockwatch/options/alarm_options.hpp"
+#include "rockwatch/options/command_line.hpp"
+#include "rockwatch/options/engine_options.hpp"
+#include "rockwatch/options/observer_options.hpp"
+#include "rockwatch/options/option_values.hpp"
+#include "rockwatch/options/usage_error.hpp"
+#include "rockwatch/options/wall_file.hpp"
+#include "rockwatch/options/wall_options.hpp"
+#include "rockwatch/records/record_error.hpp"
+#include "rockwatch/sim/analysis.hpp"
+#include "identify/identify_report.hpp"
+#include "identify/identify_request.hpp"
+#include "rockwatch/core/static_check.hpp"
+#include "rockwatch/sim/identification.hpp"
+#include "rockwatch/sim/intensity_measures.hpp"
+#include "rockwatch/sim/measure_error.hpp"
+#include "rockwatch/sim/response_spectrum.hpp"
+#include "simulate/simulate_report.hpp"
+#include "simulate/simulate_request.hpp"
+#include "spectrum/spectrum_request.hpp"
+#include "static/static_report.hpp"
+#include "static/static_request.hpp"
+
+namespace py = pybind11;
+
+namespace rockwatch::python {
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+// A double as option text that converts back to the same double.
+std::string number_arg(double value) {
+  char text[40];
+  std::snprintf(text, sizeof text, "%.17g", value);
+  return text;
+}
+
+// A command line for one of the tool's option sets: "--name=value" (so a value starting with '-' is a value).
+struct Arguments {
+  std::vector<std::string> words{"rockwatch-python"};
+  void add(const std::string& option, const std::string& value) { words.push_back(option + "=" + value); }
+  void add(const std::string& option, double value) { add(option, number_arg(value)); }
+  void flag(const std::string& option) { words.push_back(option); }
+  void parse(CLI::App& app, const std::string& command) const {
+    std::vector<const char*> argv;
+    for (const std::string& w : words) argv.push_back(w.c_str());
+    options::parse_command_line(app, static_cast<int>(argv.size()), argv.data(), command);
+  }
+};
+
+py::object to_python(const Json& j) {
+  switch (j.type()) {
+    case Json::value_t::null: return py::none();
+    case Json::value_t::boolean: return py::bool_(j.get<bool>());
+    case Json::value_t::number_integer: return py::int_(j.get<std::int64_t>());
+    case Json::value_t::number_unsigned: return py::int_(j.get<std::uint64_t>());
+    case Json::value_t::number_float: return py::float_(j.get<double>());
+    case Json::value_t::string: return py::str(j.get<std::string>());
+    case Json::value_t::array: {
+      py::list list;
+      for (const Json& item : j) list.append(to_python(item));
+      return std::move(list);
+    }
+    case Json::value_t::object: {
+      py::dict dict;
+      for (auto it = j.begin(); it != j.end(); ++it) dict[py::str(it.key())] = to_python(it.value());
+      return std::move(dict);
+    }
+    default: return py::none();
+  }
+}
+
+py::array_t<double> numpy_copy(const std::vector<double>& values) {
+  py::array_t<double> a(static_cast<py::ssize_t>(values.size()));
+  double* out = a.mutable_data();
+  for (std::size_t i = 0; i < values.size(); ++i) out[i] = values[i];
+  return a;
+}
+
+std::vector<double> vector_of(const Array& a, const char* name) {
+  if (a.ndim() != 1) {
+    throw options::UsageError(std::string(name) + " must be a one-dimensional array of samples (got " +
+                              std::to_string(a.ndim()) + " dimensions)");
+  }
+  const double* p = a.data();
+  return std::vector<double>(p, p + a.shape(0));
+}
+
+// ---------------------------------------------------------------------------------------------------------- records
+
+struct Record {
+  double dt_s = 0.0;
+  py::array_t<double> accel_mps2;
+  py::object vertical_mps2 = py::none();
+  std::string path, format, units, description, source;
+  double t0_s = 0.0;
+  std::vector<std::string> notes;
+};
+
+Record read_record(const std::string& path, const std::optional<std::string>& units, const std::optional<double>& dt_s,
+                   const std::optional<double>& gain_counts_per_mps2, const std::optional<std::string>& channel,
+                   const std::optional<std::string>& component, const std::optional<std::string>& vertical,
+                   const std::optional<std::string>& vertical_channel, double g_mps2) {
+  CLI::App app;
+  cli::RecordOptionTexts texts;
+  cli::add_record_options(app, texts, cli::VerticalOptions::allowed);
+  Arguments args;
+  args.add("--record", path);
+  if (units) args.add("--units", *units);
+  if (dt_s) args.add("--dt", *dt_s);
+  if (gain_counts_per_mps2) args.add("--gain", *gain_counts_per_mps2);
+  if (channel) args.add("--channel", *channel);
+  if (component) args.add("--component", *component);
+  if (vertical) args.add("--vertical", *vertical);
+  if (vertical_channel) args.add("--vertical-channel", *vertical_channel);
+  args.parse(app, "simulate");
+  const cli::InputRequest request{cli::parse_record_selection(app, texts, g_mps2), std::nullopt, g_mps2};
+  cli::InputMotion in;
+  {
+    py::gil_scoped_release release;
+    in = cli::prepare_input(request);
+  }
+  Record r;
+  r.dt_s = in.motion.dt_s;
+  r.accel_mps2 = numpy_copy(in.motion.ug_mps2);
+  if (!in.motion.vg_mps2.empty()) r.vertical_mps2 = numpy_copy(in.motion.vg_mps2);
+  r.path = in.horizontal.path;
+  r.format = in.horizontal.format;
+  r.units = in.horizontal.units;
+  r.description = in.horizontal.description;
+  r.source = in.horizontal.source;
+  r.t0_s = in.horizontal.t0_s;
+  r.notes = in.notes;
+  return r;
+}
+
+// ------------------------------------------------------------------------------------------------------------- wall
+
+struct Wall {
+  options::WallChoice choice;
+};
+
+struct WallFields {
+  std::optional<double> b_m, h1_m, h2_m, rho_kgpm3, fp_npm, a, a_prime, g_mps2;
+};
+
+Wall make_wall(const std::optional<std::string>& wall_file, const WallFields& f) {
+  CLI::App app;
+  options::WallOptionTexts texts;
+  options::add_wall_options(app, texts);
+  Arguments args;
+  if (wall_file) args.add("--wall-file", *wall_file);
+  const std::pair<const char*, const std::optional<double>*> fields[] = {
+      {"--b", &f.b_m},     {"--h1", &f.h1_m}, {"--h2", &f.h2_m},           {"--rho", &f.rho_kgpm3},
+      {"--fp", &f.fp_npm}, {"--a", &f.a},     {"--a-prime", &f.a_prime}, {"--g", &f.g_mps2}};
+  for (const auto& [option, value] : fields) {
+    if (*value) args.add(option, **value);
+  }
+  args.parse(app, "simulate");
+  return Wall{options::parse_wall_options(app, texts)};
+}
+
+std::string wall_repr(const Wall& w) {
+  const core::WallParameters& p = w.choice.wall;
+  std::string text = "rockwatch.Wall(b_m=" + number_arg(p.b_m) + ", h1_m=" + number_arg(p.h1_m) +
+                     ", h2_m=" + number_arg(p.h2_m) + ", rho_kgpm3=" + number_arg(p.rho_kgpm3) +
+                     ", fp_npm=" + number_arg(p.fp_npm) + ", a=" + number_arg(p.a) + ", a_prime=" + number_arg(p.a_prime) +
+                     ", g_mps2=" + number_arg(p.g_mps2);
+  if (w.choice.wall_file_path) text += ", wall_file=" + options::quoted(*w.choice.wall_file_path);
+  if (w.choice.r_from_file) text += ", r=" + number_arg(*w.choice.r_from_file);
+  return text + ")";
+}
+
+// --------------------------------------------------------------------------------------------------------- simulate
+
+// The result: the keys of `rockwatch simulate --json` as attributes (and as_dict()), the time history as arrays.
+struct SimulateResult {};
+
+// What `r` may be: "ana" | "exp" | "impulse" | a number, as --r.
+std::string restitution_text(const py::object& r) {
+  if (py::isinstance<py::str>(r)) return r.cast<std::string>();
+  if (py::isinstance<py::bool_>(r) || !(py::isinstance<py::float_>(r) || py::isinstance<py::int_>(r))) {
+    throw py::type_error("r must be \"ana\", \"exp\", \"impulse\" or a number in [0, 1] (got " +
+                         py::repr(r).cast<std::string>() + ")");
+  }
+  return number_arg(r.cast<double>());
+}
+
+py::object simulate(const Array& accel_mps2, double dt_s, const std::optional<Wall>& wall_arg, const py::object& r,
+                    const std::optional<Array>& vertical_mps2, const std::optional<double>& scale_pga_g,
+                    const std::optional<double>& max_step_s, const std::optional<std::string>& arith, bool alarms,
+                    const std::optional<std::string>& wall_sensors, const std::optional<double>& kappa,
+                    const std::optional<std::string>& model, const std::optional<double>& t_end_s,
+                    const std::optional<double>& lambda_w, const std::optional<double>& alarm_hold_s,
+                    const std::optional<double>& energy_margin, bool history) {
+  // The options of simulate the module takes, registered by the functions simulate registers them with.
+  CLI::App app;
+  std::string r_text = "exp", model_text = "linear", kappa_text, max_step_text, t_end_text, scale_text, dt_text;
+  options::AlarmOptionTexts alarm;
+  options::ObserverOptionTexts observer;
+  options::add_restitution_option(app, r_text);
+  app.add_option("--model", model_text);
+  options::add_kappa_option(app, kappa_text);
+  options::add_max_step_option(app, max_step_text);
+  app.add_option("--t-end", t_end_text);
+  app.add_option("--scale-pga", scale_text);
+  app.add_option("--dt", dt_text);
+  options::add_alarm_options(app, alarm);
+  options::add_observer_options(app, observer, "");
+  Arguments args;
+  if (!r.is_none()) args.add("--r", restitution_text(r));
+  if (model) args.add("--model", *model);
+  if (kappa) args.add("--kappa", *kappa);
+  if (max_step_s) args.add("--max-step", *max_step_s);
+  if (t_end_s) args.add("--t-end", *t_end_s);
+  if (scale_pga_g) args.add("--scale-pga", *scale_pga_g);
+  args.add("--dt", dt_s);
+  if (arith) args.add("--arith", *arith);
+  if (alarms) args.flag("--alarms");
+  if (lambda_w) args.add("--lambda-w", *lambda_w);
+  if (alarm_hold_s) args.add("--alarm-hold", *alarm_hold_s);
+  if (energy_margin) args.add("--energy-margin", *energy_margin);
+  args.parse(app, "simulate");
+
+  // As parse_simulate_arguments reads them.
+  cli::SimulateRequest q;
+  const Wall wall = wall_arg ? *wall_arg : Wall{};
+  q.wall = wall.choice.wall;
+  q.wall_name = wall.choice.name;
+  q.wall_options_given = wall.choice.options_given;
+  q.wall_file_path = wall.choice.wall_file_path;
+  q.analysis.restitution = options::restitution_of(app, wall.choice, r_text);
+  q.analysis.model = options::parse_model("--model", model_text);
+  options::check_computable(q.wall, q.analysis);
+  options::parse_alarm_options(app, alarm, q.analysis);
+  q.arith_given = arith.has_value();
+  if (q.analysis.evaluate_alarm) q.analysis.max_alarm_transitions_kept = cli::kMaxAlarmTransitionsListed;
+  if (kappa) q.analysis.kappa = options::parse_kappa("--kappa", kappa_text);
+  if (max_step_s) q.analysis.max_step_s = options::parse_positive_number("--max-step", max_step_text, " s");
+  if (t_end_s) {
+    const double t = options::parse_finite_number("--t-end", t_end_text);
+    if (!(t >= 0.0)) throw options::UsageError("--t-end must be >= 0 s (got " + options::number_text(t) + ")");
+    q.analysis.t_end_s = t;
+  }
+  if (scale_pga_g) q.scale_pga_g = options::parse_positive_number("--scale-pga", scale_text, " (a multiple of g)");
+  q.analysis.keep_history = history;
+
+  // The input as prepare_input makes it: the samples as given, both components scaled by one factor.
+  sim::GroundMotion motion;
+  motion.dt_s = options::parse_positive_number("--dt", dt_text, " s");
+  motion.ug_mps2 = vector_of(accel_mps2, "accel_mps2");
+  if (motion.ug_mps2.size() < 2) {
+    throw options::UsageError("accel_mps2 needs at least 2 samples (got " + std::to_string(motion.ug_mps2.size()) + ")");
+  }
+  if (vertical_mps2) {
+    motion.vg_mps2 = vector_of(*vertical_mps2, "vertical_mps2");
+    if (motion.vg_mps2.size() != motion.ug_mps2.size()) {
+      throw options::UsageError("vertical_mps2 has " + std::to_string(motion.vg_mps2.size()) +
+                                " samples and accel_mps2 " + std::to_string(motion.ug_mps2.size()) +
+                                ": give both on one time grid (read_record(path, vertical=...) puts them on one)");
+    }
+  }
+  if (q.scale_pga_g) {
+    const double peak = sim::peak_abs(motion.ug_mps2);
+    if (!(peak > 0.0)) {
+      throw options::UsageError("--scale-pga: the horizontal record has peak |u''| = 0, so no factor can scale it to " +
+                                options::number_text(*q.scale_pga_g) + " g");
+    }
+    const double factor = *q.scale_pga_g * q.wall.g_mps2 / peak;
+    for (double& u : motion.ug_mps2) u *= factor;
+    for (double& v : motion.vg_mps2) v *= factor;
+  }
+
+  std::vector<core::WallSensorSample> sensors;
+  if (wall_sensors) {
+    options::check_input_file("--wall-sensors", *wall_sensors, "a wall-sensor CSV file");
+    q.wall_sensors_path = *wall_sensors;
+    q.analysis.observer = options::parse_observer_options(app, observer);
+    sensors = cli::read_wall_sensor_samples(*wall_sensors);
+    q.analysis.wall_sensors = &sensors;
+  }
+
+  sim::AnalysisResult result;
+  {
+    py::gil_scoped_release release;
+    result = sim::analyse(q.wall, motion, q.analysis);
+  }
+  q.analysis.wall_sensors = nullptr;
+
+  py::object out = py::module_::import("rockwatch").attr("SimulateResult")();
+  const Json j = cli::result_json(q, result);
+  const py::dict dict = py::reinterpret_borrow<py::dict>(to_python(j));
+  for (auto item : dict) py::setattr(out, item.first, item.second);
+  py::setattr(out, "_keys", py::list(dict.attr("keys")()));
+  py::setattr(out, "verdict", py::str(cli::verdict_word(result)));
+  py::setattr(out, "n_impacts_total", py::int_(result.n_impacts_total));
+  py::setattr(out, "t_end_s", py::float_(result.t_end_s));
+  py::setattr(out, "t_final_s", py::float_(result.t_final_s));
+  py::setattr(out, "free_motion_undecided", py::bool_(result.free_motion_undecided));
+  py::list impacts;
+  for (const sim::ImpactEvent& e : result.impacts) {
+    impacts.append(py::dict(py::arg("t_s") = e.t_s, py::arg("v_before_mps") = e.v_before_mps,
+                            py::arg("v_after_mps") = e.v_after_mps));
+  }
+  py::setattr(out, "impacts", impacts);
+  py::setattr(out, "alarm_transitions",
+              q.analysis.evaluate_alarm ? to_python(j["alarm"]["transitions"]) : py::object(py::list()));
+  // The time history, one row per integration step (as `simulate --out`).
+  const std::size_t n = result.history.size();
+  const auto column = [&](auto member) {
+    py::array_t<double> a(static_cast<py::ssize_t>(n));
+    double* p = a.mutable_data();
+    for (std::size_t i = 0; i < n; ++i) p[i] = static_cast<double>(result.history[i].*member);
+    return a;
+  };
+  if (history) {
+    py::setattr(out, "t_s", column(&sim::HistoryRow::t_s));
+    py::setattr(out, "ug_mps2", column(&sim::HistoryRow::ug_mps2));
+    py::setattr(out, "vg_mps2", column(&sim::HistoryRow::vg_mps2));
+    py::setattr(out, "x_m", column(&sim::HistoryRow::x_m));
+    py::setattr(out, "xd_mps", column(&sim::HistoryRow::xd_mps));
+    py::setattr(out, "xdd_mps2", column(&sim::HistoryRow::xdd_mps2));
+    py::setattr(out, "alpha1_rad", column(&sim::HistoryRow::alpha1_rad));
+    py::setattr(out, "alpha2_rad", column(&sim::HistoryRow::alpha2_rad));
+    py::setattr(out, "side", column(&sim::HistoryRow::side));
+  }
+  return out;
+}
+
+// ----------------------------------------------------------------------------------------------------- static check
+
+// `rockwatch static --json` with these options: its JSON (an object for one instability factor, a list of two for
+// code "both", the default).
+py::object static_check(const std::optional<Wall>& wall, const std::optional<double>& b_m,
+                        const std::optional<double>& h_m, const std::optional<double>& h1_m,
+                        const std::optional<double>& h2_m, const std::optional<double>& fp_npm,
+                        const std::optional<double>& a, const std::optional<double>& psi_rad,
+                        const std::optional<double>& rho_kgpm3, const std::optional<double>& g_mps2,
+                        const std::optional<double>& lambda, const std::optional<std::string>& code,
+                        const std::optional<std::string>& spectrum, const std::optional<double>& p,
+                        const std::optional<double>& tb_s, const std::optional<double>& tc_s,
+                        const std::optional<double>& td_s) {
+  Arguments args;
+  if (wall) {  // the wall's fields (only h1 + h2, Fp, a, rho and g enter the static check)
+    const core::WallParameters& w = wall->choice.wall;
+    if (!b_m) args.add("--b", w.b_m);
+    if (!h_m && !h1_m && !h2_m) {
+      args.add("--h1", w.h1_m);
+      args.add("--h2", w.h2_m);
+    }
+    if (!fp_npm) args.add("--fp", w.fp_npm);
+    if (!a && w.fp_npm != 0.0) args.add("--a", w.a);
+    if (!rho_kgpm3) args.add("--rho", w.rho_kgpm3);
+    if (!g_mps2) args.add("--g", w.g_mps2);
+  }
+  const std::pair<const char*, const std::optional<double>*> fields[] = {
+      {"--b", &b_m},     {"--h", &h_m},   {"--h1", &h1_m},          {"--h2", &h2_m},    {"--fp", &fp_npm},
+      {"--a", &a},       {"--psi", &psi_rad}, {"--rho", &rho_kgpm3}, {"--g", &g_mps2}, {"--lambda", &lambda},
+      {"--p", &p},       {"--tb", &tb_s}, {"--tc", &tc_s},          {"--td", &td_s}};
+  for (const auto& [option, value] : fields) {
+    if (*value) args.add(option, **value);
+  }
+  if (code) args.add("--code", *code);
+  if (spectrum) args.add("--spectrum", *spectrum);
+  args.flag("--json");
+  std::vector<const char*> argv;
+  for (const std::string& w : args.words) argv.push_back(w.c_str());
+  const cli::StaticParse parsed = cli::parse_static_arguments(static_cast<int>(argv.size()), argv.data());
+  const cli::StaticRequest& q = *parsed.request;
+  std::vector<core::StaticResult> results;
+  for (const cli::StaticCase& c : q.cases) {
+    core::StaticResult r;
+    const core::StaticCheck check = core::run_static_check(cli::case_inputs(q, c), r);
+    if (!check.ok()) throw options::UsageError(std::string("static check: ") + check.field + " " + check.message);
+    results.push_back(r);
+  }
+  return to_python(cli::static_json(q, results));
+}
+
+// ------------------------------------------------------------------------------------------------ response spectrum
+
+struct Spectrum {
+  double damping = 0.0;
+  py::array_t<double> periods_s, sd_m, psv_mps, psa_mps2, sa_abs_mps2;
+  double pga_mps2 = 0.0, pgv_mps = 0.0, pgd_m = 0.0, arias_mps = 0.0;
+  std::optional<double> d5_75_s, d5_95_s;
+};
+
+// `rockwatch spectrum`'s spectrum and intensity measures (sim::response_spectrum, sim::intensity_measures) of the
+// samples. periods_s: None (0.02 to 4 s, 100 log-spaced), "FROM:TO:N" as --periods, or the periods themselves.
+Spectrum response_spectrum(const Array& accel_mps2, double dt_s, const py::object& periods_s,
+                           const std::optional<double>& damping, double g_mps2) {
+  const std::vector<double> a = vector_of(accel_mps2, "accel_mps2");
+  std::vector<double> periods;
+  if (periods_s.is_none()) {
+    periods = sim::default_spectrum_periods();
+  } else if (py::isinstance<py::str>(periods_s)) {
+    const cli::PeriodGrid grid = cli::parse_period_grid("--periods", periods_s.cast<std::string>());
+    periods = sim::log_spaced_periods(grid.from_s, grid.to_s, grid.count);
+  } else {
+    periods = vector_of(periods_s.cast<Array>(), "periods_s");
+  }
+  const double zeta = damping.value_or(core::kDefaultDampingRatio);
+  Spectrum out;
+  sim::ResponseSpectrum rs;
+  sim::IntensityMeasures im;
+  {
+    py::gil_scoped_release release;
+    rs = sim::response_spectrum(a, dt_s, periods, zeta);
+    im = sim::intensity_measures(a, dt_s, g_mps2);
+  }
+  out.damping = rs.damping;
+  out.periods_s = numpy_copy(rs.periods_s);
+  out.sd_m = numpy_copy(rs.sd_m);
+  out.psv_mps = numpy_copy(rs.psv_mps);
+  out.psa_mps2 = numpy_copy(rs.psa_mps2);
+  out.sa_abs_mps2 = numpy_copy(rs.sa_abs_mps2);
+  out.pga_mps2 = im.pga_mps2;
+  out.pgv_mps = im.pgv_mps;
+  out.pgd_m = im.pgd_m;
+  out.arias_mps = im.arias_mps;
+  out.d5_75_s = im.d5_75_s;
+  out.d5_95_s = im.d5_95_s;
+  return out;
+}
+
+// --------------------------------------------------------------------------------------------------------- identify
+
+// A Wall as the wall options of a command: the wall file (and the fields given over it) or the fields given.
+void add_wall_arguments(Arguments& args, const Wall& wall) {
+  const options::WallChoice& c = wall.choice;
+  if (c.wall_file_path) args.add("--wall-file", *c.wall_file_path);
+  const core::WallParameters& w = c.wall;
+  const std::pair<const char*, double> fields[] = {{"--b", w.b_m},        {"--h1", w.h1_m}, {"--h2", w.h2_m},
+                                                   {"--rho", w.rho_kgpm3}, {"--fp", w.fp_npm}, {"--a", w.a},
+                                                   {"--a-prime", w.a_prime}, {"--g", w.g_mps2}};
+  for (const auto& [option, value] : fields) {
+    for (const std::string& given : c.options_given) {
+      if (given == option) args.add(option, value);
+    }
+  }
+}
+
+// `rockwatch identify --json` on these files: its JSON as a dict, plus the fitted curve (t_s, measured_m, fitted_m).
+py::object identify(const std::string& wall_sensors, const std::optional<std::string>& record,
+                    const std::optional<std::string>& units, const std::optional<double>& dt_s,
+                    const std::optional<std::string>& channel, const std::optional<std::string>& component,
+                    const std::optional<double>& scale_pga_g, const std::optional<Wall>& wall, const py::object& r,
+                    const std::optional<double>& max_step_s, const std::optional<std::string>& wall_out) {
+  Arguments args;
+  args.add("--wall-sensors", wall_sensors);
+  if (record) args.add("--record", *record);
+  if (units) args.add("--units", *units);
+  if (dt_s) args.add("--dt", *dt_s);
+  if (channel) args.add("--channel", *channel);
+  if (component) args.add("--component", *component);
+  if (scale_pga_g) args.add("--scale-pga", *scale_pga_g);
+  if (wall) add_wall_arguments(args, *wall);
+  if (!r.is_none()) args.add("--r", restitution_text(r));
+  if (max_step_s) args.add("--max-step", *max_step_s);
+  if (wall_out) args.add("--wall-out", *wall_out);
+  args.flag("--json");
+  std::vector<const char*> argv;
+  for (const std::string& w : args.words) argv.push_back(w.c_str());
+  const cli::IdentifyParse parsed = cli::parse_identify_arguments(static_cast<int>(argv.size()), argv.data());
+  const cli::IdentifyRequest& q = *parsed.request;
+  // As the command runs it (identify_command.cpp).
+  sim::IdentificationInput in;
+  in.start_wall = q.start_wall;
+  in.start_r = core::restitution_energy_ratio(q.start_wall, q.start_r);
+  in.max_step_s = q.max_step_s;
+  sim::IdentificationResult result;
+  {
+    py::gil_scoped_release release;
+    in.samples = cli::read_wall_sensor_samples(q.wall_sensors_path);
+    std::optional<cli::InputMotion> motion;
+    if (q.record) {
+      motion = cli::prepare_input(cli::InputRequest{*q.record, q.scale_pga_g, q.start_wall.g_mps2});
+      in.ground = &motion->motion;
+    }
+    try {
+      result = sim::identify(in);
+    } catch (const sim::IdentificationError& e) {
+      throw options::UsageError("the record does not identify the wall: " + std::string(e.what()) + " (" +
+                                q.wall_sensors_path + ")");
+    }
+  }
+  if (q.wall_out_path) {
+    options::WallFile file;
+    file.wall = result.wall;
+    file.r = result.r;
+    file.identified = {{"by", "rockwatch identify"},
+                       {"test", result.snap_back ? "snap-back" : "forced"},
+                       {"wall_sensors", q.wall_sensors_path},
+                       {"sigma_r", result.sigma_r},
+                       {"sigma_x_inst_m", result.sigma_x_inst_m},
+                       {"sigma_omega_radps", result.sigma_omega_radps},
+                       {"residual_rms_m", result.residual_rms_m},
+                       {"identified", {"b_m", "h1_m", "h2_m", "r"}},
+                       {"held", {"h1_m:h2_m", "rho_kgpm3", "fp_npm", "a", "a_prime", "g_mps2"}}};
+    cli::write_output_file(*q.wall_out_path,
+                           [&](std::ostream& out) { out << options::wall_file_json(file).dump(2) << '\n'; });
+  }
+  py::dict d = py::reinterpret_borrow<py::dict>(to_python(cli::identify_json(q, result, in.start_r)));
+  d["t_s"] = numpy_copy(result.t_s);
+  d["measured_m"] = numpy_copy(result.measured_m);
+  d["fitted_m"] = numpy_copy(result.fitted_m);
+  return std::move(d);
+}
+
+}  // namespace
+
+}  // namespace rockwatch::python
+
+PYBIND11_MODULE(rockwatch, m) {
+  using namespace rockwatch;
+  using namespace rockwatch::python;
+  m.doc() = "rockwatch: out-of-plane rocking of unreinforced masonry walls (the engine of the rockwatch tool). "
+            "See docs/python.md.";
+  m.attr("__version__") = ROCKWATCH_VERSION;
+
+  // The tool's "error: MESSAGE" (exit 2) is ValueError(MESSAGE).
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const options::UsageError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const records::RecordError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const sim::AnalysisError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const sim::MeasureError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const sim::IdentificationError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    }
+  });
+
+  py::class_<Record>(m, "Record", "A ground-motion record as rockwatch reads it (SI units, the file's sign)")
+      .def_readonly("dt_s", &Record::dt_s, "sample interval [s]")
+      .def_readonly("accel_mps2", &Record::accel_mps2, "horizontal (out-of-plane) ground acceleration [m/s2]")
+      .def_readonly("vertical_mps2", &Record::vertical_mps2,
+                    "vertical acceleration [m/s2, up +] on the horizontal's time grid, or None")
+      .def_readonly("path", &Record::path)
+      .def_readonly("format", &Record::format, "the reader: peer-at2, plain, esm, itaca-cor-acc, miniseed, rockwatch-suite")
+      .def_readonly("units", &Record::units, "the units the values were converted from")
+      .def_readonly("description", &Record::description, "header text of the file")
+      .def_readonly("source", &Record::source, "channel or component read")
+      .def_readonly("t0_s", &Record::t0_s, "time of the first sample in the file [s]")
+      .def_readonly("notes", &Record::notes, "the readers' notes (rockwatch prints them on stderr)")
+      .def("__len__", [](const Record& r) { return r.accel_mps2.size(); })
+      .def("__repr__", [](const Record& r) {
+        return "<rockwatch.Record " + r.path + ": " + r.format + ", " + std::to_string(r.accel_mps2.size()) +
+               " samples at dt " + options::number_text(r.dt_s) + " s" +
+               (r.vertical_mps2.is_none() ? std::string() : std::string(", with vertical")) + ">";
+      });
+
+  m.def("read_record", &read_record, py::arg("path"), py::kw_only(), py::arg("units") = py::none(),
+        py::arg("dt_s") = py::none(), py::arg("gain_counts_per_mps2") = py::none(), py::arg("channel") = py::none(),
+        py::arg("component") = py::none(), py::arg("vertical") = py::none(), py::arg("vertical_channel") = py::none(),
+        py::arg("g_mps2") = 9.81,
+        "Reads a record as `rockwatch simulate --record PATH` does (PEER AT2, ESM, ITACA, miniSEED, suite set files, "
+        "plain columns; detected from the content). Options as simulate's: units (--units), dt_s (--dt), "
+        "gain_counts_per_mps2 (--gain), channel (--channel), component (--component), vertical (--vertical FILE, "
+        "resampled onto this record's grid), vertical_channel, g_mps2 (converts records in g).");
+
+  py::class_<Wall>(m, "Wall", "A two-block wall (SPEC 1, per metre of wall): the paper wall with the given fields")
+      .def(py::init([](std::optional<double> b_m, std::optional<double> h1_m, std::optional<double> h2_m,
+                       std::optional<double> rho_kgpm3, std::optional<double> fp_npm, std::optional<double> a,
+                       std::optional<double> a_prime, std::optional<double> g_mps2) {
+             return make_wall(std::nullopt, WallFields{b_m, h1_m, h2_m, rho_kgpm3, fp_npm, a, a_prime, g_mps2});
+           }),
+           py::kw_only(), py::arg("b_m") = py::none(), py::arg("h1_m") = py::none(), py::arg("h2_m") = py::none(),
+           py::arg("rho_kgpm3") = py::none(), py::arg("fp_npm") = py::none(), py::arg("a") = py::none(),
+           py::arg("a_prime") = py::none(), py::arg("g_mps2") = py::none(),
+           "The paper wall (Table 2) with the fields given replaced (simulate's --b, --h1, --h2, --rho, --fp, --a, "
+           "--a-prime, --g), checked as the tool checks them.")
+      .def_static("paper", [] { return Wall{}; }, "The design paper's wall (Table 2): the tool's --wall paper")
+      .def_static("from_file",
+                  [](const std::string& path, std::optional<double> b_m, std::optional<double> h1_m,
+                     std::optional<double> h2_m, std::optional<double> rho_kgpm3, std::optional<double> fp_npm,
+                     std::optional<double> a, std::optional<double> a_prime, std::optional<double> g_mps2) {
+                    return make_wall(path, WallFields{b_m, h1_m, h2_m, rho_kgpm3, fp_npm, a, a_prime, g_mps2});
+                  },
+                  py::arg("path"), py::kw_only(), py::arg("b_m") = py::none(), py::arg("h1_m") = py::none(),
+                  py::arg("h2_m") = py::none(), py::arg("rho_kgpm3") = py::none(), py::arg("fp_npm") = py::none(),
+                  py::arg("a") = py::none(), py::arg("a_prime") = py::none(), py::arg("g_mps2") = py::none(),
+                  "A wall file (rockwatch identify --wall-out; --wall-file): its wall and its r, which simulate uses "
+                  "unless given r")
+      .def_property_readonly("b_m", [](const Wall& w) { return w.choice.wall.b_m; })
+      .def_property_readonly("h1_m", [](const Wall& w) { return w.choice.wall.h1_m; })
+      .def_property_readonly("h2_m", [](const Wall& w) { return w.choice.wall.h2_m; })
+      .def_property_readonly("rho_kgpm3", [](const Wall& w) { return w.choice.wall.rho_kgpm3; })
+      .def_property_readonly("fp_npm", [](const Wall& w) { return w.choice.wall.fp_npm; })
+      .def_property_readonly("a", [](const Wall& w) { return w.choice.wall.a; })
+      .def_property_readonly("a_prime", [](const Wall& w) { return w.choice.wall.a_prime; })
+      .def_property_readonly("g_mps2", [](const Wall& w) { return w.choice.wall.g_mps2; })
+      .def_property_readonly("r", [](const Wall& w) { return w.choice.r_from_file; },
+                             "the wall file's energy ratio at impact, or None")
+      .def_property_readonly("wall_file", [](const Wall& w) { return w.choice.wall_file_path; })
+      .def("__repr__", &wall_repr);
+
+  py::class_<SimulateResult>(m, "SimulateResult", py::dynamic_attr(),
+                             "What `rockwatch simulate --json` prints, its keys as attributes; the time history as "
+                             "arrays (t_s, x_m, xd_mps, ...); alarm_transitions a list of dicts")
+      .def(py::init<>())
+      .def("keys", [](py::object self) { return self.attr("_keys"); }, "the keys of simulate --json, in its order")
+      .def("as_dict",
+           [](py::object self) {
+             py::dict d;
+             for (auto key : self.attr("_keys")) d[key] = self.attr(key);
+             return d;
+           },
+           "the object simulate --json prints")
+      .def("__repr__", [](py::object self) {
+        return "<rockwatch.SimulateResult " + self.attr("verdict").cast<std::string>() + ", max_abs_x_m=" +
+               py::repr(self.attr("max_abs_x_m")).cast<std::string>() + ">";
+      });
+
+  m.def("simulate", &simulate, py::arg("accel_mps2"), py::arg("dt_s"), py::kw_only(), py::arg("wall") = py::none(),
+        py::arg("r") = py::none(), py::arg("vertical_mps2") = py::none(), py::arg("scale_pga_g") = py::none(),
+        py::arg("max_step_s") = py::none(), py::arg("arith") = py::none(), py::arg("alarms") = false,
+        py::arg("wall_sensors") = py::none(), py::arg("kappa") = py::none(), py::arg("model") = py::none(),
+        py::arg("t_end_s") = py::none(), py::arg("lambda_w") = py::none(), py::arg("alarm_hold_s") = py::none(),
+        py::arg("energy_margin") = py::none(), py::arg("history") = true,
+        "Runs a wall through a ground motion as `rockwatch simulate --json` does (the same engine and defaults). "
+        "accel_mps2: horizontal samples [m/s2] every dt_s; wall: a Wall (default the paper's); r: --r (\"ana\", "
+        "\"exp\", \"impulse\" or a number; default exp, or the wall file's); vertical_mps2 on the same grid; "
+        "scale_pga_g: --scale-pga; max_step_s: --max-step; arith: \"double\" | \"fixed\"; alarms: --alarms; "
+        "wall_sensors: --wall-sensors FILE.csv; kappa, model, t_end_s, lambda_w, alarm_hold_s, energy_margin: the "
+        "options of those names; history=False skips the time history.");
+
+  m.def("static_check", &static_check, py::kw_only(), py::arg("wall") = py::none(), py::arg("b_m") = py::none(),
+        py::arg("h_m") = py::none(), py::arg("h1_m") = py::none(), py::arg("h2_m") = py::none(),
+        py::arg("fp_npm") = py::none(), py::arg("a") = py::none(), py::arg("psi_rad") = py::none(),
+        py::arg("rho_kgpm3") = py::none(), py::arg("g_mps2") = py::none(), py::arg("lambda_") = py::none(),
+        py::arg("code") = py::none(), py::arg("spectrum") = py::none(), py::arg("p") = py::none(),
+        py::arg("tb_s") = py::none(), py::arg("tc_s") = py::none(), py::arg("td_s") = py::none(),
+        "The static non-linear kinematic check (SPEC 5) as `rockwatch static --json`: a dict (T_s, x_eq_max_m, "
+        "allowable_pga_g, K, X_m, lambda, ...) for one instability factor (code=\"ntc2008\" | \"nzsee2016\" or "
+        "lambda_=L), a list of two for code=\"both\" (the default). wall: a Wall for b, h1, h2, Fp, a, rho, g; the "
+        "other arguments are static's options (--b, --h, --h1, --h2, --fp, --a, --psi, --rho, --g, --lambda, --code, "
+        "--spectrum, --p, --tb, --tc, --td).");
+
+  py::class_<Spectrum>(m, "Spectrum", "Elastic response spectrum and intensity measures of a record")
+      .def_readonly("damping", &Spectrum::damping)
+      .def_readonly("periods_s", &Spectrum::periods_s)
+      .def_readonly("sd_m", &Spectrum::sd_m, "spectral displacement")
+      .def_readonly("psv_mps", &Spectrum::psv_mps, "pseudo-spectral velocity")
+      .def_readonly("psa_mps2", &Spectrum::psa_mps2, "pseudo-spectral acceleration (spectrum --json's sa_mps2)")
+      .def_property_readonly("sa_mps2", [](const Spectrum& s) { return s.psa_mps2; }, "= psa_mps2, as spectrum --json")
+      .def_readonly("sa_abs_mps2", &Spectrum::sa_abs_mps2, "peak absolute acceleration")
+      .def_readonly("pga_mps2", &Spectrum::pga_mps2)
+      .def_readonly("pgv_mps", &Spectrum::pgv_mps, "baseline-corrected")
+      .def_readonly("pgd_m", &Spectrum::pgd_m, "baseline-corrected")
+      .def_readonly("arias_mps", &Spectrum::arias_mps)
+      .def_readonly("d5_75_s", &Spectrum::d5_75_s)
+      .def_readonly("d5_95_s", &Spectrum::d5_95_s);
+  m.def("response_spectrum", &response_spectrum, py::arg("accel_mps2"), py::arg("dt_s"),
+        py::arg("periods_s") = py::none(), py::kw_only(), py::arg("damping") = py::none(), py::arg("g_mps2") = 9.81,
+        "The response spectrum and intensity measures of `rockwatch spectrum` (sim::response_spectrum, "
+        "sim::intensity_measures). periods_s: None (0.02 to 4 s, 100 log-spaced: spectrum's default), "
+        "\"FROM:TO:N\" as --periods, or an array of periods; damping: the ratio (default 0.05).");
+
+  m.def("identify", &identify, py::arg("wall_sensors"), py::kw_only(), py::arg("record") = py::none(),
+        py::arg("units") = py::none(), py::arg("dt_s") = py::none(), py::arg("channel") = py::none(),
+        py::arg("component") = py::none(), py::arg("scale_pga_g") = py::none(), py::arg("wall") = py::none(),
+        py::arg("r") = py::none(), py::arg("max_step_s") = py::none(), py::arg("wall_out") = py::none(),
+        "Identifies a wall from a test as `rockwatch identify --json` (sim::identify): wall_sensors the transducer's "
+        "CSV, record the ground motion of a forced test (None: a snap-back test), wall the starting wall, r the start "
+        "of r, wall_out a wall file to write (Wall.from_file reads it). Returns identify --json's dict, with the "
+        "fitted curve as arrays t_s, measured_m, fitted_m.");
+}
