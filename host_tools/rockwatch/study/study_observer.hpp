@@ -34,6 +34,8 @@ struct ObserverScore {
   Spread r_error_after_impacts;      // |r̂ − r_true| after n impacts, over the runs with at least n
   Spread r_error_final;              // |r̂ − r_true| at the end, over the same runs
   std::size_t r_within_0_02 = 0;     // of them, after n impacts
+  Spread x_inst_error_after_impacts;  // |x̂_inst − x_inst,true| / x_inst,true after n impacts, same runs
+  std::size_t x_inst_within_3_percent = 0;  // of them
   std::size_t runs_reinitialised = 0, runs_sensor_lost = 0;
 };
 

@@ -74,6 +74,7 @@ class Worker {
       out.true_max_abs_x_m = truth.max_abs_x_m;
       out.true_impacts = truth.n_impacts;
       SensorModel sensors = evaluation_.sensors;
+      if (c.accel_noise_mps2) sensors.a_noise_mps2 = c.accel_noise_mps2;
       std::uint64_t seed_state = evaluation_.sensors.seed ^ (0x9E3779B97F4A7C15ULL * (std::uint64_t(index) + 1));
       sensors.seed = synthesis::splitmix64(seed_state);
       const std::vector<core::WallSensorSample> samples = synthesize_wall_sensors(c.wall, truth, motion_.dt_s, sensors);
@@ -98,6 +99,8 @@ class Worker {
       out.fused_x_rms_error_m = rms_x_error(fused, truth);
       out.r_estimate = fused.observer.r_estimate;
       out.r_estimate_after_impacts = fused.observer.r_estimate_after_impacts;
+      out.x_inst_estimate_m = fused.observer.x_inst_estimate_m;
+      out.x_inst_estimate_after_impacts_m = fused.observer.x_inst_estimate_after_impacts_m;
       out.fused_impacts = fused.n_impacts;
       out.bias_estimate_m = fused.observer.bias_estimate_m;
       out.n_updates = fused.observer.n_updates;
@@ -129,19 +132,41 @@ SensorModel study_sensor_model() {
 
 std::vector<MismatchCase> standard_mismatch_cases(const core::WallParameters& nominal) {
   std::vector<MismatchCase> cases;
-  core::Restitution ana;
+  core::Restitution ana, r08;
   ana.kind = core::RestitutionKind::ana;
+  r08.kind = core::RestitutionKind::value;
+  r08.value = 0.8;
   const core::Restitution exp{};
-  cases.push_back(MismatchCase{"r_ana", "true r = r_ana, nominal r_exp = 0.9 r_ana", nominal, ana});
-  core::WallParameters thin = nominal, thick = nominal, split = nominal;
-  thin.b_m = 0.9 * nominal.b_m;
-  thick.b_m = 1.1 * nominal.b_m;
-  cases.push_back(MismatchCase{"b_0.9", "true b = 0.9 b (r_exp of the true wall)", thin, exp});
-  cases.push_back(MismatchCase{"b_1.1", "true b = 1.1 b (r_exp of the true wall)", thick, exp});
+  cases.push_back(MismatchCase{"r_ana", "true r = r_ana, nominal r_exp = 0.9 r_ana", nominal, ana, std::nullopt});
+  cases.push_back(MismatchCase{"r_0.8", "true r = 0.8, nominal r_exp = 0.9 r_ana", nominal, r08, std::nullopt});
+  for (const double f : {0.85, 0.9, 1.1}) {
+    core::WallParameters w = nominal;
+    w.b_m = f * nominal.b_m;
+    const std::string factor = f == 0.85 ? "0.85" : f == 0.9 ? "0.9" : "1.1";
+    cases.push_back(MismatchCase{"b_" + factor, "true b = " + factor + " b (r_exp of the true wall)", w, exp,
+                                 std::nullopt});
+  }
+  core::WallParameters split = nominal;
   const double h = nominal.h1_m + nominal.h2_m;
   split.h1_m = h * 1.5 / 3.5;
   split.h2_m = h * 2.0 / 3.5;
-  cases.push_back(MismatchCase{"h1_h2_1.5_2.0", "true h1 : h2 = 1.5 : 2.0, same h (r_exp of the true wall)", split, exp});
+  cases.push_back(MismatchCase{"h1_h2_1.5_2.0", "true h1 : h2 = 1.5 : 2.0, same h (r_exp of the true wall)", split, exp,
+                               std::nullopt});
+  for (const double fp : {2000.0, 3000.0}) {
+    core::WallParameters w = nominal;
+    w.fp_npm = nominal.fp_npm + fp;
+    const std::string kn = fp == 2000.0 ? "2" : "3";
+    cases.push_back(MismatchCase{"fp_" + kn + "kN", "true overburden + " + kn + " kN/m (r_exp of the true wall)", w, exp,
+                                 std::nullopt});
+  }
+  const std::size_t transducer_only = cases.size();
+  for (std::size_t i = 0; i < transducer_only; ++i) {
+    MismatchCase c = cases[i];
+    c.name += "+accel";
+    c.description += "; with the accelerometer (0.05 m/s2)";
+    c.accel_noise_mps2 = 0.05;
+    cases.push_back(c);
+  }
   return cases;
 }
 

@@ -38,7 +38,7 @@ void check_ok(const ProcessResult& r) {
   CHECK_EQUAL_TEXT(0, r.exit_status, what.c_str());
 }
 
-// Set 3, component X and Y, horizontal only, 0.16, 0.20, 0.24 g: 6 records x levels, 24 evaluation runs.
+// Set 3, component X and Y, horizontal only, 0.16, 0.20, 0.24 g: 6 records x levels, 96 evaluation runs (16 cases).
 std::vector<std::string> tiny_plan(const std::string& out) {
   return {"--suite", kSuite, "--sets", "3", "--r", "exp", "--vertical", "without", "--pga", "0.16:0.24:0.04",
           "--alarms", "--observer", "--jobs", "2", "--out", out};
@@ -69,7 +69,7 @@ TEST(StudyObserver, ScoresOpenLoopAndFusedAgainstTheTrueWall) {
   const nlohmann::json summary = read_json(out + "/summary.json");
   CHECK(summary.contains("alarm"));  // the study's own alarm scores are still there
   const nlohmann::json& o = summary["observer"];
-  LONGS_EQUAL(24, o["runs"].get<std::size_t>());
+  LONGS_EQUAL(96, o["runs"].get<std::size_t>());
   LONGS_EQUAL(0, o["runs_with_error"].get<std::size_t>());
   check_alarm_score(o["open_loop"]);
   check_alarm_score(o["fused"]);
@@ -88,25 +88,30 @@ TEST(StudyObserver, ScoresOpenLoopAndFusedAgainstTheTrueWall) {
   CHECK(e["r_error_after_impacts"].contains("within_0_02"));
   CHECK(e["r_error_final"]["median"].is_number());
   const nlohmann::json& cases = o["per_case"];
-  LONGS_EQUAL(4, cases.size());
+  LONGS_EQUAL(16, cases.size());
   STRCMP_EQUAL("r_ana", cases[0]["name"].get<std::string>().c_str());
-  STRCMP_EQUAL("b_0.9", cases[1]["name"].get<std::string>().c_str());
-  STRCMP_EQUAL("b_1.1", cases[2]["name"].get<std::string>().c_str());
-  STRCMP_EQUAL("h1_h2_1.5_2.0", cases[3]["name"].get<std::string>().c_str());
+  STRCMP_EQUAL("b_0.9", cases[3]["name"].get<std::string>().c_str());
+  STRCMP_EQUAL("fp_3kN", cases[7]["name"].get<std::string>().c_str());
+  STRCMP_EQUAL("fp_3kN+accel", cases[15]["name"].get<std::string>().c_str());
+  for (const nlohmann::json& c : cases) {
+    CHECK(c["estimation"].contains("x_inst_relative_error_after_impacts"));
+  }
   std::size_t per_case_runs = 0;
   for (const nlohmann::json& c : cases) {
     check_alarm_score(c["fused"]);
     per_case_runs += c["runs"].get<std::size_t>();
   }
-  LONGS_EQUAL(24, per_case_runs);
+  LONGS_EQUAL(96, per_case_runs);
   const nlohmann::json& settings = o["settings"];
   DOUBLES_EQUAL(0.5e-3, settings["sensors"]["x_noise_m"].get<double>(), 0.0);
   DOUBLES_EQUAL(2e-3, settings["sensors"]["x_bias_m"].get<double>(), 0.0);
-  DOUBLES_EQUAL(1.5, settings["cases"][3]["wall"]["h1_m"].get<double>(), 1e-12);
-  DOUBLES_EQUAL(0.09, settings["cases"][1]["wall"]["b_m"].get<double>(), 1e-12);
+  DOUBLES_EQUAL(1.5, settings["cases"][5]["wall"]["h1_m"].get<double>(), 1e-12);
+  DOUBLES_EQUAL(0.09, settings["cases"][3]["wall"]["b_m"].get<double>(), 1e-12);
+  CHECK(settings["cases"][3]["accel_noise_mps2"].is_null());
+  DOUBLES_EQUAL(0.05, settings["cases"][11]["accel_noise_mps2"].get<double>(), 0.0);
   // The plan description (what --resume compares) includes the evaluation.
   CHECK(read_json(out + "/study.json")["plan"].contains("observer"));
-  CHECK(r.out.find("Wall observer evaluation: 24 runs (4 mismatch cases)") != std::string::npos);
+  CHECK(r.out.find("Wall observer evaluation: 96 runs (16 mismatch cases)") != std::string::npos);
   CHECK(r.out.find("fused") != std::string::npos);
 }
 
