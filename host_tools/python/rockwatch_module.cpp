@@ -1,13 +1,14 @@
 // `import rockwatch`: the engine of the `rockwatch` tool for Python (docs/python.md).
 //
-// Nothing here computes: every function reads its arguments through the tool's own option parsers (a CLI11
-// application with the options registered by the shared functions of host_tools/options and rockwatch/common, fed
-// the arguments as `--option=value` text with 17 significant digits, which round-trips every double), so the
-// validation and the messages are the tool's; then it calls what the command calls (records::read_record through
-// prepare_input, sim::analyse, sim::response_spectrum and the intensity measures, core::static_check, sim::identify)
-// and returns what the command's --json prints, with the same keys (simulate's result_json itself). Errors the tool
-// reports as "rockwatch COMMAND: error: MESSAGE" (exit 2) are ValueError(MESSAGE) here. The GIL is released while
-// the engine runs.
+// Nothing here computes but simulate's scaling to a PGA (the one line of the tool's input preparation, repeated: the
+// tool scales as it reads files, the module's simulate takes samples). Every function reads its arguments through the
+// tool's own option parsers (a CLI11 application with the options registered by the shared functions of
+// host_tools/options and rockwatch/common, fed `--option=value` text with 17 significant digits, which round-trips
+// every double), so the validation and the messages are the tool's; then it calls what the command calls
+// (records::read_record through prepare_input, sim::analyse, sim::response_spectrum and the intensity measures,
+// core::run_static_check, sim::identify) and returns what the command's --json prints, with the same keys
+// (simulate's result_json itself). Errors the tool reports as "rockwatch COMMAND: error: MESSAGE" (exit 2) are
+// ValueError(MESSAGE) here. The GIL is released while the engine runs.
 #include <cstddef>
 #include <cstdio>
 #include <memory>

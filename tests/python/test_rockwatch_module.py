@@ -97,6 +97,20 @@ def test_other_readers_equal_the_tool(path, options, read_kwargs):
     assert got.as_dict() == expected
 
 
+def test_suite_record_equals_the_tool():
+    # simulate takes samples, not files: the keys that name the file's selection (suite, component, channel,
+    # vertical_channel, gain_counts_per_mps2) are the tool's alone.
+    suite = REPO / "sim" / "suites" / "npr9998-2015"
+    expected = cli("simulate", "--suite", suite, "--set", "3", "--component", "Y", "--vertical-from-suite",
+                   "--scale-pga", "0.2", "--r", "ana", "--json")
+    assert expected.pop("suite")["file"] == str(suite / "set03.txt")
+    rec = rockwatch.read_record(str(suite / "set03.txt"), component="Y", vertical=str(suite / "set03.txt"),
+                                vertical_channel="Z")
+    got = rockwatch.simulate(rec.accel_mps2, rec.dt_s, vertical_mps2=rec.vertical_mps2, scale_pga_g=0.2, r="ana")
+    assert got.as_dict() == expected
+    assert rec.format == "rockwatch-suite" and rec.source == "component Y"
+
+
 def test_wall_file_equals_the_tool(tmp_path):
     wall_file = tmp_path / "wall.json"
     wall_file.write_text(json.dumps({"format": "rockwatch-wall", "version": 1, "b_m": 0.11, "h1_m": 1.7, "h2_m": 1.65,
