@@ -80,6 +80,7 @@ const char* forecast_settings_error(const ForecastSettings& s) {
   if (!(s.members >= kForecastMembersMin && s.members <= kForecastMembersMax)) return "members";
   if (!(s.horizon_s > 0.0 && s.horizon_s <= kForecastHorizonMax_s)) return "horizon_s";
   if (!in(s.step_s, 1e-4, 0.01)) return "step_s";
+  if (!in(s.rest_speed_mps, 1e-7, 1e-2)) return "rest_speed_mps";
   if (!in(s.window_s, 0.5, 60.0)) return "window_s";
   if (!in(s.block_s, 0.1, s.window_s)) return "block_s";
   if (!(s.damping >= 0.05 && s.damping < 1.0)) return "damping";
@@ -162,6 +163,7 @@ EnsembleForecaster::EnsembleForecaster(const core::WallParameters& wall, core::M
   core::StepperOptions so;
   so.dt_s = settings.step_s;
   so.kappa = kappa;
+  so.v_rest_mps = settings.rest_speed_mps;
   setup_ = core::make_stepper_setup(wall, model, r_energy, so);
   const double barrier = std::min(core::energy_barrier_jpm(setup_.model, core::Side::negative, wall.g_mps2),
                                   core::energy_barrier_jpm(setup_.model, core::Side::positive, wall.g_mps2));
