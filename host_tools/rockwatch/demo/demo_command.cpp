@@ -205,37 +205,84 @@ class Demo {
   // displacement transducer at the mid-height hinge (0.5 mm noise, 2 mm zero offset), simulated from the true wall's
   // response. Three timelines: the truth, the nominal wall open loop (what the monitor says without sensors) and the
   // live monitor fused with the sensors (--observer), which must equal the offline fused run of the same samples.
+  // What an instrumented case's real wall is, against the monitor's nominal one.
+  struct TrueWall {
+    std::string suffix;          // of the file names: "instrumented", "thinner"
+    std::string title;           // "instrumented wall", "a wall 10 % thinner than its drawings"
+    core::WallParameters wall;   // the real wall
+    core::Restitution restitution;
+    std::string truth_label;     // the truth's column: "truth (r_ana)"
+    std::string what;            // the line that says how the real wall differs
+    double pga_g = 0.0;
+  };
+
   CaseResult run_instrumented_case(char component, int index, int total) {
+    TrueWall t;
+    t.suffix = "instrumented";
+    t.title = "instrumented wall";
+    t.wall = q_.wall;
+    t.restitution = core::Restitution{core::RestitutionKind::ana, 0.0};
+    t.truth_label = "truth (r_ana)";
+    t.pga_g = q_.pga_g;
+    return run_true_wall_case(component, index, total, t);
+  }
+
+  // A wall 10 % thinner than its drawings (the effective thickness of a real wall: mortar crushing at the hinges),
+  // r_exp of its own geometry, on the same set's component Y at 0.72 x --pga (0.18 g by default: the thinner wall
+  // collapses, the nominal one survives). The monitor is told the drawings' wall; with the transducer it estimates the
+  // wall's capacity (x_inst) as it rocks, and alarms on the estimated wall.
+  CaseResult run_thinner_wall_case(char component, int index, int total) {
+    TrueWall t;
+    t.suffix = "thinner";
+    t.title = "a wall 10 % thinner than its drawings";
+    t.wall = q_.wall;
+    t.wall.b_m = 0.9 * q_.wall.b_m;
+    t.restitution = core::Restitution{};
+    t.truth_label = "truth (0.9 b)";
+    t.pga_g = 0.72 * q_.pga_g;
+    return run_true_wall_case(component, index, total, t);
+  }
+
+  CaseResult run_true_wall_case(char component, int index, int total, const TrueWall& t) {
     CaseResult result;
     const std::string name = "set" + std::string(q_.set < 10 ? "0" : "") + std::to_string(q_.set) + "_" + component +
-                             "_instrumented";
-    result.title = "instrumented wall, set " + std::to_string(q_.set) + " component " + component;
-    const ReplayStream stream = suite_stream(component);
+                             "_" + t.suffix;
+    result.title = t.title + ", set " + std::to_string(q_.set) + " component " + component;
+    const ReplayStream stream = suite_stream(component, t.pga_g);
     const sim::GroundMotion motion = stream_motion(stream, stream.size());
     const core::WallParameters wall = q_.wall;
-    const OfflineRun truth = run_truth(wall, motion, core::Restitution{core::RestitutionKind::ana, 0.0});
+    const OfflineRun truth = run_truth(t.wall, motion, t.restitution);
     sim::SensorModel sensor;
     sensor.rate_hz = q_.rate_hz;
     sensor.x_noise_m = 0.5e-3;
     sensor.x_bias_m = 2e-3;
     sensor.seed = 1;
-    const std::vector<core::WallSensorSample> sensors = sim::synthesize_wall_sensors(wall, truth.result, motion.dt_s, sensor);
+    const std::vector<core::WallSensorSample> sensors =
+        sim::synthesize_wall_sensors(t.wall, truth.result, motion.dt_s, sensor);
     const OfflineRun open_loop = run_offline(wall, motion, nominal_options());
     sim::AnalysisOptions fused_options = nominal_options();
     fused_options.wall_sensors = &sensors;
     const OfflineRun fused = run_offline(wall, motion, fused_options);
     result.verdict = "true wall " + offline_verdict(truth);
 
-    std::cout << "\n== " << index << "/" << total << "  " << result.title << " at PGA " << number_text(q_.pga_g)
-              << " g: the real wall has r = r_ana = " << decimals(truth.result.r, 4)
-              << ", the monitor assumes r_exp = " << decimals(open_loop.result.r, 4) << "\n"
+    std::cout << "\n== " << index << "/" << total << "  " << result.title << " at PGA " << number_text(t.pga_g) << " g: ";
+    if (t.suffix == "instrumented") {
+      std::cout << "the real wall has r = r_ana = " << decimals(truth.result.r, 4) << ", the monitor assumes r_exp = "
+                << decimals(open_loop.result.r, 4) << "\n";
+    } else {
+      std::cout << "the real wall is " << decimals(t.wall.b_m, 3) << " m thick (x_inst "
+                << decimals(truth.result.x_inst_m, 4) << " m), the monitor is told " << decimals(wall.b_m, 3)
+                << " m (x_inst " << decimals(open_loop.result.x_inst_m, 4) << " m)\n";
+    }
+    std::cout
               << "  sensors on the wall: a displacement transducer at the mid-height hinge, " << sensors.size()
               << " samples at " << number_text(q_.rate_hz) << " Hz, noise 0.5 mm, zero offset 2 mm\n"
-              << "  truth (double engine, r_ana): " << offline_verdict(truth) << "\n"
+              << "  " << t.truth_label << ", double engine: " << offline_verdict(truth) << "\n"
               << "  open loop (the monitor without sensors, offline): " << offline_verdict(open_loop) << "\n"
               << "  fused (offline, same samples): " << offline_verdict(fused) << "; r estimate "
-              << decimals(fused.result.observer.r_estimate, 4) << ", offset " << decimals(fused.result.observer.bias_estimate_m * 1e3, 2)
-              << " mm\n"
+              << decimals(fused.result.observer.r_estimate, 4) << ", x_inst estimate "
+              << decimals(fused.result.observer.x_inst_estimate_m, 4) << " m, offset "
+              << decimals(fused.result.observer.bias_estimate_m * 1e3, 2) << " mm\n"
               << std::flush;
 
     const LiveRun live = run_live(name, stream, {"--observer"}, &sensors);
@@ -247,17 +294,22 @@ class Demo {
       const nlohmann::json& o = (*out.summary)["observer"];
       std::cout << "  monitor's observer: r estimate " << decimals(o.value("r_estimate", 0.0), 4) << " (true "
                 << decimals(truth.result.r, 4) << ", nominal " << decimals(open_loop.result.r, 4) << "), offset "
-                << decimals(o.value("bias_estimate_m", 0.0) * 1e3, 2) << " mm (true 2.00)\n";
+                << decimals(o.value("bias_estimate_m", 0.0) * 1e3, 2) << " mm (true 2.00)";
+      if (o.contains("x_inst_estimate_m") && o["x_inst_estimate_m"].is_number()) {
+        std::cout << ", x_inst estimate " << decimals(o["x_inst_estimate_m"].get<double>(), 4) << " m (true "
+                  << decimals(truth.result.x_inst_m, 4) << ", nominal " << decimals(open_loop.result.x_inst_m, 4) << ")";
+      }
+      std::cout << "\n";
     }
     std::cout << "\n"
-              << columns_text({{"truth (r_ana)", truth.transitions},
-                               {"open loop (r_exp)", open_loop.transitions},
+              << columns_text({{t.truth_label, truth.transitions},
+                               {"open loop (nominal)", open_loop.transitions},
                                {"monitor fused", out.transitions}},
                               "  ");
     result.comparison = compare_timelines(out.transitions, fused.transitions);
     result.match = result.monitor_ok && result.comparison.match;
-    const auto first_at = [](const std::vector<TimelineEntry>& t, const char* level) -> std::optional<double> {
-      for (const TimelineEntry& e : t) {
+    const auto first_at = [](const std::vector<TimelineEntry>& timeline, const char* level) -> std::optional<double> {
+      for (const TimelineEntry& e : timeline) {
         if (e.level == level) return e.t_s;
       }
       return std::nullopt;
@@ -280,8 +332,8 @@ class Demo {
       std::ofstream csv(work_.file(name + "_wall_sensors.csv"), std::ios::binary);
       write_wall_sensor_csv(csv, sensors, false);
       write_text(work_.file(name + "_timeline.txt"),
-                 columns_text({{"truth (r_ana)", truth.transitions},
-                               {"open loop (r_exp)", open_loop.transitions},
+                 columns_text({{t.truth_label, truth.transitions},
+                               {"open loop (nominal)", open_loop.transitions},
                                {"monitor fused", out.transitions}},
                               ""));
     }
@@ -385,7 +437,8 @@ class Demo {
   }
 
   // The samples: the suite record scaled to the PGA, at the demo's rate, exactly as `rockwatch replay` makes them.
-  ReplayStream suite_stream(char component) const {
+  ReplayStream suite_stream(char component) const { return suite_stream(component, q_.pga_g); }
+  ReplayStream suite_stream(char component, double pga_g) const {
     InputRequest s;
     SuiteSelection suite;
     suite.dir = q_.suite_dir;
@@ -397,7 +450,7 @@ class Demo {
     s.record.channel_is_component = true;
     s.record.read_options.channel = s.record.channel;
     s.record.read_options.g_mps2 = s.g_mps2;
-    s.scale_pga_g = q_.pga_g;
+    s.scale_pga_g = pga_g;
     const InputMotion input = prepare_input(s);
     return make_replay_stream(input.motion, q_.rate_hz, SensorModel{});
   }
@@ -498,7 +551,7 @@ int run(const DemoRequest& q) {
   Demo demo(q, monitor, work, interrupt);
   std::vector<CaseResult> results;
   int index = 0;
-  constexpr int kCases = 3;
+  constexpr int kCases = 4;
   for (const char component : kComponents) {
     results.push_back(demo.run_case(component, ++index, kCases));
     if (interrupt.interrupted()) {
@@ -508,6 +561,12 @@ int run(const DemoRequest& q) {
   }
   // The survivor's record again, on an instrumented wall whose restitution the nominal model gets wrong.
   results.push_back(demo.run_instrumented_case(kComponents[1], ++index, kCases));
+  if (interrupt.interrupted()) {
+    std::cout << "\ninterrupted\n" << std::flush;
+    return kExitInterrupted;
+  }
+  // Component Y again, weaker, on a wall thinner than its drawings: the capacity the monitor must learn.
+  results.push_back(demo.run_thinner_wall_case(kComponents[0], ++index, kCases));
   if (interrupt.interrupted()) {
     std::cout << "\ninterrupted\n" << std::flush;
     return kExitInterrupted;
