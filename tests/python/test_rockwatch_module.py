@@ -127,6 +127,16 @@ def test_wall_file_equals_the_tool(tmp_path):
     assert rockwatch.Wall.from_file(str(wall_file), b_m=0.1).b_m == 0.1
 
 
+def test_simulate_with_wall_sensors_equals_the_tool(tmp_path):
+    sensors = tmp_path / "sensors.csv"
+    cli("simulate", "--record", ELC, "--scale-pga", "0.2", "--r", "0.8", "--sensors-out", sensors)
+    expected = cli("simulate", "--record", ELC, "--scale-pga", "0.2", "--wall-sensors", sensors, "--alarms", "--json")
+    rec = rockwatch.read_record(ELC)
+    got = rockwatch.simulate(rec.accel_mps2, rec.dt_s, scale_pga_g=0.2, wall_sensors=str(sensors), alarms=True)
+    assert got.as_dict() == expected
+    assert got.observer["n_updates"] > 0
+
+
 def test_read_record_metadata():
     rec = rockwatch.read_record(ELC)
     assert rec.format == "peer-at2" and rec.units == "g" and rec.dt_s == 0.01
@@ -199,6 +209,16 @@ def test_identify_equals_the_tool(tmp_path):
             json.loads((tmp_path / "cli_wall.json").read_text()))
     wall = rockwatch.Wall.from_file(str(tmp_path / "py_wall.json"))
     assert wall.r == got["r"] and wall.b_m == got["wall"]["b_m"]
+    # From another starting wall and r, and a forced test.
+    expected = cli("identify", "--wall-sensors", sensors, "--b", "0.13", "--h1", "1.8", "--r", "ana", "--json")
+    got = rockwatch.identify(str(sensors), wall=rockwatch.Wall(b_m=0.13, h1_m=1.8), r="ana")
+    assert {k: v for k, v in got.items() if k not in curve} == expected
+    forced = tmp_path / "forced.csv"
+    cli("simulate", "--record", ELC, "--scale-pga", "0.18", "--b", "0.12", "--r", "0.8", "--t-end", "12",
+        "--sensors-out", forced)
+    expected = cli("identify", "--wall-sensors", forced, "--record", ELC, "--scale-pga", "0.18", "--json")
+    got = rockwatch.identify(str(forced), record=ELC, scale_pga_g=0.18)
+    assert {k: v for k, v in got.items() if k not in curve} == expected
 
 
 # ------------------------------------------------------------------------------------------------------- refusals
@@ -225,6 +245,10 @@ def test_bad_arguments_raise_the_tools_message():
         (lambda: rockwatch.static_check(h_m=0.05), ["static", "--h", "0.05"]),
         (lambda: rockwatch.read_record(ELC, units="furlongs"), ["simulate", "--record", ELC, "--units", "furlongs"]),
         (lambda: rockwatch.read_record(MSEED), ["simulate", "--record", MSEED]),
+        (lambda: rockwatch.simulate(a, dt, wall_sensors="/nonexistent.csv"),
+         ["simulate", "--record", ELC, "--wall-sensors", "/nonexistent.csv"]),
+        (lambda: rockwatch.identify("/nonexistent.csv"), ["identify", "--wall-sensors", "/nonexistent.csv"]),
+        (lambda: rockwatch.Wall.from_file(ELC), ["simulate", "--record", ELC, "--wall-file", ELC]),
     ]
     for call, args in cases:
         assert message(call) == cli(*args, expect=2), args
