@@ -9,6 +9,7 @@
 // core::run_static_check, sim::identify) and returns what the command's --json prints, with the same keys
 // (simulate's result_json itself). Errors the tool reports as "rockwatch COMMAND: error: MESSAGE" (exit 2) are
 // ValueError(MESSAGE) here. The GIL is released while the engine runs.
+#include <cmath>
 #include <cstddef>
 #include <cstdio>
 #include <memory>
@@ -42,6 +43,7 @@
 #include "identify/identify_report.hpp"
 #include "identify/identify_request.hpp"
 #include "rockwatch/core/static_check.hpp"
+#include "rockwatch/core/stepper_alarm_chain.hpp"
 #include "rockwatch/sim/identification.hpp"
 #include "rockwatch/sim/intensity_measures.hpp"
 #include "rockwatch/sim/measure_error.hpp"
@@ -219,6 +221,33 @@ std::string restitution_text(const py::object& r) {
   return number_arg(r.cast<double>());
 }
 
+// simulate's guard against a run of hours or one that exhausts the memory (simulate_command.cpp check_work_size, the
+// same limits and message): a typo such as max_step_s=1e-9 or t_end_s=1e9 is an error, not a hung interpreter.
+constexpr double kMaxIntegrationSteps = 1e8;
+constexpr double kMaxHistoryRows = 2e7;  // history=True keeps every step in memory
+
+void check_work_size(const cli::SimulateRequest& q, const sim::GroundMotion& motion) {
+  const double dt_s = motion.dt_s;
+  if (core::substeps_per_sample(dt_s, q.analysis.max_step_s) == 0) {
+    throw options::UsageError("--max-step " + options::number_text(q.analysis.max_step_s) + " s would need more than " +
+                              std::to_string(core::kMaxSubsteps) + " sub-steps per record sample (the record's dt is " +
+                              options::number_text(dt_s) + " s): give --max-step >= dt / " +
+                              std::to_string(core::kMaxSubsteps));
+  }
+  const double h_s = dt_s / std::fmax(1.0, double(core::substeps_per_sample(dt_s, q.analysis.max_step_s)));
+  const double t_end_s = q.analysis.t_end_s ? *q.analysis.t_end_s : motion.duration_s();
+  const double worst_steps = (t_end_s + q.analysis.free_motion_limit_s) / h_s;
+  const double limit = q.analysis.keep_history ? kMaxHistoryRows : kMaxIntegrationSteps;
+  if (worst_steps > limit) {
+    throw options::UsageError(
+        "integration step " + options::number_text(h_s) + " s over t_end = " + options::number_text(t_end_s) +
+        " s (plus up to " + options::number_text(q.analysis.free_motion_limit_s) + " s of free rocking) means up to " +
+        options::number_text(std::round(worst_steps)) + " steps, more than the " + options::number_text(limit) +
+        (q.analysis.keep_history ? " a run keeping the history (history=True) may take" : " a run may take") +
+        ": raise --max-step or lower --t-end");
+  }
+}
+
 py::object simulate(const Array& accel_mps2, double dt_s, const std::optional<Wall>& wall_arg, const py::object& r,
                     const std::optional<Array>& vertical_mps2, const std::optional<double>& scale_pga_g,
                     const std::optional<double>& max_step_s, const std::optional<std::string>& arith, bool alarms,
@@ -303,6 +332,8 @@ py::object simulate(const Array& accel_mps2, double dt_s, const std::optional<Wa
     for (double& u : motion.ug_mps2) u *= factor;
     for (double& v : motion.vg_mps2) v *= factor;
   }
+
+  check_work_size(q, motion);
 
   std::vector<core::WallSensorSample> sensors;
   if (wall_sensors) {

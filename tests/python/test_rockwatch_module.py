@@ -241,6 +241,8 @@ def test_bad_arguments_raise_the_tools_message():
         (lambda: rockwatch.simulate(a, dt, kappa=0.5), ["simulate", "--record", ELC, "--kappa", "0.5"]),
         (lambda: rockwatch.simulate(a, dt, arith="float"), ["simulate", "--record", ELC, "--arith", "float"]),
         (lambda: rockwatch.simulate(a, dt, max_step_s=0), ["simulate", "--record", ELC, "--max-step", "0"]),
+        (lambda: rockwatch.simulate(a, dt, max_step_s=1e-5), ["simulate", "--record", ELC, "--max-step", "1e-5"]),
+        (lambda: rockwatch.simulate(a, dt, t_end_s=1e9, history=False), ["simulate", "--record", ELC, "--t-end", "1e9"]),
         (lambda: rockwatch.static_check(code="ec8"), ["static", "--code", "ec8"]),
         (lambda: rockwatch.static_check(h_m=0.05), ["static", "--h", "0.05"]),
         (lambda: rockwatch.read_record(ELC, units="furlongs"), ["simulate", "--record", ELC, "--units", "furlongs"]),
@@ -260,6 +262,7 @@ def test_bad_arguments_raise_clear_messages(tmp_path):
     assert "does not exist" in message(lambda: rockwatch.read_record(str(tmp_path / "none.AT2"))) or \
         "none.AT2" in message(lambda: rockwatch.read_record(str(tmp_path / "none.AT2")))
     assert "--dt" in message(lambda: rockwatch.simulate(a, -0.01))
+    assert "(history=True)" in message(lambda: rockwatch.simulate(a, dt, t_end_s=1e6))
     assert "one-dimensional" in message(lambda: rockwatch.simulate(np.zeros((3, 3)), dt))
     assert "vertical_mps2 has 3 samples" in message(lambda: rockwatch.simulate(a, dt, vertical_mps2=np.zeros(3)))
     assert "peak |u''| = 0" in message(lambda: rockwatch.simulate(np.zeros(100), dt, scale_pga_g=0.3))
