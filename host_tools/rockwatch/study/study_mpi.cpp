@@ -31,16 +31,7 @@
 
 namespace rockwatch::cli {
 
-#ifndef ROCKWATCH_HAVE_MPI
-
-bool built_with_mpi() { return false; }
-
-int run_mpi_study(const StudyRequest&) {
-  throw UsageError("--mpi: this rockwatch was built without MPI (install libopenmpi-dev and configure again, or run "
-                   "the study in shards: --shard K/N)");
-}
-
-#else
+#ifdef ROCKWATCH_HAVE_MPI
 
 namespace {
 
@@ -398,9 +389,7 @@ Agreement agree(const MpiSession& mpi, bool ok, const std::string& digest, const
 
 }  // namespace
 
-bool built_with_mpi() { return true; }
-
-int run_mpi_study(const StudyRequest& q) {
+int run_mpi_study_in_process(const StudyRequest& q) {
   const MpiSession mpi;
   std::optional<ScaledStudy> s;
   std::size_t resumed = 0;

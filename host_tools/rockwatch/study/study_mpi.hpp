@@ -14,7 +14,16 @@ namespace rockwatch::cli {
 // False when rockwatch was built without MPI (no libopenmpi-dev at configure time, or -DROCKWATCH_MPI=OFF).
 bool built_with_mpi();
 
+// `rockwatch` itself does not link MPI (loading libmpi, hwloc and PMIx cost every command several ms at start-up):
+// --mpi replaces the process (exec, same pid and environment, before MPI_Init: what mpirun started) with
+// `rockwatch-mpi` from the same directory ($ROCKWATCH_MPI_EXECUTABLE overrides), which runs the same study command
+// with MPI (study_mpi_launch.cpp). Inside rockwatch-mpi the study runs in process (set_in_process_mpi_study).
 // Without MPI: a usage error (exit 2) saying so.
 int run_mpi_study(const StudyRequest& request);
+
+// rockwatch-mpi's study over the ranks (study_mpi.cpp; only in rockwatch-mpi).
+int run_mpi_study_in_process(const StudyRequest& request);
+using MpiStudyFn = int (*)(const StudyRequest&);
+void set_in_process_mpi_study(MpiStudyFn run);
 
 }  // namespace rockwatch::cli
