@@ -51,6 +51,11 @@ void add_observer_options(CLI::App& app, ObserverOptionTexts& texts, const std::
                      range_text(kMinObserverGateChi2, kMaxObserverGateChi2, "") + " (default " +
                      number_text(d.gate_chi2) + ")")
       ->type_name("X");
+  app.add_option("--observer-capacity-sigmas", texts.capacity_sigmas,
+                 help_prefix + "the alarm's margin on the estimated capacity: it uses x_inst - K sigma(x_inst), " +
+                     range_text(kMinObserverCapacitySigmas, kMaxObserverCapacitySigmas, "") + " (default " +
+                     number_text(d.alarm_capacity_sigmas) + ")")
+      ->type_name("K");
 }
 
 bool observer_option_given(const CLI::App& app) {
@@ -70,6 +75,9 @@ core::ObserverOptions parse_observer_options(const CLI::App& app, const Observer
                                         kMaxObserverProcess_mps2, " m/s2", o.process_accel_mps2);
   o.gate_chi2 = parse_in_range(app, "--observer-gate-chi2", texts.gate, kMinObserverGateChi2, kMaxObserverGateChi2, "",
                                o.gate_chi2);
+  o.alarm_capacity_sigmas = parse_in_range(app, "--observer-capacity-sigmas", texts.capacity_sigmas,
+                                           kMinObserverCapacitySigmas, kMaxObserverCapacitySigmas, "",
+                                           o.alarm_capacity_sigmas);
   // The core's own check, in case its ranges ever become narrower than the ones above.
   const core::ObserverError err = core::validate_observer_options(o);
   if (err != core::ObserverError::ok) throw UsageError(core::observer_error_message(err));

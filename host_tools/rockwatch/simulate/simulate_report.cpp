@@ -192,7 +192,8 @@ nlohmann::ordered_json observer_json(const SimulateRequest& q, const sim::Observ
   j["settings"] = {{"x_noise_m", o.x_noise_m},
                    {"a_noise_mps2", o.a_noise_mps2},
                    {"process_mps2", o.process_accel_mps2},
-                   {"gate_chi2", o.gate_chi2}};
+                   {"gate_chi2", o.gate_chi2},
+                   {"capacity_sigmas", o.alarm_capacity_sigmas}};
   return j;
 }
 

@@ -11,6 +11,7 @@
 // has the stepper's bounds on work.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 
 #include "rockwatch/core/alarm.hpp"
@@ -48,6 +49,18 @@ struct AlarmChainTraits<RockingStepper<double>> {
   static Fraction fraction(int j, int n) { return double(j) / double(n); }
   // A fraction f of sub-step j (1-based) of n as a fraction of the whole sample.
   static Fraction sample_fraction(Fraction f, int j, int n, const Fraction*) { return (double(j - 1) + f) / double(n); }
+  // The constants of the estimated wall (the observer's): x_inst and λ_w·x_inst times q, ω² times kk (so the
+  // barrier c²/2k and ρ follow), from the nominal ones.
+  static void scale_constants(Constants& c, const Constants& n, double q, double kk) {
+    const double w = std::sqrt(kk);
+    for (int i = 0; i < 2; ++i) {
+      c.x_inst_m[i] = q * n.x_inst_m[i];
+      c.x_warning_m[i] = q * n.x_warning_m[i];
+      c.omega2_rps2[i] = kk * n.omega2_rps2[i];
+      c.omega_rps[i] = w * n.omega_rps[i];
+      c.inv_omega2_x_inst2_s2pm2[i] = n.inv_omega2_x_inst2_s2pm2[i] / (kk * q * q);
+    }
+  }
 };
 
 template <>
@@ -78,6 +91,19 @@ struct AlarmChainTraits<FixedRockingStepper> {
   static Fraction sample_fraction(Fraction f, int j, int n, const Fraction* theta) {
     if (n == 1) return f;
     return theta[j - 1] + wide_mul<FractionQ1_62>(f, theta[1]);
+  }
+  // As the double chain's, in the indicators' 32-bit formats. Once per observed sample: one square root and three
+  // divisions in double (soft float on the M4), then five 32-bit products per side.
+  static void scale_constants(Constants& c, const Constants& n, double q, double kk) {
+    const double w = std::sqrt(kk);
+    const RatioQ7_24 fq(q), inv_q(1.0 / q), inv_w(1.0 / w), inv_qw(1.0 / (q * w));
+    for (int i = 0; i < 2; ++i) {
+      c.x_inst_m[i] = fixed_mul<LengthQ1_30>(fq, n.x_inst_m[i]);
+      c.x_warning_m[i] = fixed_mul<LengthQ1_30>(fq, n.x_warning_m[i]);
+      c.inv_x_inst_pm[i] = fixed_mul<RateQ7_24>(inv_q, n.inv_x_inst_pm[i]);
+      c.inv_omega_x_inst_spm[i] = fixed_mul<RateQ7_24>(inv_qw, n.inv_omega_x_inst_spm[i]);
+      c.inv_omega_s[i] = fixed_mul<RateQ7_24>(inv_w, n.inv_omega_s[i]);
+    }
   }
 };
 
@@ -136,6 +162,7 @@ class StepperAlarmChain {
     setup_error_ = Traits::init_stepper(stepper_, setup);
     if (setup_error_ != FixedSetupError::ok) return AlarmChainError::stepper_setup;
     if (!Traits::make_constants(setup, alarm, constants_)) return AlarmChainError::indicator_constants;
+    nominal_constants_ = constants_;
     alarm_.init(hold_samples(alarm, sample_dt_s));
     return AlarmChainError::ok;
   }
@@ -203,6 +230,10 @@ class StepperAlarmChain {
       total.corrected = total.corrected || o.corrected;
       on_substep(j, sub, ug, vg);
     });
+    // The alarm judges the estimated wall (its capacity less the observer's margin, ObserverOptions::
+    // alarm_capacity_sigmas), not the nominal one. Open loop (step, step_motion, run) keeps the nominal constants.
+    double q = 1.0, kk = 1.0;
+    if (observer.alarm_scales(q, kk)) Traits::scale_constants(constants_, nominal_constants_, q, kk);
     evaluate(out);
     return total;
   }
@@ -380,6 +411,7 @@ class StepperAlarmChain {
 
   Stepper stepper_{};
   typename Traits::Constants constants_{};
+  typename Traits::Constants nominal_constants_{};  // as made by init() (the observer's estimate scales from them)
   InstabilityAlarm alarm_{};
   FixedSetupError setup_error_ = FixedSetupError::ok;
   int substeps_ = 1;
