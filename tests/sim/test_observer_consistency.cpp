@@ -13,7 +13,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
-#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -89,7 +88,6 @@ struct RunOutcome {
   double nees_r = 0.0;
   double x_inst_hat = 0.0, sigma_x_inst = 0.0, x_inst_true = 0.0, nees_x_inst = 0.0;
   long impacts = 0;
-  double t_cp = 0.0;
 };
 
 RunOutcome fused_run(const Scenario& sc) {
@@ -130,16 +128,6 @@ RunOutcome fused_run(const Scenario& sc) {
       const std::int64_t end_us = t_us - (step_us * (n - j)) / n;
       observer.after_step(stepper, rep, u, 0.0, end_us, step_us / n);
       const std::size_t row = k * std::size_t(n) + std::size_t(j);
-      if (const char* w = std::getenv("OBS_TRACE_WIN")) {
-        const double tt = double(end_us) * 1e-6;
-        if (tt >= std::atof(w) && tt <= std::atof(w) + 0.12 && row < truth.history.size()) {
-          const auto& p = observer.covariance();
-          std::printf("\n  t %.4f imp %d v- %.4f | x %.5f xd %.4f | true %.5f %.4f | sx %.5f sv %.4f innov %.5f e %.3f", tt,
-                      int(rep.impacts_total), rep.first_impact_v_before_mps, stepper.state().x_m, stepper.state().xd_mps,
-                      truth.history[row].x_m, truth.history[row].xd_mps, std::sqrt(p(0, 0)), std::sqrt(p(1, 1)),
-                      observer.last_innovation_x_m(), observer.sqrt_r_estimate());
-        }
-      }
       if (!out.have_checkpoint && row >= checkpoint_row && row < truth.history.size() && stepper.moving() &&
           truth.history[row].x_m != 0.0) {
         const sim::HistoryRow& tr = truth.history[row];
@@ -149,7 +137,6 @@ RunOutcome fused_run(const Scenario& sc) {
           out.nees_x = ex * ex / p(0, 0);
           out.nees_v = ev * ev / p(1, 1);
           out.have_checkpoint = true;
-          out.t_cp = tr.t_s;
         }
       }
     }
@@ -201,9 +188,6 @@ Tally monte_carlo(bool with_accelerometer, int seeds) {
   Tally t;
   for (int wall = 0; wall < 4; ++wall) {
     for (int seed = 1; seed <= seeds; ++seed) {
-      if (const char* only = std::getenv("OBS_ONLY")) {
-        if (std::atoi(only) != wall * 100 + seed) continue;
-      }
       Scenario sc;
       sc.true_wall = true_wall(wall);
       sc.true_r = seed % 2 == 0 ? 0.80 : 0.95;
@@ -213,9 +197,6 @@ Tally monte_carlo(bool with_accelerometer, int seeds) {
       sc.sensors.x_bias_m = 1e-3 * double(seed % 3);
       if (with_accelerometer) sc.sensors.a_noise_mps2 = 0.05;
       sc.sensors.seed = std::uint64_t(100 * wall + seed);
-      if (const char* pa = std::getenv("OBS_PROC")) sc.observer.process_accel_mps2 = std::atof(pa);
-      if (const char* pa = std::getenv("OBS_RS")) sc.observer.r_sigma0 = std::atof(pa);
-      if (const char* pa = std::getenv("OBS_KS")) sc.observer.capacity_sigma0 = std::atof(pa);
       const RunOutcome o = fused_run(sc);
       ++t.n;
       t.r += o.nees_r;
@@ -226,10 +207,6 @@ Tally monte_carlo(bool with_accelerometer, int seeds) {
         t.v += o.nees_v;
       }
       const double sigmas = std::fabs(o.r_hat - o.r_true) / o.sigma_r;
-      if (std::getenv("OBS_TRACE_MC"))
-        std::printf("\n wall %d seed %d: r %.4f +- %.4f (%.3f) xi %.4f +- %.4f (%.4f) nees x %.2f v %.2f coll %d t %.3f", wall,
-                    seed, o.r_hat, o.sigma_r, o.r_true, o.x_inst_hat, o.sigma_x_inst, o.x_inst_true, o.nees_x, o.nees_v,
-                    int(o.truth_collapsed), o.t_cp);
       t.worst_r_sigmas = std::fmax(t.worst_r_sigmas, sigmas);
       if (sigmas > 3.0) ++t.r_outside_3sigma;
     }
@@ -237,7 +214,7 @@ Tally monte_carlo(bool with_accelerometer, int seeds) {
   return t;
 }
 
-void check_tally(const Tally& t, const char* what) {
+void print_tally(const Tally& t, const char* what) {
   double lo = 0.0, hi = 0.0, lo_s = 0.0, hi_s = 0.0;
   chi2_band(t.n, lo, hi);
   chi2_band(t.n_state, lo_s, hi_s);
@@ -245,6 +222,14 @@ void check_tally(const Tally& t, const char* what) {
   std::printf("\n%s: %d runs (%d with both walls rocking at the checkpoint); mean NEES r %.2f, x_inst %.2f "
               "[%.2f, %.2f]; x %.2f, xd %.2f [%.2f, %.2f]; r outside 3 sigma: %d (worst %.1f sigma)",
               what, t.n, t.n_state, r, xi, lo, hi, x, v, lo_s, hi_s, t.r_outside_3sigma, t.worst_r_sigmas);
+}
+
+void check_tally(const Tally& t, const char* what) {
+  print_tally(t, what);
+  double lo = 0.0, hi = 0.0, lo_s = 0.0, hi_s = 0.0;
+  chi2_band(t.n, lo, hi);
+  chi2_band(t.n_state, lo_s, hi_s);
+  const double r = t.r / t.n, xi = t.x_inst / t.n, x = t.x / t.n_state, v = t.v / t.n_state;
   CHECK(t.n >= 25);
   CHECK(t.n_state >= 20);
   CHECK(r >= lo && r <= hi);
@@ -256,14 +241,29 @@ void check_tally(const Tally& t, const char* what) {
 
 }  // namespace
 
-// NOT YET MET (measured with the defaults, 64 runs each: 4 walls × 16 seeds, 3 s windows of the suite at 0.25 g,
-// true r 0.80 / 0.95, 200 Hz, 0.5 mm, offsets 0–2 mm; band of the mean of 64 χ²(1): [0.68, 1.38]):
-//   displacement only:           NEES r 1.19, x_inst 0.54, x 3.43, ẋ 4.83; r outside 3 σ in 2 runs (worst 4.7 σ)
-//   displacement + accelerometer: NEES r 39.8, x_inst 2.15, x 1.89, ẋ 6.05; 3 runs outside (worst 49 σ: one run
-//                                 diverges, r̂ 0.33 and x_inst 0.19 on the overburden wall, seed 16)
-// The medians are near 0.5 (consistent); the means are carried by a few runs where the model's and the wall's impacts
-// fall at different times (a velocity error of (1 − e)·ẋ⁻ with σ(ẋ) far smaller). Ignored until the filter handles
-// that (docs: issue 27, what is left); run with -ri to measure.
+// r̂ within 3 σ of the true r at the end of every run: 4 walls × 8 seeds × 2 sensor sets (64 runs, 3 s windows of the
+// suite at 0.25 g, true r 0.80 / 0.95, 200 Hz, 0.5 mm, offsets 0–2 mm). Measured: worst 1.4 σ (transducer alone),
+// 2.0 σ (with the accelerometer). The NEES figures of these runs are printed.
+TEST(ObserverConsistency, RestitutionWithinThreeSigmaInEveryRun) {
+  const Tally d = monte_carlo(false, 8), a = monte_carlo(true, 8);
+  print_tally(d, "displacement");
+  print_tally(a, "displacement + accelerometer");
+  LONGS_EQUAL(32, d.n);
+  LONGS_EQUAL(32, a.n);
+  LONGS_EQUAL(0, d.r_outside_3sigma);
+  LONGS_EQUAL(0, a.r_outside_3sigma);
+}
+
+// The NEES bands: NOT YET MET with the default settings, hence ignored (run with -ri to measure). 64 runs each (4 walls
+// × 16 seeds, as above); the 95 % band of the mean of 64 χ²(1) is [0.68, 1.38]; mean NEES at the end (r, x_inst)
+// and at a checkpoint 2/3 into the true wall's motion with both walls rocking (x, ẋ):
+//                                   process 0.2 m/s² (default)         process 0.05 m/s²
+//   displacement only               r 0.56  x_inst 0.26  x 0.90  ẋ 0.53   r 0.70  x_inst 0.70  x 1.07  ẋ 0.89
+//   displacement + accelerometer    r 0.58  x_inst 0.86  x 0.75  ẋ 0.38   r 0.83  x_inst 0.89  x 1.63  ẋ 0.67
+// Before this issue's fixes (impacts informing r only when certain and from informative motion, impacts implied by a
+// correction across the hinge) single runs dominated the means (NEES x 216, ẋ 460; r̂ 0.33 on a 0.80 wall). What is
+// left is underconfidence (the default process noise is large for 1 ms steps; with 0.05 the transducer-alone case is
+// inside the band but r sits at its edge, 0.61 with 96 runs) and, with the accelerometer, x overconfident at 0.05.
 IGNORE_TEST(ObserverConsistency, DisplacementTransducerAloneIsConsistent) {
   check_tally(monte_carlo(false, 16), "displacement");
 }
