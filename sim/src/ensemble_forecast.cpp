@@ -17,38 +17,102 @@ constexpr double kInitialFilterClamp = 4.0;        // |y(0)| ≤ 4 (the record's
 
 bool in(double v, double lo, double hi) { return v >= lo && v <= hi; }
 
-// The discretised ground filter (symplectic Euler at step h on the state (y, v = ẏ)):
-//   v' = a v + b y + c ξ,  y' = y + h v',  ξ of unit variance,
-// with c chosen so that the stationary variance of y is exactly 1 (discrete Lyapunov equation, by doubling).
+// The discretised ground filter, state s = (y, v, z, w), each step at h by symplectic Euler:
+//   Kanai–Tajimi stage  v' = a v + b y + c ξ,  y' = y + h v'        (a = 1 − 2ζ_g ω_g h, b = −ω_g² h)
+//   Clough–Penzien high-pass (when ω_f > 0)
+//                       w' = w + h (y' − 2ζ_g ω_f w − ω_f² z),  z' = z + h w',  output u = y' − 2ζ_g ω_f w' − ω_f² z'
+//   (without it, u = y'), ξ of unit variance, c chosen so that the stationary variance of u is exactly 1 (the discrete
+//   Lyapunov equation, by doubling). The filter is linear, so its matrices are read off the step itself.
 struct GroundFilter {
-  double a = 0.0, b = 0.0, c = 0.0, h = 0.0;
-  double p_yy = 1.0, p_yv = 0.0, p_vv = 0.0;  // stationary covariance with that c
+  static constexpr int n = 4;
+  double h = 0.0, a = 0.0, b = 0.0, c = 1.0;
+  double hp_k = 0.0, hp_w2 = 0.0;  // 2ζ ω_f, ω_f² (0: no high-pass)
+  bool highpass = false;
+  double gain[n] = {};             // E[s | u = 1]
+  double var_w = 0.0;              // stationary variance of w = ∫u (the ground velocity per unit σ) [s²]
+  double chol[n][n] = {};          // Cholesky factor of the covariance of s given u
 
-  GroundFilter(double omega, double zeta, double h_s) : h(h_s) {
+  void step(double* s, double xi) const {
+    s[1] = a * s[1] + b * s[0] + c * xi;
+    s[0] += h * s[1];
+    if (highpass) {
+      s[3] += h * (s[0] - hp_k * s[3] - hp_w2 * s[2]);
+      s[2] += h * s[3];
+    }
+  }
+  double output(const double* s) const { return highpass ? s[0] - hp_k * s[3] - hp_w2 * s[2] : s[0]; }
+
+  GroundFilter(double omega, double zeta, double omega_f, double h_s) : h(h_s) {
     a = 1.0 - 2.0 * zeta * omega * h;
     b = -omega * omega * h;
-    // x' = A x + G ξ with x = (y, v): A = [[1 + h b, h a], [b, a]], G = [h, 1] (c = 1 for now).
-    double A[2][2] = {{1.0 + h * b, h * a}, {b, a}};
-    double P[2][2] = {{h * h, h}, {h, 1.0}};
-    for (int it = 0; it < 60; ++it) {  // Smith's doubling: P ← P + A P Aᵀ, A ← A²
-      double AP[2][2], APA[2][2], A2[2][2];
-      for (int i = 0; i < 2; ++i)
-        for (int j = 0; j < 2; ++j) AP[i][j] = A[i][0] * P[0][j] + A[i][1] * P[1][j];
-      for (int i = 0; i < 2; ++i)
-        for (int j = 0; j < 2; ++j) APA[i][j] = AP[i][0] * A[j][0] + AP[i][1] * A[j][1];
-      for (int i = 0; i < 2; ++i)
-        for (int j = 0; j < 2; ++j) A2[i][j] = A[i][0] * A[0][j] + A[i][1] * A[1][j];
-      for (int i = 0; i < 2; ++i)
-        for (int j = 0; j < 2; ++j) {
-          P[i][j] += APA[i][j];
-          A[i][j] = A2[i][j];
-        }
-      if (std::fabs(A[0][0]) + std::fabs(A[0][1]) + std::fabs(A[1][0]) + std::fabs(A[1][1]) < 1e-18) break;
+    highpass = omega_f > 0.0;
+    hp_k = 2.0 * zeta * omega_f;
+    hp_w2 = omega_f * omega_f;
+    const int m = highpass ? 4 : 2;
+    double A[n][n] = {}, P[n][n] = {}, C[n] = {};
+    for (int i = 0; i < m; ++i) {
+      double e[n] = {};
+      e[i] = 1.0;
+      C[i] = output(e);  // the output of a state (no step)
     }
-    c = 1.0 / std::sqrt(P[0][0]);
-    p_yy = 1.0;
-    p_yv = P[0][1] * c * c;
-    p_vv = P[1][1] * c * c;
+    // A: the step of each unit state (no noise); G: the step of the zero state with ξ = 1. u' = C·s'.
+    for (int i = 0; i < m; ++i) {
+      double e[n] = {};
+      e[i] = 1.0;
+      step(e, 0.0);
+      for (int r = 0; r < m; ++r) A[r][i] = e[r];
+    }
+    double G[n] = {};
+    step(G, 1.0);
+    for (int r = 0; r < m; ++r)
+      for (int q = 0; q < m; ++q) P[r][q] = G[r] * G[q];
+    for (int it = 0; it < 64; ++it) {  // Smith's doubling: P ← P + A P Aᵀ, A ← A²
+      double AP[n][n] = {}, A2[n][n] = {};
+      double norm = 0.0;
+      for (int r = 0; r < m; ++r)
+        for (int q = 0; q < m; ++q)
+          for (int k = 0; k < m; ++k) {
+            AP[r][q] += A[r][k] * P[k][q];
+            A2[r][q] += A[r][k] * A[k][q];
+          }
+      for (int r = 0; r < m; ++r)
+        for (int q = 0; q < m; ++q) {
+          double apa = 0.0;
+          for (int k = 0; k < m; ++k) apa += AP[r][k] * A[q][k];
+          P[r][q] += apa;
+        }
+      for (int r = 0; r < m; ++r)
+        for (int q = 0; q < m; ++q) {
+          A[r][q] = A2[r][q];
+          norm += std::fabs(A2[r][q]);
+        }
+      if (norm < 1e-18) break;
+    }
+    double var_u = 0.0, PC[n] = {};
+    for (int r = 0; r < m; ++r) {
+      for (int q = 0; q < m; ++q) PC[r] += P[r][q] * C[q];
+      var_u += C[r] * PC[r];
+    }
+    c = 1.0 / std::sqrt(var_u);
+    const double c2 = c * c;
+    // With the scaled noise: P c², Var(u) = 1; given u: mean P Cᵀ u, covariance P − P Cᵀ C P.
+    double Q[n][n] = {};
+    for (int r = 0; r < m; ++r) gain[r] = PC[r] * c2;
+    var_w = highpass ? P[3][3] * c2 : 0.0;
+    for (int r = 0; r < m; ++r)
+      for (int q = 0; q < m; ++q) Q[r][q] = P[r][q] * c2 - gain[r] * gain[q];
+    for (int q = 0; q < m; ++q) {  // Cholesky, columns of a (numerically) zero pivot left at zero
+      double d = Q[q][q];
+      for (int k = 0; k < q; ++k) d -= chol[q][k] * chol[q][k];
+      const double scale = std::fabs(P[q][q] * c2);
+      if (!(d > 1e-12 * scale)) continue;
+      chol[q][q] = std::sqrt(d);
+      for (int r = q + 1; r < m; ++r) {
+        double v = Q[r][q];
+        for (int k = 0; k < q; ++k) v -= chol[r][k] * chol[q][k];
+        chol[r][q] = v / chol[q][q];
+      }
+    }
   }
 };
 
@@ -84,8 +148,11 @@ const char* forecast_settings_error(const ForecastSettings& s) {
   if (!in(s.window_s, 0.5, 60.0)) return "window_s";
   if (!in(s.block_s, 0.1, s.window_s)) return "block_s";
   if (!(s.damping >= 0.05 && s.damping < 1.0)) return "damping";
+  if (!in(s.highpass_ratio, 0.0, 0.5)) return "highpass_ratio";
   if (!(in(s.growth_min_per_s, -10.0, 0.0) && in(s.growth_max_per_s, 0.0, 2.0))) return "growth";
   if (!in(s.sigma_now_cap, 1.0, 10.0)) return "sigma_now_cap";
+  if (!in(s.intensity_log_sigma, 0.0, 2.0)) return "intensity_log_sigma";
+  if (s.match_velocity && !(s.highpass_ratio > 0.0)) return "match_velocity";
   if (!in(s.default_sigma_fraction, 0.0, 0.5)) return "default_sigma_fraction";
   return nullptr;
 }
@@ -108,6 +175,18 @@ GroundModel fit_ground_model(const double* ug, std::size_t n, double dt_s, const
     last_sign = sg;
   }
   g.zero_crossing_rate_hz = span > 0.0 ? double(crossings) / span : 0.0;
+  {  // RMS of ü and of the velocity (trapezoid from 0, its mean removed) over the window
+    double v = 0.0, sv = 0.0, svv = 0.0, saa = 0.0;
+    for (std::size_t i = 0; i < m; ++i) {
+      if (i > 0) v += 0.5 * (w[i - 1] + w[i]) * dt_s;
+      sv += v;
+      svv += v * v;
+      saa += w[i] * w[i];
+    }
+    const double md = double(m);
+    g.accel_rms_mps2 = std::sqrt(saa / md);
+    g.velocity_rms_mps = std::sqrt(std::max(0.0, svv / md - (sv / md) * (sv / md)));
+  }
   const double omega_max = 1.0 / s.step_s;  // ω_g h ≤ 1: the discrete filter stays accurate and stable
   g.omega_rps = std::clamp(kPi * g.zero_crossing_rate_hz, kOmegaMin_rps, omega_max);
   // Envelope: RMS in equal blocks ending at the forecast time, log-linear least squares against the blocks' centres.
@@ -198,35 +277,43 @@ ForecastResult EnsembleForecaster::forecast(const ForecastState& st, const Groun
   const double rho_c = std::sqrt(std::max(0.0, 1.0 - rho * rho));
 
   const int n_steps = static_cast<int>(std::ceil(s.horizon_s / s.step_s - 1e-9));
-  const GroundFilter f(ground.omega_rps > 0.0 ? ground.omega_rps : kOmegaMin_rps, s.damping, s.step_s);
+  const double omega_g = ground.omega_rps > 0.0 ? ground.omega_rps : kOmegaMin_rps;
+  const GroundFilter f(omega_g, s.damping, s.highpass_ratio * omega_g, s.step_s);
   const double decay = std::exp(ground.growth_per_s * s.step_s);
-  const double sigma_now = ground.sigma_now_mps2;
-  const double y_start =
+  double sigma_now = ground.sigma_now_mps2;
+  if (s.match_velocity && f.highpass && ground.accel_rms_mps2 > 0.0 && f.var_w > 0.0) {
+    // The model's velocity per unit σ is √var_w (its state w = ∫u): scale so that it matches the record's.
+    sigma_now *= ground.velocity_rms_mps / (std::sqrt(f.var_w) * ground.accel_rms_mps2);
+  }
+  // The filter starts at the ground's value now (u(0) = ü(t)/σ_now, clamped), the rest of its state drawn given it.
+  const double u_start =
       sigma_now > 0.0 ? std::clamp(st.ug_now_mps2 / sigma_now, -kInitialFilterClamp, kInitialFilterClamp) : 0.0;
-  // ẏ(0) given y(0) under the stationary covariance.
-  const double v_mean = f.p_yv / f.p_yy * y_start;
-  const double v_sd = std::sqrt(std::max(0.0, f.p_vv - f.p_yv * f.p_yv / f.p_yy));
   const double kappa_ratio = su.x_collapse_m[1] / su.x_inst_m[1];
 
   int collapsed = 0;
   const int N = s.members;
   for (int m = 0; m < N; ++m) {
     synthesis::RandomStream rs(member_seed(s.seed, m));
-    const double z1 = rs.normal(), z2 = rs.normal(), z3 = rs.normal();
+    const double z1 = rs.normal(), z2 = rs.normal();
     const double x0 = st.x_m + sigma_x * z1;
     const double v0 = st.xd_mps + sigma_v * (rho * z1 + rho_c * z2);
     stepper.set_state(x0, v0, st.ug_now_mps2, 0.0);
-    double y = y_start;
-    double yv = v_mean + v_sd * z3;
-    double env = sigma_now;
+    double g[GroundFilter::n];
+    double zg[GroundFilter::n];
+    for (double& v : zg) v = rs.normal();
+    for (int r = 0; r < GroundFilter::n; ++r) {
+      g[r] = f.gain[r] * u_start;
+      for (int k = 0; k <= r; ++k) g[r] += f.chol[r][k] * zg[k];
+    }
+    const double s_i = s.intensity_log_sigma;
+    double env = sigma_now * std::exp(s_i * rs.normal() - 0.5 * s_i * s_i);
     const int side0 = core::side_index(stepper.side());
     double max_ratio = std::fabs(x0) / su.x_inst_m[side0];
     bool fell = std::fabs(x0) >= su.x_collapse_m[side0];
     for (int k = 0; !fell && k < n_steps; ++k) {
-      yv = f.a * yv + f.b * y + f.c * unit_uniform(rs);
-      y += f.h * yv;
+      f.step(g, unit_uniform(rs));
       env *= decay;
-      const auto report = stepper.step(env * y, 0.0);
+      const auto report = stepper.step(env * f.output(g), 0.0);
       if (report.collapsed) {
         fell = true;
         break;

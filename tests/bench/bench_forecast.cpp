@@ -1,11 +1,11 @@
 // Google Benchmark: the cost of one ensemble forecast of collapse (sim::EnsembleForecaster, SPEC §10, issue 29) on
-// the paper wall (r_exp), horizon 5 s, members' step 10 ms (the default), against the number of members N (the target: 200 members
-// over 5 s ≤ 10 ms on one core). Two states, the ground model fitted to the last 4 s of the 0.2 g stationary
-// synthetic record:
-//   rocking  x = 0.3 x_inst, ẋ = 0.2 v_b: some members collapse (and stop early), most rock through the horizon;
-//   settling x = 0.1 x_inst, ẋ = 0 on a 0.1 g record: no member collapses, every member runs the whole horizon.
-// Counters: P(collapse), member-steps per forecast (at most; members that collapse stop), member-steps per second, and heap allocations per forecast (counted by
-// the global operator new below: 0 means the forecast is allocation-free after set-up).
+// the paper wall (r_exp), horizon 5 s, the default settings (members' step 10 ms), against the number of members N
+// (the target: 200 members over 5 s ≤ 10 ms on one core). Two states, the ground model fitted to the last 4 s of the
+// stationary synthetic record (synthetic_motion.hpp):
+//   rocking  x = 0.3 x_inst, ẋ = 0.2 v_b on the 0.2 g record: some members collapse (and stop early);
+//   settling x = 0.1 x_inst, ẋ = 0 on the 0.1 g record: nearly every member runs the whole horizon.
+// Counters: P(collapse), member-steps per forecast (at most: members that collapse stop), member-steps per second,
+// and heap allocations per forecast (counted by the global operator new below: 0 = allocation-free after set-up).
 // Figures and exact commands: docs/BENCHMARKS.md, "Ensemble forecast (issue 29)". Run a Release build.
 #include <atomic>
 #include <cmath>
