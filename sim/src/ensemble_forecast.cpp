@@ -230,6 +230,22 @@ GroundModel fit_ground_model(const double* ug, std::size_t n, double dt_s, const
   return g;
 }
 
+void sample_unit_ground(double omega_g, const ForecastSettings& s, std::uint64_t seed, double* out, std::size_t n) {
+  const GroundFilter f(omega_g, s.damping, s.highpass_ratio * omega_g, s.step_s);
+  synthesis::RandomStream rs(seed);
+  double g[GroundFilter::n];
+  double zg[GroundFilter::n];
+  for (double& v : zg) v = rs.normal();
+  for (int r = 0; r < GroundFilter::n; ++r) {
+    g[r] = 0.0;
+    for (int k = 0; k <= r; ++k) g[r] += f.chol[r][k] * zg[k];
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    f.step(g, unit_uniform(rs));
+    out[i] = f.output(g);
+  }
+}
+
 EnsembleForecaster::EnsembleForecaster(const core::WallParameters& wall, core::ModelKind model, double r_energy,
                                        double kappa, const ForecastSettings& settings)
     : settings_(settings) {

@@ -66,6 +66,35 @@ TEST(EnsembleForecast, GroundModelFitsFrequencyLevelAndEnvelope) {
   DOUBLES_EQUAL(0.0, sim::fit_ground_model(zeros.data(), zeros.size(), 0.005, s).sigma_now_mps2, 0.0);
 }
 
+// SPEC §10: the discrete ground process has unit variance (with and without the high-pass stage); without the
+// high-pass its zero-crossing rate is ω_g/π; the high-pass takes out low-frequency energy (the velocity ∫u).
+TEST(EnsembleForecast, UnitGroundProcessHasUnitVarianceAndTheFittedFrequency) {
+  constexpr std::size_t kN = 200000;  // 2000 s at 10 ms
+  std::vector<double> u(kN);
+  double velocity_rms[2] = {};
+  for (int hp = 0; hp < 2; ++hp) {
+    sim::ForecastSettings s;
+    s.highpass_ratio = hp == 0 ? 0.0 : 0.1;
+    const double omega = 2.0 * kPi * 3.0;
+    sim::sample_unit_ground(omega, s, 7, u.data(), kN);
+    double sum2 = 0.0, v = 0.0, v_sum = 0.0, v_sum2 = 0.0;
+    int crossings = 0;
+    for (std::size_t i = 0; i < kN; ++i) {
+      sum2 += u[i] * u[i];
+      if (i > 0 && (u[i] > 0.0) != (u[i - 1] > 0.0)) ++crossings;
+      v += u[i] * s.step_s;
+      v_sum += v;
+      v_sum2 += v * v;
+    }
+    DOUBLES_EQUAL(1.0, sum2 / double(kN), 0.05);
+    const double rate_hz = double(crossings) / (double(kN) * s.step_s);
+    if (hp == 0) DOUBLES_EQUAL(omega / kPi, rate_hz, 0.1 * omega / kPi);
+    velocity_rms[hp] = std::sqrt(v_sum2 / double(kN) - (v_sum / double(kN)) * (v_sum / double(kN)));
+  }
+  CHECK_TEXT(velocity_rms[1] < 0.5 * velocity_rms[0],
+             (std::to_string(velocity_rms[1]) + " vs " + std::to_string(velocity_rms[0])).c_str());
+}
+
 TEST(EnsembleForecast, SameInputAndSeedGiveTheSameBits) {
   sim::ForecastSettings s;
   s.members = 40;

@@ -123,6 +123,12 @@ class EnsembleForecaster {
   std::vector<double> max_ratio_;  // per member: max |x|/x_inst
 };
 
+// The unit ground process u of SPEC §10 (before the envelope and the member's intensity factor) at the members'
+// step: n samples of one stream seeded by `seed`, the filter started from its stationary distribution given u(0) = 0.
+// For tests and plots; a member draws the same process.
+void sample_unit_ground(double omega_g_rps, const ForecastSettings& settings, std::uint64_t seed, double* out,
+                        std::size_t n);
+
 // Validates settings; returns nullptr when valid, else the name of the first setting out of range.
 const char* forecast_settings_error(const ForecastSettings& s);
 
