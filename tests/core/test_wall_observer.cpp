@@ -1,6 +1,7 @@
 // The wall observer (core/wall_observer.hpp) against analytic and constructed cases: free rocking with a known r that
 // the nominal model gets wrong, a constant transducer offset at rest, dropout and recovery, outliers, stuck and
-// non-finite readings, the time alignment of the two streams, and the fixed-point observer against the double one.
+// non-finite readings, the time alignment of the two streams, the fixed-point observer against the double one, and the
+// capacity of a thinner wall learned (and a far thinner one clamped, flagged).
 #include <cmath>
 #include <cstdint>
 
@@ -348,4 +349,85 @@ TEST(WallObserver, TheMidHeightAccelerometerAloneFollowsTheRealWall) {
   CHECK(fused_rms < 1.5e-3);          // below 1.5 % of x_inst
   CHECK(fused_rms < open_rms / 5.0);  // open loop: about 1 cm
   DOUBLES_EQUAL(0.85, observer.r_estimate(), 0.02);
+}
+
+namespace {
+
+// A true wall of thickness b_scale × 0.10 m (x_inst and c scale with b, SPEC §9) released from x0 = 0.6 x_inst, its
+// transducer read every step (0.5 mm), the nominal paper wall fused with it in double and in fixed point.
+struct ThinnerWall {
+  double x_inst_true = 0.0;
+  double x_inst_double = 0.0, sigma_double = 0.0, x_inst_fixed = 0.0, sigma_fixed = 0.0;
+  std::uint32_t flags = 0;
+};
+
+ThinnerWall release_thinner_wall(double b_scale) {
+  WallParameters w = paper_wall();
+  w.b_m *= b_scale;
+  StepperOptions so;
+  so.dt_s = kDt;
+  const double r = 0.85;
+  const StepperSetup<double> true_setup = make_stepper_setup(w, ModelKind::linear, r, so);
+  const StepperSetup<double> nominal = make_stepper_setup(paper_wall(), ModelKind::linear, r, so);
+  ThinnerWall out;
+  out.x_inst_true = true_setup.x_inst_m[1];
+  RockingStepper<double> truth;
+  truth.init(true_setup);
+  truth.set_state(0.6 * out.x_inst_true, 0.0, 0.0, 0.0);
+  RockingStepper<double> dmodel;
+  dmodel.init(nominal);
+  dmodel.set_state(0.6 * out.x_inst_true, 0.0, 0.0, 0.0);
+  FixedRockingStepper fmodel;
+  CHECK(fmodel.init(nominal) == FixedSetupError::ok);
+  fmodel.set_state(LengthQ1_62(0.6 * out.x_inst_true), SpeedQ3_60{}, AccelQ7_56{}, AccelQ7_56{});
+  WallObserver<RockingStepper<double>> dobs;
+  WallObserver<FixedRockingStepper> fobs;
+  CHECK(dobs.init(ObserverOptions{}, nominal, paper_wall()) == ObserverError::ok);
+  CHECK(fobs.init(ObserverOptions{}, nominal, paper_wall()) == ObserverError::ok);
+  Noise noise(2027);
+  std::int64_t t = 0;
+  for (int k = 0; k < 800 && truth.moving(); ++k) {
+    t += kDtUs;
+    truth.step(0.0, 0.0);
+    const WallSensorSample s = displacement(t, truth.state().x_m + 0.5e-3 * noise.normal());
+    dobs.push(s);
+    fobs.push(s);
+    const StepReport<double> dr = dmodel.step(0.0, 0.0);
+    out.flags |= dobs.after_step(dmodel, dr, 0.0, 0.0, t, kDtUs).flags;
+    const FixedStepReport fr = fmodel.step(AccelQ7_56{}, AccelQ7_56{});
+    fobs.after_step(fmodel, fr, AccelQ7_56{}, AccelQ7_56{}, t, kDtUs);
+  }
+  out.x_inst_double = dobs.x_inst_estimate_m();
+  out.sigma_double = dobs.sigma_x_inst_m();
+  out.x_inst_fixed = fobs.x_inst_estimate_m();
+  out.sigma_fixed = fobs.sigma_x_inst_m();
+  // The stepper runs with the estimate: its x_inst is the observer's.
+  DOUBLES_EQUAL(out.x_inst_double, dmodel.x_inst_m(Side::positive), 1e-12);
+  DOUBLES_EQUAL(out.x_inst_fixed, fmodel.setup().x_inst_m[1].to_double(), 1e-9);
+  return out;
+}
+
+}  // namespace
+
+TEST(WallObserver, LearnsTheCapacityOfAThinnerWallInFreeRockingInBothArithmetics) {
+  // A wall 10 % thinner than the nominal one (x_inst 0.0902 m against 0.1003): from the prior (σ ≈ 21 % of x_inst)
+  // to within 3 σ and 2 % of the truth (measured 0.09014 ± 0.00277 m against 0.09024), the fixed-point observer with
+  // the double one.
+  const ThinnerWall w = release_thinner_wall(0.9);
+  DOUBLES_EQUAL(0.0902, w.x_inst_true, 2e-4);
+  CHECK(w.sigma_double < 0.05 * w.x_inst_true);  // measured 0.0028 m (3 %): the prior's σ was 0.021 m
+  CHECK(std::fabs(w.x_inst_double - w.x_inst_true) < 3.0 * w.sigma_double);
+  CHECK(std::fabs(w.x_inst_double - w.x_inst_true) < 0.02 * w.x_inst_true);
+  DOUBLES_EQUAL(w.x_inst_double, w.x_inst_fixed, 1e-3 * w.x_inst_true);
+  DOUBLES_EQUAL(w.sigma_double, w.sigma_fixed, 0.05 * w.sigma_double);
+  CHECK_FALSE(w.flags & observer_flag::estimate_clamped);
+}
+
+TEST(WallObserver, ClampsACapacityOutsideThePhysicalRangeAndFlagsIt) {
+  // A wall far thinner than the nominal one (x_inst 0.25 × nominal): the estimate stops at 0.3 × nominal, flagged,
+  // finite.
+  const ThinnerWall w = release_thinner_wall(0.25);
+  CHECK(std::isfinite(w.x_inst_double) && std::isfinite(w.sigma_double));
+  CHECK(w.x_inst_double >= 0.3 * 0.1003276 - 1e-9);
+  CHECK(w.flags & observer_flag::estimate_clamped);
 }
