@@ -303,7 +303,7 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
   // The wall observer: the file's observer object, enabled there or by --observer.
   const bool observer = raw.observer || file.observer_enabled.value_or(false);
   engine.observer_enabled = observer;
-  for (int i = 0; i < 6; ++i) {
+  for (int i = 0; i < kObserverFieldCount; ++i) {
     if (file.observer[i]) engine.observer.*kObserverFields[i].member = *file.observer[i];
   }
   if (observer && core::validate_observer_options(engine.observer) != core::ObserverError::ok) {

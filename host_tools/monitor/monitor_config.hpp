@@ -11,7 +11,7 @@
 //   alarm {lambda_w, hold_s, energy_margin}                           (--lambda-w, --alarm-hold, --energy-margin)
 //   sample_rate_hz (--rate), max_bridge_samples, sensor_range_mps2, late_limit_s
 //   channels {accel, accel_batch, wall_state, alarm, status, wall_sensor, wall_estimate}
-//   observer {enabled, x_noise_m, a_noise_mps2, process_accel_mps2, gate_chi2, dropout_s, max_age_s}
+//   observer {enabled, x_noise_m, a_noise_mps2, process_accel_mps2, gate_chi2, dropout_s, max_age_s, capacity_sigmas}
 //                the wall observer (--observer enables it with these or the defaults); in the digest only when on
 //   clock_tolerance_s (--clock-tolerance; default 10): the firmware's MonitorSettings::clock_tolerance_us, in seconds
 //   realtime_priority (--realtime), cpu (--cpu), busy_poll_us (--busy-poll-us): the live receive thread's timing

@@ -37,6 +37,9 @@ using options::UsageError;
 
 
 // What the file set; absent keys keep the defaults.
+// The observer keys a configuration may give (kObserverFields below).
+inline constexpr int kObserverFieldCount = 7;
+
 struct FileValues {
   std::optional<double> wall[8];  // in kWallFields order
   std::optional<std::string> wall_file;  // a wall file (rockwatch/options/wall_file.hpp), relative to the config's folder
@@ -52,7 +55,7 @@ struct FileValues {
   std::optional<std::string> lcm_url;
   // observer {...}: enabled, then the options in kObserverFields order.
   std::optional<bool> observer_enabled;
-  std::optional<double> observer[6];
+  std::optional<double> observer[kObserverFieldCount];
   std::optional<std::vector<SourceNetwork>> accept_from;
   std::optional<json> walls;  // checked by expand_monitor_walls (monitor_walls.cpp)
 };
@@ -86,13 +89,14 @@ struct ObserverField {
   double core::ObserverOptions::*member;
   const char* unit;
 };
-inline constexpr ObserverField kObserverFields[6] = {
+inline constexpr ObserverField kObserverFields[kObserverFieldCount] = {
     {"x_noise_m", &core::ObserverOptions::x_noise_m, "m"},
     {"a_noise_mps2", &core::ObserverOptions::a_noise_mps2, "m/s2"},
     {"process_accel_mps2", &core::ObserverOptions::process_accel_mps2, "m/s2"},
     {"gate_chi2", &core::ObserverOptions::gate_chi2, "-"},
     {"dropout_s", &core::ObserverOptions::dropout_s, "s"},
     {"max_age_s", &core::ObserverOptions::max_age_s, "s"},
+    {"capacity_sigmas", &core::ObserverOptions::alarm_capacity_sigmas, "-"},
 };
 
 inline std::string json_type(const json& v) {
@@ -318,7 +322,7 @@ class ConfigReader {
       if (!e.is_boolean()) fail("observer.enabled", "expected true or false, got " + json_type(e));
       v.observer_enabled = e.get<bool>();
     }
-    for (int i = 0; i < 6; ++i) {
+    for (int i = 0; i < kObserverFieldCount; ++i) {
       const ObserverField& f = kObserverFields[i];
       if (!o.contains(f.key)) continue;
       const std::string key = std::string("observer.") + f.key;

@@ -79,6 +79,10 @@ json normalised_settings(const MonitorConfig& config) {
                        {"gate_chi2", o.gate_chi2},
                        {"dropout_s", o.dropout_s},
                        {"max_age_s", o.max_age_s}};
+    // Only when changed: the digest of a configuration written before the key existed stays.
+    if (o.alarm_capacity_sigmas != core::ObserverOptions{}.alarm_capacity_sigmas) {
+      out["observer"]["capacity_sigmas"] = o.alarm_capacity_sigmas;
+    }
     out["channels"]["wall_sensor"] = s.channels.wall_sensor;
     out["channels"]["wall_estimate"] = s.channels.wall_estimate;
   }
