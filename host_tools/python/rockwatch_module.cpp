@@ -25,10 +25,10 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include "common/input_motion.hpp"
-#include "common/output_file.hpp"
-#include "common/record_selection.hpp"
-#include "common/wall_sensors.hpp"
+#include "common/records_in/input_motion.hpp"
+#include "common/process/output_file.hpp"
+#include "common/records_in/record_selection.hpp"
+#include "common/records_in/wall_sensors.hpp"
 #include "rockwatch/core/wall.hpp"
 #include "rockwatch/options/alarm_options.hpp"
 #include "rockwatch/options/command_line.hpp"

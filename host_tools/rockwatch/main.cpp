@@ -6,7 +6,7 @@
 #include <iostream>
 #include <string>
 
-#include "common/commands.hpp"
+#include "common/process/commands.hpp"
 
 #ifndef ROCKWATCH_VERSION
 #define ROCKWATCH_VERSION "unknown"

@@ -3,8 +3,8 @@
 #include <cstring>
 #include <iostream>
 
-#include "common/commands.hpp"
-#include "study/study_mpi.hpp"
+#include "common/process/commands.hpp"
+#include "study/scale/study_mpi.hpp"
 
 int main(int argc, char** argv) {
   using namespace rockwatch::cli;

@@ -87,9 +87,9 @@ self_test() {
     'firmware/src/bad.cpp|#include <lcm/lcm.h>'
     'sim/src/bad.cpp|#include "rockwatch/firmware/wall_engine.hpp"'
     'host_tools/records/src/bad.cpp|#include "rockwatch/core/wall.hpp"'
-    'host_tools/monitor/bad.cpp|#include "common/text_report.hpp"'
+    'host_tools/monitor/bad.cpp|#include "common/process/text_report.hpp"'
     'host_tools/rockwatch/study/bad.cpp|#include "generate/generate_request.hpp"'
-    'host_tools/rockwatch/common/bad.cpp|#include "study/study_plan.hpp"'
+    'host_tools/rockwatch/common/bad.cpp|#include "study/plan/study_plan.hpp"'
   )
   local b file text
   for b in "${breaches[@]}"; do

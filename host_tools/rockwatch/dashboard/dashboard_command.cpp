@@ -6,9 +6,9 @@
 #include <string>
 #include <thread>
 
-#include "common/command_runner.hpp"
-#include "common/commands.hpp"
-#include "common/signal_interrupt.hpp"
+#include "common/process/command_runner.hpp"
+#include "common/process/commands.hpp"
+#include "common/process/signal_interrupt.hpp"
 #include "dashboard/dashboard_assets.hpp"
 #include "dashboard/dashboard_receiver.hpp"
 #include "dashboard/dashboard_request.hpp"

@@ -2,9 +2,9 @@
 
 #include <string>
 
-#include "common/lcm_multicast.hpp"
+#include "common/replay_out/lcm_multicast.hpp"
 #include "rockwatch/options/usage_error.hpp"
-#include "common/options_namespace.hpp"
+#include "common/process/options_namespace.hpp"
 
 namespace rockwatch::cli {
 

@@ -8,7 +8,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "common/lcm_multicast.hpp"
+#include "common/replay_out/lcm_multicast.hpp"
 #include "dashboard/dashboard_http.hpp"
 #include "rockwatch/core/alarm.hpp"
 #include "rockwatch/core/model.hpp"
@@ -18,7 +18,7 @@
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
 #include "rockwatch/options/wall_options.hpp"
-#include "common/options_namespace.hpp"
+#include "common/process/options_namespace.hpp"
 
 namespace rockwatch::cli {
 

@@ -20,7 +20,7 @@
 
 #include "dashboard/dashboard_http.hpp"
 #include "rockwatch/options/usage_error.hpp"
-#include "common/options_namespace.hpp"
+#include "common/process/options_namespace.hpp"
 
 namespace rockwatch::cli {
 

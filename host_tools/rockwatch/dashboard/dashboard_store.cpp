@@ -11,7 +11,7 @@
 #include "rockwatch/core/alarm.hpp"
 #include "rockwatch/options/alarm_options.hpp"
 #include "rockwatch/options/observer_options.hpp"
-#include "common/options_namespace.hpp"
+#include "common/process/options_namespace.hpp"
 
 namespace rockwatch::cli {
 

@@ -17,7 +17,7 @@
 
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
-#include "common/options_namespace.hpp"
+#include "common/process/options_namespace.hpp"
 #include "rockwatch/process/child_process.hpp"
 
 namespace rockwatch::cli {

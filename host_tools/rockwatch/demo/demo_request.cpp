@@ -8,14 +8,14 @@
 
 #include <CLI/CLI.hpp>
 
-#include "common/lcm_multicast.hpp"
-#include "common/replay_stream.hpp"
-#include "common/shipped_suite.hpp"
+#include "common/replay_out/lcm_multicast.hpp"
+#include "common/replay_out/replay_stream.hpp"
+#include "common/records_in/shipped_suite.hpp"
 #include "rockwatch/options/command_line.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
 #include "rockwatch/options/wall_file.hpp"
-#include "common/options_namespace.hpp"
+#include "common/process/options_namespace.hpp"
 
 namespace rockwatch::cli {
 

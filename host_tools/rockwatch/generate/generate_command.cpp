@@ -11,17 +11,17 @@
 #include <utility>
 #include <vector>
 
-#include "common/command_runner.hpp"
-#include "common/commands.hpp"
-#include "common/output_file.hpp"
-#include "common/progress_line.hpp"
-#include "common/text_report.hpp"
+#include "common/process/command_runner.hpp"
+#include "common/process/commands.hpp"
+#include "common/process/output_file.hpp"
+#include "common/process/progress_line.hpp"
+#include "common/process/text_report.hpp"
 #include "generate/generate_plot.hpp"
 #include "generate/generate_report.hpp"
 #include "generate/generate_request.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
-#include "common/options_namespace.hpp"
+#include "common/process/options_namespace.hpp"
 #include "rockwatch/records/record_error.hpp"
 #include "rockwatch/records/suite_format.hpp"
 #include "rockwatch/sim/intensity_measures.hpp"

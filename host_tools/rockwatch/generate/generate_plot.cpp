@@ -8,10 +8,10 @@
 #include <system_error>
 #include <vector>
 
-#include "common/text_report.hpp"
+#include "common/process/text_report.hpp"
 #include "rockwatch/core/design_spectrum.hpp"
 #include "rockwatch/options/option_values.hpp"
-#include "common/options_namespace.hpp"
+#include "common/process/options_namespace.hpp"
 #include "rockwatch/sim/response_spectrum.hpp"
 
 namespace rockwatch::cli {

@@ -5,7 +5,7 @@
 
 #include <cstddef>
 
-#include "common/python_plot.hpp"
+#include "common/plots/python_plot.hpp"
 #include "generate/generate_report.hpp"
 #include "generate/generate_request.hpp"
 

@@ -9,10 +9,10 @@
 #include <system_error>
 #include <vector>
 
-#include "common/text_report.hpp"
-#include "common/tool_version.hpp"
+#include "common/process/text_report.hpp"
+#include "common/process/tool_version.hpp"
 #include "rockwatch/options/option_values.hpp"
-#include "common/options_namespace.hpp"
+#include "common/process/options_namespace.hpp"
 
 namespace rockwatch::cli {
 

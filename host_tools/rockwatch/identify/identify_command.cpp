@@ -13,13 +13,13 @@
 
 #include <nlohmann/json.hpp>
 
-#include "common/command_runner.hpp"
-#include "common/commands.hpp"
-#include "common/input_motion.hpp"
-#include "common/output_file.hpp"
-#include "common/python_plot.hpp"
-#include "common/text_report.hpp"
-#include "common/wall_sensors.hpp"
+#include "common/process/command_runner.hpp"
+#include "common/process/commands.hpp"
+#include "common/records_in/input_motion.hpp"
+#include "common/process/output_file.hpp"
+#include "common/plots/python_plot.hpp"
+#include "common/process/text_report.hpp"
+#include "common/records_in/wall_sensors.hpp"
 #include "identify/identify_report.hpp"
 #include "identify/identify_request.hpp"
 #include "rockwatch/core/restitution.hpp"
@@ -27,7 +27,7 @@
 #include "rockwatch/options/usage_error.hpp"
 #include "rockwatch/options/wall_file.hpp"
 #include "rockwatch/sim/identification.hpp"
-#include "common/options_namespace.hpp"
+#include "common/process/options_namespace.hpp"
 
 namespace rockwatch::cli {
 

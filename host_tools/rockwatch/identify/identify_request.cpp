@@ -2,14 +2,14 @@
 
 #include <string>
 
-#include "common/output_file.hpp"
+#include "common/process/output_file.hpp"
 #include "rockwatch/core/stepper_alarm_chain.hpp"
 #include "rockwatch/options/command_line.hpp"
 #include "rockwatch/options/engine_options.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
 #include "rockwatch/options/wall_options.hpp"
-#include "common/options_namespace.hpp"
+#include "common/process/options_namespace.hpp"
 
 namespace rockwatch::cli {
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "common/record_selection.hpp"
+#include "common/records_in/record_selection.hpp"
 #include "rockwatch/core/restitution.hpp"
 #include "rockwatch/core/wall.hpp"
 

@@ -11,20 +11,20 @@
 
 #include <lcm/lcm-cpp.hpp>
 
-#include "common/command_runner.hpp"
-#include "common/commands.hpp"
-#include "common/input_motion.hpp"
-#include "common/lcm_multicast.hpp"
-#include "common/progress_line.hpp"
-#include "common/replay_publisher.hpp"
-#include "common/wall_sensors.hpp"
-#include "common/replay_stream.hpp"
-#include "common/signal_interrupt.hpp"
+#include "common/process/command_runner.hpp"
+#include "common/process/commands.hpp"
+#include "common/records_in/input_motion.hpp"
+#include "common/replay_out/lcm_multicast.hpp"
+#include "common/process/progress_line.hpp"
+#include "common/replay_out/replay_publisher.hpp"
+#include "common/records_in/wall_sensors.hpp"
+#include "common/replay_out/replay_stream.hpp"
+#include "common/process/signal_interrupt.hpp"
 #include "replay/replay_report.hpp"
 #include "replay/replay_request.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
-#include "common/options_namespace.hpp"
+#include "common/process/options_namespace.hpp"
 
 namespace rockwatch::cli {
 

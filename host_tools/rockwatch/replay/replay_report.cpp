@@ -3,10 +3,10 @@
 #include <cstdio>
 #include <string>
 
-#include "common/lcm_multicast.hpp"
-#include "common/replay_lateness.hpp"
+#include "common/replay_out/lcm_multicast.hpp"
+#include "common/replay_out/replay_lateness.hpp"
 #include "rockwatch/options/option_values.hpp"
-#include "common/options_namespace.hpp"
+#include "common/process/options_namespace.hpp"
 
 namespace rockwatch::cli {
 

@@ -5,9 +5,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "common/input_motion.hpp"
-#include "common/replay_publisher.hpp"
-#include "common/replay_stream.hpp"
+#include "common/records_in/input_motion.hpp"
+#include "common/replay_out/replay_publisher.hpp"
+#include "common/replay_out/replay_stream.hpp"
 #include "replay/replay_request.hpp"
 
 namespace rockwatch::cli {

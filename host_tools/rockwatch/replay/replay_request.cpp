@@ -10,12 +10,12 @@
 
 #include <CLI/CLI.hpp>
 
-#include "common/lcm_multicast.hpp"
-#include "common/output_file.hpp"
+#include "common/replay_out/lcm_multicast.hpp"
+#include "common/process/output_file.hpp"
 #include "rockwatch/options/command_line.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
-#include "common/options_namespace.hpp"
+#include "common/process/options_namespace.hpp"
 
 namespace rockwatch::cli {
 

@@ -7,8 +7,8 @@
 #include <optional>
 #include <string>
 
-#include "common/record_selection.hpp"
-#include "common/replay_stream.hpp"
+#include "common/records_in/record_selection.hpp"
+#include "common/replay_out/replay_stream.hpp"
 
 namespace rockwatch::cli {
 

@@ -10,16 +10,16 @@
 #include <system_error>
 #include <vector>
 
-#include "common/command_runner.hpp"
-#include "common/commands.hpp"
-#include "common/history_csv.hpp"
-#include "common/input_motion.hpp"
-#include "common/output_file.hpp"
-#include "common/wall_sensors.hpp"
+#include "common/process/command_runner.hpp"
+#include "common/process/commands.hpp"
+#include "common/process/history_csv.hpp"
+#include "common/records_in/input_motion.hpp"
+#include "common/process/output_file.hpp"
+#include "common/records_in/wall_sensors.hpp"
 #include "rockwatch/core/stepper_alarm_chain.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
-#include "common/options_namespace.hpp"
+#include "common/process/options_namespace.hpp"
 #include "rockwatch/sim/analysis.hpp"
 #include "rockwatch/sim/wall_sensor_synthesis.hpp"
 #include "simulate/engine_input_file.hpp"

@@ -6,15 +6,15 @@
 #include <optional>
 #include <string>
 
-#include "common/record_selection.hpp"
-#include "common/text_report.hpp"
+#include "common/records_in/record_selection.hpp"
+#include "common/process/text_report.hpp"
 #include "rockwatch/core/model.hpp"
 #include "rockwatch/core/restitution.hpp"
 #include "rockwatch/core/wall.hpp"
 #include "rockwatch/options/alarm_options.hpp"
 #include "rockwatch/options/observer_options.hpp"
 #include "rockwatch/options/option_values.hpp"
-#include "common/options_namespace.hpp"
+#include "common/process/options_namespace.hpp"
 
 namespace rockwatch::cli {
 

@@ -5,7 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "common/input_motion.hpp"
+#include "common/records_in/input_motion.hpp"
 #include "rockwatch/sim/analysis.hpp"
 #include "simulate/simulate_request.hpp"
 

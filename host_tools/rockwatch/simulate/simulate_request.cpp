@@ -9,7 +9,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "common/output_file.hpp"
+#include "common/process/output_file.hpp"
 #include "rockwatch/options/alarm_options.hpp"
 #include "rockwatch/options/command_line.hpp"
 #include "rockwatch/options/engine_options.hpp"
@@ -17,7 +17,7 @@
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
 #include "rockwatch/options/wall_options.hpp"
-#include "common/options_namespace.hpp"
+#include "common/process/options_namespace.hpp"
 
 namespace rockwatch::cli {
 

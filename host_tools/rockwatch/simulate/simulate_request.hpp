@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "common/record_selection.hpp"
+#include "common/records_in/record_selection.hpp"
 #include "rockwatch/core/wall.hpp"
 #include "rockwatch/sim/analysis.hpp"
 #include "rockwatch/sim/ensemble_forecast.hpp"

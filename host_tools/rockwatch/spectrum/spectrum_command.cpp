@@ -10,16 +10,16 @@
 #include <utility>
 #include <vector>
 
-#include "common/command_runner.hpp"
-#include "common/commands.hpp"
-#include "common/input_motion.hpp"
-#include "common/output_file.hpp"
-#include "common/python_plot.hpp"
-#include "common/record_selection.hpp"
+#include "common/process/command_runner.hpp"
+#include "common/process/commands.hpp"
+#include "common/records_in/input_motion.hpp"
+#include "common/process/output_file.hpp"
+#include "common/plots/python_plot.hpp"
+#include "common/records_in/record_selection.hpp"
 #include "rockwatch/core/design_spectrum.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
-#include "common/options_namespace.hpp"
+#include "common/process/options_namespace.hpp"
 #include "rockwatch/records/record.hpp"
 #include "rockwatch/sim/intensity_measures.hpp"
 #include "rockwatch/sim/response_spectrum.hpp"

@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "common/python_plot.hpp"
+#include "common/plots/python_plot.hpp"
 #include "spectrum/spectrum_report.hpp"
 #include "spectrum/spectrum_request.hpp"
 

@@ -9,11 +9,11 @@
 #include <system_error>
 #include <vector>
 
-#include "common/record_selection.hpp"
-#include "common/text_report.hpp"
+#include "common/records_in/record_selection.hpp"
+#include "common/process/text_report.hpp"
 #include "rockwatch/core/design_spectrum.hpp"
 #include "rockwatch/options/option_values.hpp"
-#include "common/options_namespace.hpp"
+#include "common/process/options_namespace.hpp"
 
 namespace rockwatch::cli {
 

@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "common/input_motion.hpp"
+#include "common/records_in/input_motion.hpp"
 #include "rockwatch/sim/intensity_measures.hpp"
 #include "rockwatch/sim/response_spectrum.hpp"
 #include "spectrum/spectrum_request.hpp"

@@ -9,12 +9,12 @@
 
 #include <CLI/CLI.hpp>
 
-#include "common/output_file.hpp"
+#include "common/process/output_file.hpp"
 #include "rockwatch/core/design_spectrum.hpp"
 #include "rockwatch/options/command_line.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
-#include "common/options_namespace.hpp"
+#include "common/process/options_namespace.hpp"
 
 namespace rockwatch::cli {
 

@@ -5,7 +5,7 @@
 #include <optional>
 #include <string>
 
-#include "common/record_selection.hpp"
+#include "common/records_in/record_selection.hpp"
 #include "rockwatch/core/design_spectrum.hpp"
 #include "rockwatch/core/response_oscillator.hpp"
 #include "rockwatch/sim/response_spectrum.hpp"

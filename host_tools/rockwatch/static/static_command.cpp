@@ -9,14 +9,14 @@
 #include <system_error>
 #include <vector>
 
-#include "common/command_runner.hpp"
-#include "common/commands.hpp"
-#include "common/output_file.hpp"
-#include "common/python_plot.hpp"
+#include "common/process/command_runner.hpp"
+#include "common/process/commands.hpp"
+#include "common/process/output_file.hpp"
+#include "common/plots/python_plot.hpp"
 #include "rockwatch/core/static_check.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
-#include "common/options_namespace.hpp"
+#include "common/process/options_namespace.hpp"
 #include "static/static_report.hpp"
 #include "static/static_request.hpp"
 #include "static/static_sweep.hpp"

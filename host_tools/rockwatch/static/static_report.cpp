@@ -6,10 +6,10 @@
 #include <string>
 #include <vector>
 
-#include "common/text_report.hpp"
+#include "common/process/text_report.hpp"
 #include "rockwatch/core/design_spectrum.hpp"
 #include "rockwatch/options/option_values.hpp"
-#include "common/options_namespace.hpp"
+#include "common/process/options_namespace.hpp"
 
 namespace rockwatch::cli {
 

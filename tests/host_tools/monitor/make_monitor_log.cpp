@@ -17,7 +17,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 
-#include "common/input_motion.hpp"
+#include "common/records_in/input_motion.hpp"
 #include "rockwatch/ground_accel_t.hpp"
 #include "simulate/simulate_request.hpp"
 

@@ -4,7 +4,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "common/align.hpp"
+#include "common/records_in/align.hpp"
 
 #include <CppUTest/TestHarness.h>
 

@@ -8,7 +8,7 @@
 
 #include "cli_process.hpp"
 #include "cli_test_files.hpp"
-#include "common/python_plot.hpp"
+#include "common/plots/python_plot.hpp"
 
 #include <CppUTest/TestHarness.h>
 

@@ -14,7 +14,7 @@
 
 #include "cli_process.hpp"
 #include "cli_test_files.hpp"
-#include "common/align.hpp"
+#include "common/records_in/align.hpp"
 #include "rockwatch/core/wall.hpp"
 #include "rockwatch/records/record.hpp"
 #include "rockwatch/sim/analysis.hpp"

@@ -8,7 +8,7 @@
 
 #include "cli_process.hpp"
 #include "cli_test_files.hpp"
-#include "common/lcm_multicast.hpp"
+#include "common/replay_out/lcm_multicast.hpp"
 
 #include "cli_expect.hpp"  // brings in CppUTest, after every standard header
 

@@ -19,7 +19,7 @@
 
 #include "cli_process.hpp"
 #include "cli_test_files.hpp"
-#include "common/python_plot.hpp"
+#include "common/plots/python_plot.hpp"
 #include "rockwatch/core/design_spectrum.hpp"
 #include "rockwatch/records/suite_format.hpp"
 #include "rockwatch/sim/intensity_measures.hpp"

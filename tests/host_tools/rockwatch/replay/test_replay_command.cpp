@@ -27,7 +27,7 @@
 
 #include "cli_process.hpp"
 #include "cli_test_files.hpp"
-#include "common/lcm_multicast.hpp"
+#include "common/replay_out/lcm_multicast.hpp"
 #include "rockwatch/ground_accel_batch_t.hpp"
 #include "rockwatch/ground_accel_t.hpp"
 

@@ -20,7 +20,7 @@
 #include "rockwatch/firmware/engine_input_format.hpp"
 #include "rockwatch/records/record.hpp"
 #include "rockwatch/sim/analysis.hpp"
-#include "common/wall_sensors.hpp"
+#include "common/records_in/wall_sensors.hpp"
 
 #include "cli_expect.hpp"  // brings in CppUTest, after every standard header
 

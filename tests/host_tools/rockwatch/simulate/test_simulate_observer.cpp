@@ -12,7 +12,7 @@
 
 #include "cli_process.hpp"
 #include "cli_test_files.hpp"
-#include "common/wall_sensors.hpp"
+#include "common/records_in/wall_sensors.hpp"
 #include "rockwatch/core/wall.hpp"
 #include "rockwatch/records/suite_format.hpp"
 #include "rockwatch/sim/analysis.hpp"

@@ -25,8 +25,8 @@
 #include "rockwatch/records/record.hpp"
 #include "rockwatch/sim/analysis.hpp"
 #include "rockwatch/sim/study/batch_study.hpp"
-#include "study/study_runs_csv.hpp"
-#include "study/study_summary.hpp"
+#include "study/outputs/study_runs_csv.hpp"
+#include "study/statistics/study_summary.hpp"
 
 #include "cli_expect.hpp"  // brings in CppUTest, after every standard header
 

@@ -28,7 +28,7 @@
 
 #include "cli_process.hpp"
 #include "cli_test_files.hpp"
-#include "common/python_plot.hpp"
+#include "common/plots/python_plot.hpp"
 #include "rockwatch/options/option_values.hpp"
 
 #include "cli_expect.hpp"  // brings in CppUTest, after every standard header

@@ -14,7 +14,7 @@
 #include "cli_test_files.hpp"
 #include "rockwatch/sim/study/batch_study.hpp"
 #include "rockwatch/sim/study/observer_evaluation.hpp"
-#include "study/study_observer.hpp"
+#include "study/run/study_observer.hpp"
 
 #include "cli_expect.hpp"  // brings in CppUTest, after every standard header
 

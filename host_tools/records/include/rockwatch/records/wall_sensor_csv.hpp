@@ -14,7 +14,7 @@
 // decimal numbers. Any defect throws RecordError naming the file, the line and what was expected.
 //
 // Uses nothing of the project outside records (the layer rule): the rows are converted to core::WallSensorSample by
-// the tool (host_tools/rockwatch/common/wall_sensors.hpp).
+// the tool (host_tools/rockwatch/common/records_in/wall_sensors.hpp).
 #pragma once
 
 #include <cstdint>
