@@ -435,7 +435,7 @@ IdentificationResult identify(const IdentificationInput& in) {
     const double hb = 1e-6 * th(kB), hs = 1e-6;
     const std::array<double, 4> bp = derived(hb, 0), bm = derived(-hb, 0), sp = derived(0, hs), sm = derived(0, -hs);
     std::array<double, 4> sig{};
-    for (int q = 0; q < 4; ++q) {
+    for (std::size_t q = 0; q < 4; ++q) {
       Eigen::Vector2d g((bp[q] - bm[q]) / (2 * hb), (sp[q] - sm[q]) / (2 * hs));
       Eigen::Matrix2d c2;
       c2 << cov(kB, kB), cov(kB, kScale), cov(kScale, kB), cov(kScale, kScale);
