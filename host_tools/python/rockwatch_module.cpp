@@ -550,18 +550,7 @@ py::object identify(const std::string& wall_sensors, const std::optional<std::st
     }
   }
   if (q.wall_out_path) {
-    options::WallFile file;
-    file.wall = result.wall;
-    file.r = result.r;
-    file.identified = {{"by", "rockwatch identify"},
-                       {"test", result.snap_back ? "snap-back" : "forced"},
-                       {"wall_sensors", q.wall_sensors_path},
-                       {"sigma_r", result.sigma_r},
-                       {"sigma_x_inst_m", result.sigma_x_inst_m},
-                       {"sigma_omega_radps", result.sigma_omega_radps},
-                       {"residual_rms_m", result.residual_rms_m},
-                       {"identified", {"b_m", "h1_m", "h2_m", "r"}},
-                       {"held", {"h1_m:h2_m", "rho_kgpm3", "fp_npm", "a", "a_prime", "g_mps2"}}};
+    const options::WallFile file = cli::identified_wall_file(q, result);
     cli::write_output_file(*q.wall_out_path,
                            [&](std::ostream& out) { out << options::wall_file_json(file).dump(2) << '\n'; });
   }

@@ -173,18 +173,7 @@ int run(const IdentifyRequest& q) {
     throw UsageError("the record does not identify the wall: " + std::string(e.what()) + " (" + q.wall_sensors_path + ")");
   }
   if (q.wall_out_path) {
-    options::WallFile file;
-    file.wall = r.wall;
-    file.r = r.r;
-    file.identified = {{"by", "rockwatch identify"},
-                       {"test", r.snap_back ? "snap-back" : "forced"},
-                       {"wall_sensors", q.wall_sensors_path},
-                       {"sigma_r", r.sigma_r},
-                       {"sigma_x_inst_m", r.sigma_x_inst_m},
-                       {"sigma_omega_radps", r.sigma_omega_radps},
-                       {"residual_rms_m", r.residual_rms_m},
-                       {"identified", {"b_m", "h1_m", "h2_m", "r"}},
-                       {"held", {"h1_m:h2_m", "rho_kgpm3", "fp_npm", "a", "a_prime", "g_mps2"}}};
+    const options::WallFile file = identified_wall_file(q, r);
     write_output_file(*q.wall_out_path,
                       [&](std::ostream& out) { out << options::wall_file_json(file).dump(2) << '\n'; });
   }
@@ -214,6 +203,22 @@ int run(const IdentifyRequest& q) {
 }
 
 }  // namespace
+
+options::WallFile identified_wall_file(const IdentifyRequest& q, const sim::IdentificationResult& r) {
+  options::WallFile file;
+  file.wall = r.wall;
+  file.r = r.r;
+  file.identified = {{"by", "rockwatch identify"},
+                     {"test", r.snap_back ? "snap-back" : "forced"},
+                     {"wall_sensors", q.wall_sensors_path},
+                     {"sigma_r", r.sigma_r},
+                     {"sigma_x_inst_m", r.sigma_x_inst_m},
+                     {"sigma_omega_radps", r.sigma_omega_radps},
+                     {"residual_rms_m", r.residual_rms_m},
+                     {"identified", {"b_m", "h1_m", "h2_m", "r"}},
+                     {"held", {"h1_m:h2_m", "rho_kgpm3", "fp_npm", "a", "a_prime", "g_mps2"}}};
+  return file;
+}
 
 int identify_main(int argc, const char* const* argv) {
   return run_command(kErrors, [&] {
