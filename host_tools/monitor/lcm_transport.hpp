@@ -21,8 +21,8 @@ std::int64_t monotonic_ns();
 // LCM subscribes by regular expression (implicitly ^...$): the expression that matches exactly `channel`.
 std::string exact_channel_regex(const std::string& channel);
 
-// Where a live monitor can lose input on this machine, and what the adapter does about it (docs/BENCHMARKS.md, "The
-// monitor over LCM", has the measurements):
+// Where a live monitor can lose input on this machine, and what the adapter does about it (docs/benchmarks-history.md,
+// "The monitor over LCM (issue 7)", has the measurements):
 //  1. liblcm's receive thread reads every datagram of the multicast group into a queue and silently discards a
 //     message when every subscription it matches already holds its queue capacity of messages the program has not
 //     handled yet. LCM's default capacity is 30: 3 ms of single samples at 10 kHz, so a monitor descheduled for a few

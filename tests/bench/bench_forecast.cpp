@@ -6,7 +6,7 @@
 //   settling x = 0.1 x_inst, ẋ = 0 on the 0.1 g record: nearly every member runs the whole horizon.
 // Counters: P(collapse), member-steps per forecast (at most: members that collapse stop), member-steps per second,
 // and heap allocations per forecast (counted by the global operator new below: 0 = allocation-free after set-up).
-// Figures and exact commands: docs/BENCHMARKS.md, "Ensemble forecast (issue 29)". Run a Release build.
+// Figures and exact commands: docs/BENCHMARKS.md, "Forecast". Run a Release build.
 #include <atomic>
 #include <cmath>
 #include <cstddef>

@@ -42,8 +42,9 @@ void sleep_until(std::int64_t deadline_ns, const std::atomic<bool>* cancel) {
 //    wake-ups (no privilege needed; this thread only; left at 1 ns);
 //  - SCHED_FIFO at kReplayPriority for this thread, if it runs under SCHED_OTHER and the process may (root,
 //    CAP_SYS_NICE or an RLIMIT_RTPRIO allowance): on a busy machine an ordinary thread waits for the CPU behind the
-//    other work, which made the worst deadline of a 1 kHz replay miss by several ms (docs/BENCHMARKS.md). The loop
-//    sleeps until each deadline, so it takes little CPU; the kernel's real-time throttling bounds it in any case.
+//    other work, which made the worst deadline of a 1 kHz replay miss by several ms (docs/benchmarks-history.md,
+//    "Replay pacing"). The loop sleeps until each deadline, so it takes little CPU; the kernel's real-time throttling
+//    bounds it in any case.
 //    The priority is low, below a monitor started with `--realtime 50` or `chrt -f 50`;
 //  - mlockall(MCL_CURRENT): the pages mapped now (the prepared samples, the code) stay in memory, no page fault
 //    mid-stream. Not MCL_FUTURE: with a memory-lock limit, later allocations would fail.
