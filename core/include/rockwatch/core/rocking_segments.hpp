@@ -46,27 +46,28 @@ namespace rockwatch::core {
 // What happened inside one step, in the stepper's formats (Fraction: of the step, in [0, 1]; Speed: m/s).
 template <typename Fraction, typename Speed = Fraction>
 struct StepReport {
-  bool input_invalid = false;     // G = g + v̈ ≤ 0 at the step end: outside the model, state held
-  bool started = false;           // rocking started from rest in this step
-  Fraction start_fraction{};
-  std::uint16_t impacts_counted = 0;  // impacts with |ẋ⁻| ≥ v_count
-  std::uint16_t impacts_total = 0;    // all impacts
+  // Members widest first (no padding between them): a report is zeroed and copied out at every step.
+  Fraction start_fraction{};          // rocking started from rest at this fraction of the step (when `started`)
   Fraction first_impact_fraction{};   // the first impact of the step: when,
   Speed first_impact_v_before_mps{};  //   ẋ⁻ [m/s]
   Speed first_impact_v_after_mps{};   //   and ẋ⁺ = √r·ẋ⁻ [m/s], also when the impact puts the wall at rest
-  bool came_to_rest = false;
-  bool rest_forced = false;       // the chatter rule (a crossing beyond the step's K located impacts), or a shed
-                                  // crossing: put at rest at the step end (settling)
-  bool exceeded = false;          // |x| rose through x_inst in this step (first time in the step)
-  Fraction exceed_fraction{};
-  bool collapsed = false;         // |x| reached κ·x_inst; the stepper stops
-  Fraction collapse_fraction{};
-  bool saturated = false;         // fixed point: a state quantity reached the end of its format (results unreliable)
-  bool work_shed = false;         // the engine's queue was full: an event was not located (core/work_meter.hpp)
+  Fraction exceed_fraction{};         // when |x| rose through x_inst (when `exceeded`)
+  Fraction collapse_fraction{};       // when |x| reached κ·x_inst (when `collapsed`)
+  std::uint16_t impacts_counted = 0;  // impacts with |ẋ⁻| ≥ v_count
+  std::uint16_t impacts_total = 0;    // all impacts
   // Work done, for the constant-iteration proofs and worst-case accounting (tests/sim/test_fixed_engine.cpp):
   std::uint16_t segments = 0;           // segments integrated to the step end (≤ kMaxSegmentsPerStep)
   std::uint16_t events_located = 0;     // impacts, collapse and x_inst passages located inside the step
   std::uint16_t locate_iterations = 0;  // iterations of the event locator
+  bool input_invalid = false;     // G = g + v̈ ≤ 0 at the step end: outside the model, state held
+  bool started = false;           // rocking started from rest in this step
+  bool came_to_rest = false;
+  bool rest_forced = false;       // the chatter rule (a crossing beyond the step's K located impacts), or a shed
+                                  // crossing: put at rest at the step end (settling)
+  bool exceeded = false;          // |x| rose through x_inst in this step (first time in the step)
+  bool collapsed = false;         // |x| reached κ·x_inst; the stepper stops
+  bool saturated = false;         // fixed point: a state quantity reached the end of its format (results unreliable)
+  bool work_shed = false;         // the engine's queue was full: an event was not located (core/work_meter.hpp)
 };
 
 // The chatter rule's K (SPEC §3): impacts located inside one integration step, in every engine. Chosen by measurement
