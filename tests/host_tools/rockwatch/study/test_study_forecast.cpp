@@ -219,6 +219,8 @@ TEST(StudyForecast, LeadThresholdsAreChosenWithoutTheRecordScored) {
   LONGS_EQUAL(1, static_cast<long>(o.imminent.survivors_flagged));
   LONGS_EQUAL(1, static_cast<long>(o.imminent.collapsed_flagged));
   DOUBLES_EQUAL(0.5, *o.imminent.lead_time_s_median, 1e-12);
+  DOUBLES_EQUAL(0.25, *o.imminent.lead_time_s_median_all_collapses, 1e-12);  // run 3 missed: 0 s and 0.5 s
+  DOUBLES_EQUAL(2.0, *o.ensemble_5.lead_time_s_median_all_collapses, 1e-12);  // none missed
   // At IMMINENT's false alarms on the other record: fold a allows 1 of b's survivors (b flagged one): p* 0.01, so
   // run 0 is flagged at 1 s and run 1 at 1 s (lead 4 s); fold b allows 0 of a's: 0.31 as above.
   LONGS_EQUAL(2, static_cast<long>(o.ensemble_at_imminent.survivors_flagged));
