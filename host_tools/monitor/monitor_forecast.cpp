@@ -2,6 +2,7 @@
 
 #include <pthread.h>
 #include <sched.h>
+#include <signal.h>
 #include <sys/resource.h>
 #include <sys/syscall.h>
 #include <unistd.h>
@@ -264,6 +265,12 @@ void ForecastThread::stop() {
 }
 
 void ForecastThread::run() {
+  // SIGINT and SIGTERM are the receive thread's to take (its wait is what they should interrupt).
+  sigset_t stop_signals;
+  sigemptyset(&stop_signals);
+  sigaddset(&stop_signals, SIGINT);
+  sigaddset(&stop_signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
   // Below the receive thread: a thread started after --realtime inherits SCHED_FIFO and the CPU pinning; the
   // forecast takes milliseconds at a time and must never hold the sample path's CPU at its priority.
   const sched_param ordinary{};
