@@ -136,19 +136,21 @@ TEST(MonitorLiveForecast, PublishesAtTheRateAndTheOddsRiseBeforeTheCollapse) {
   CHECK_TEXT(summary.contains("forecast"), text.c_str());
   const json& fs = summary.at("forecast");
 
-  // The rate: about 10 per second over the run (the first tick 0.1 s after the start).
+  // The rate: every tick of the run is a forecast published or a tick skipped (the rate dropped: a loaded machine or
+  // a sanitized build); 50 members over 2 s take about 1 ms (release), so nearly all are published.
   const std::vector<Received>& f = inbox.forecasts;
   LONGS_EQUAL_TEXT(0, inbox.decode_errors, text.c_str());
-  const double span_s = kSamples * kDt + 0.5;
-  CHECK_TEXT(f.size() >= static_cast<std::size_t>(0.8 * kRate_hz * span_s), (std::to_string(f.size()) + " " + text).c_str());
-  CHECK_TEXT(f.size() <= static_cast<std::size_t>(1.1 * kRate_hz * (span_s + 1.0)), text.c_str());
-  CHECK_TEXT(fs.at("published").get<std::size_t>() >= f.size(), text.c_str());
+  const double run_time_s = summary.at("run_time_s").get<double>();
+  const long published = fs.at("published").get<long>(), skipped = fs.at("ticks_skipped").get<long>();
+  CHECK_TEXT(std::fabs(double(published + skipped) - kRate_hz * run_time_s) <= 3.0, text.c_str());
+  CHECK_TEXT(double(published) >= 0.7 * kRate_hz * run_time_s, text.c_str());
+  CHECK_TEXT(published >= long(f.size()) && published - long(f.size()) <= 3, text.c_str());  // loopback: all arrive
   LONGS_EQUAL_TEXT(0, fs.at("publish_failures").get<long>(), text.c_str());
   LONGS_EQUAL_TEXT(0, fs.at("input_dropped").get<long>(), text.c_str());
-  CHECK_TEXT(fs.at("ticks_skipped").get<long>() <= 2, text.c_str());  // 50 members over 2 s take about 1 ms
-  // Intervals between arrivals: 0.1 s on average.
+  // Intervals between arrivals: 0.1 s on average (longer only by the ticks skipped).
   const double mean_interval = (f.back().at_s - f.front().at_s) / double(f.size() - 1);
-  DOUBLES_EQUAL(1.0 / kRate_hz, mean_interval, 0.02);
+  CHECK_TEXT(mean_interval >= 0.9 / kRate_hz && mean_interval <= 1.0 / kRate_hz * (1.0 + double(skipped) / double(f.size())) + 0.02,
+             (std::to_string(mean_interval) + " " + text).c_str());
 
   // Sane values, each message.
   int ok = 0, at_rest = 0;
@@ -181,7 +183,9 @@ TEST(MonitorLiveForecast, PublishesAtTheRateAndTheOddsRiseBeforeTheCollapse) {
   }
   CHECK_TEXT(at_rest > 10, text.c_str());  // the first 3 s the wall is at rest
   CHECK_TEXT(ok > 15, text.c_str());
-  LONGS_EQUAL_TEXT(ok, fs.at("forecasts").get<long>() - (fs.at("published").get<long>() - long(f.size())), text.c_str());
+  // The summary counts what was received (and at most the few published after this process stopped listening).
+  const long forecasts = fs.at("forecasts").get<long>();
+  CHECK_TEXT(forecasts >= ok && forecasts - ok <= published - long(f.size()), text.c_str());
 
   // P(collapse) rises before the collapse: the first second of rocking against the last second before COLLAPSED.
   std::int64_t t_collapse = 0;
