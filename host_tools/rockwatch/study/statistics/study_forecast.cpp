@@ -387,11 +387,14 @@ nlohmann::ordered_json forecast_summary_json(const study::ForecastEvaluationPlan
                    {"brier_skill_in_sample", number_or_null(o.baseline_skill_in_sample)},
                    {"weights_in_sample", weights}};
   j["brier_skill_vs_baseline"] = number_or_null(o.skill_vs_baseline);
-  j["lead"] = {{"ensemble_5_percent", lead_json(o.ensemble_5, true)},
-               {"baseline_5_percent", lead_json(o.baseline_5, true)},
+  // With one record there is nothing to leave out: the fitted rules are not scored (null), IMMINENT is.
+  const bool folds = o.groups >= 2;
+  const auto fitted = [folds](const LeadScore& l) { return folds ? lead_json(l, true) : nlohmann::ordered_json(nullptr); };
+  j["lead"] = {{"ensemble_5_percent", fitted(o.ensemble_5)},
+               {"baseline_5_percent", fitted(o.baseline_5)},
                {"imminent", lead_json(o.imminent, false)},
-               {"ensemble_at_imminent_false_alarms", lead_json(o.ensemble_at_imminent, true)},
-               {"baseline_at_imminent_false_alarms", lead_json(o.baseline_at_imminent, true)},
+               {"ensemble_at_imminent_false_alarms", fitted(o.ensemble_at_imminent)},
+               {"baseline_at_imminent_false_alarms", fitted(o.baseline_at_imminent)},
                {"p_star_5_percent_all_records", number_or_null(o.p_star_all_5)}};
   // The goals, judged on the figures above; the lead on every collapse (a miss as 0 s), so that a threshold
   // that flags a few collapses cannot win by its median over those few.
@@ -466,10 +469,14 @@ std::string forecast_summary_text(const study::ForecastEvaluationPlan& e, const 
   line(out, "calibration", format("%s: max |observed - mean P| %s over %zu bins with >= %zu forecasts",
                                   o.calibrated ? "calibrated" : "NOT calibrated", opt3(o.calibration_max_error).c_str(),
                                   o.bins_judged, kCalibrationMinForecasts));
-  line(out, "P >= p* (5 %)", lead_line(o.ensemble_5));
-  line(out, "baseline (5 %)", lead_line(o.baseline_5));
+  if (o.groups < 2) {
+    line(out, "baseline, p*", "not fitted: one record, none to leave out (give two or more records)");
+  } else {
+    line(out, "P >= p* (5 %)", lead_line(o.ensemble_5));
+    line(out, "baseline (5 %)", lead_line(o.baseline_5));
+  }
   line(out, "IMMINENT", lead_line(o.imminent));
-  line(out, "P at IMMINENT's FA", lead_line(o.ensemble_at_imminent));
+  if (o.groups >= 2) line(out, "P at IMMINENT's FA", lead_line(o.ensemble_at_imminent));
   return out;
 }
 

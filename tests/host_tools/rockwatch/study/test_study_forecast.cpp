@@ -232,3 +232,28 @@ TEST(StudyForecast, LeadThresholdsAreChosenWithoutTheRecordScored) {
   // The baseline was fitted without each record: its probabilities exist for all 8 forecasts.
   LONGS_EQUAL(8, static_cast<long>(o.baseline_p.size()));
 }
+
+// One record (set 3: its X and Y are one record): nothing to leave out, so the baseline and the thresholds are not
+// fitted (null, and said so), while the forecasts' own scores and IMMINENT's are there.
+TEST(StudyForecast, OneRecordHasNothingToLeaveOut) {
+  TempDir dir;
+  const std::string out = dir.file("one");
+  const ProcessResult r = run_rockwatch({"study", "--suite", kSuite, "--sets", "3", "--r", "exp", "--vertical", "without",
+                                         "--pga", "0.2:0.3:0.1", "--forecast", "--forecast-members", "10",
+                                         "--forecast-every-s", "1", "--jobs", "2", "--out", out});
+  const std::string what = describe(r);
+  CHECK_EQUAL_TEXT(0, r.exit_status, what.c_str());
+  CHECK_TEXT(r.out.find("not fitted: one record") != std::string::npos, what.c_str());
+  const nlohmann::json f = read_json(out + "/summary.json")["forecast"];
+  LONGS_EQUAL(1, f["record_groups"].get<long>());
+  LONGS_EQUAL(4, f["runs"].get<long>());
+  CHECK(f["brier"].is_number());
+  CHECK(f["baseline"]["brier"].is_null());
+  CHECK(f["lead"]["ensemble_5_percent"].is_null());
+  CHECK(f["lead"]["imminent"].is_object());
+  CHECK_FALSE(f["goals"]["skill_above_baseline"].get<bool>());
+  // forecast.csv's baseline column is empty then.
+  const auto rows = read_csv(out + "/forecast.csv");
+  CHECK(!rows.empty());
+  for (const auto& row : rows) CHECK(row.at("baseline_p").empty());
+}
