@@ -19,6 +19,10 @@ table (bins of 0.1; calibrated when |observed - mean forecast| <= 0.1 in every b
 score and skill against the base rate and against the baseline, and the lead time before collapse at the threshold
 p* where at most 5 % of the surviving runs ever cross it, beside the IMMINENT alarm's lead and false-alarm rate.
 Deterministic (fixed member seeds).
+
+`rockwatch study --forecast` makes the same evaluation inside the tool (the same forecasts: its Brier score and
+reliability table on sets 4-11 at these levels are this script's), with the baseline and the thresholds fitted leave
+one record out instead of in sample (docs/BENCHMARKS.md, "Forecast").
 """
 import argparse
 import concurrent.futures

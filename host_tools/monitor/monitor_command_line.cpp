@@ -47,6 +47,11 @@ const char* const kFooter =
     "            capacity_sigmas}\n"
     "    the wall observer (--observer: enabled with the defaults): fuses wall_sensor_t samples (channel\n"
     "    wall_sensor) with the model, publishes wall_estimate_t (channel wall_estimate) and alarms on the fused state\n"
+    "  forecast {enabled, members, horizon_s, rate_hz, seed, channel}   (--forecast N,H, --forecast-rate; off by\n"
+    "    default; 200 members, 5 s, 10 Hz, seed 29, ROCKWATCH_WALL_FORECAST): the ensemble forecast of collapse\n"
+    "    (SPEC section 10) from the latest (fused, with the observer) state, on a thread of its own, published as\n"
+    "    wall_forecast_t (P(collapse within H), its standard error, quantiles of max |x|/x_inst, compute_us,\n"
+    "    ticks_skipped); one wall only; not written to --log\n"
     "  lcm_url (--lcm-url; default $LCM_DEFAULT_URL, else udpm://239.255.76.67:7667?ttl=0)\n"
     "  accept_from [\"ADDR\" or \"ADDR/PREFIX\", ...]   (--accept-from; sources of input datagrams, default any)\n"
     "  realtime_priority (--realtime)   cpu (--cpu)   busy_poll_us (--busy-poll-us)   live mode, not in the digest\n"
@@ -128,6 +133,15 @@ void add_options(CLI::App& app, RawOptions& raw) {
   app.add_flag("--observer", raw.observer,
                "Run the wall observer: fuse the wall sensors (wall_sensor_t) with the model, publish wall_estimate_t "
                "and alarm on the fused state (settings: the file's observer object, else the defaults)");
+  app.add_option("--forecast", raw.forecast,
+                 "Publish the ensemble forecast of collapse (SPEC section 10) as wall_forecast_t: N members over a "
+                 "horizon of H seconds, e.g. 200,5 (N in [1, 100000], H in (0, 60]); computed on a thread of its own, "
+                 "never holding the sample path")
+      ->type_name("N,H");
+  app.add_option("--forecast-rate", raw.forecast_rate,
+                 "With --forecast: forecasts per second, in [0.1, 100] (default 10); when one takes longer than the "
+                 "period the ticks it overran are skipped and counted (ticks_skipped)")
+      ->type_name("HZ");
   app.add_flag("--print-config", raw.print_config,
                "Print the normalised settings and their digest as one JSON object and exit");
   app.add_flag("--version", raw.version, "Print the version and exit");

@@ -20,6 +20,7 @@ namespace rockwatch::monitor::config_detail {
 struct RawOptions {
   std::string config, lcm_url, arith = "fixed", rate, max_step, offline_in, offline_out, log, receive_path = "own";
   std::string clock_tolerance;
+  std::string forecast, forecast_rate;  // --forecast N,H; --forecast-rate HZ
   std::string work_budget, work_overflow;
   std::vector<std::string> accept_from;
   options::RealtimeOptionTexts timing;  // --realtime, --cpu, --busy-poll-us

@@ -137,6 +137,74 @@ bool channel_text_ok(const std::string& name) {
   return true;
 }
 
+// The live forecast (monitor_forecast.hpp): the file's forecast object, --forecast N,H and --forecast-rate over it.
+void merge_forecast(const CLI::App& app, const RawOptions& raw, const FileValues& file, const std::string& label,
+                    MonitorConfig& config) {
+  ForecastConfig& f = config.forecast;
+  const bool cli = options::given(app, "--forecast");
+  f.enabled = cli || file.forecast_enabled.value_or(false);
+  f.origin = cli ? "--forecast" : label;
+  if (!f.enabled) {
+    if (options::given(app, "--forecast-rate")) {
+      throw UsageError("--forecast-rate sets the live forecast: give --forecast N,H too (or forecast.enabled)");
+    }
+    return;
+  }
+  if (file.forecast_members) f.members = *file.forecast_members;
+  if (file.forecast_horizon_s) f.horizon_s = *file.forecast_horizon_s;
+  if (file.forecast_rate_hz) f.rate_hz = *file.forecast_rate_hz;
+  if (file.forecast_seed) f.seed = *file.forecast_seed;
+  if (file.forecast_channel) {
+    if (!channel_text_ok(*file.forecast_channel)) {
+      throw UsageError(label + ".channel must be 1 to " + std::to_string(firmware::kChannelNameMax - 1) +
+                       " printable ASCII characters without spaces (got " + options::quoted(*file.forecast_channel) +
+                       ")");
+    }
+    f.channel = *file.forecast_channel;
+  }
+  if (cli) {
+    const std::vector<std::string> parts = options::split_fields(raw.forecast, ',');
+    const std::string expected = "--forecast expects N,H: N members in [1, 100000] and a horizon H in (0, 60] s, e.g. "
+                                 "200,5 (got " + options::quoted(raw.forecast) + ")";
+    if (parts.size() != 2) throw UsageError(expected);
+    const std::optional<std::uint64_t> n = options::whole_number(parts[0], 1, 100000);
+    if (!n) throw UsageError("--forecast: N must be a whole number of members in [1, 100000] (got " +
+                             options::quoted(raw.forecast) + ")");
+    double h = 0.0;
+    try {
+      h = options::parse_finite_number("--forecast", parts[1]);
+    } catch (const UsageError&) {
+      throw UsageError(expected);
+    }
+    if (!(h > 0.0 && h <= 60.0)) {
+      throw UsageError("--forecast: the horizon H must be in (0, 60] s (got " + options::quoted(raw.forecast) + ")");
+    }
+    f.members = static_cast<int>(*n);
+    f.horizon_s = h;
+  }
+  if (options::given(app, "--forecast-rate")) {
+    const double r = options::parse_finite_number("--forecast-rate", raw.forecast_rate);
+    if (!(r >= kForecastRateMin_hz && r <= kForecastRateMax_hz)) {
+      throw UsageError("--forecast-rate must be in [0.1, 100] forecasts per second (got " +
+                       options::quoted(raw.forecast_rate) + ")");
+    }
+    f.rate_hz = r;
+  }
+  const firmware::MonitorChannels& ch = config.settings.channels;
+  for (const char* used : {ch.accel, ch.accel_batch, ch.wall_state, ch.alarm, ch.status, ch.wall_sensor,
+                           ch.wall_estimate}) {
+    if (f.channel == used) {
+      throw UsageError((cli ? std::string("forecast.channel") : label + ".channel") + " " + options::quoted(f.channel) +
+                       " is already one of the monitor's channels: every channel must be different");
+    }
+  }
+  if (!config.walls.empty()) {
+    throw UsageError(f.origin + ": the forecast follows one wall; the configuration's walls lists " +
+                     std::to_string(config.walls.size()));
+  }
+  if (config.receive_path == ReceivePath::liblcm) throw UsageError(f.origin + " needs --receive-path own");
+}
+
 }  // namespace
 
 MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
@@ -441,6 +509,7 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
     expand_monitor_walls(config, *file.walls, reader->key_label("walls"));
     if (config.receive_path == ReceivePath::liblcm) throw UsageError("walls needs --receive-path own");
   }
+  merge_forecast(app, raw, file, file_label("forecast"), config);
 
   config.normalised = normalised_settings(config);
   config.settings.config_digest = static_cast<std::int64_t>(fnv1a64(config.normalised.dump()));

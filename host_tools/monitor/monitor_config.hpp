@@ -56,6 +56,21 @@ struct TimingSettings {
   }
 };
 
+// --forecast / the file's forecast object (monitor_forecast.hpp): the live ensemble forecast of collapse.
+inline constexpr const char* kDefaultForecastChannel = "ROCKWATCH_WALL_FORECAST";
+inline constexpr double kDefaultForecastRate_hz = 10.0;
+inline constexpr double kForecastRateMin_hz = 0.1, kForecastRateMax_hz = 100.0;
+
+struct ForecastConfig {
+  bool enabled = false;
+  int members = 200;
+  double horizon_s = 5.0;
+  double rate_hz = kDefaultForecastRate_hz;
+  std::uint64_t seed = 29;
+  std::string channel = kDefaultForecastChannel;
+  std::string origin;  // "--forecast", "--config FILE: forecast": for messages
+};
+
 // One wall of a `walls` configuration (monitor_walls.hpp).
 struct WallMonitorConfig {
   std::string name;                      // [A-Za-z0-9_-], 1 to 24 characters; "wall": the unsuffixed channels
@@ -80,6 +95,7 @@ struct MonitorConfig {
   std::string wall_origin = "paper wall";
   nlohmann::json normalised;             // the settings that determine the outputs (config_digest hashes them)
   std::vector<WallMonitorConfig> walls;  // the `walls` key: one loop each; empty: the one wall of `settings`
+  ForecastConfig forecast;               // --forecast N,H / forecast {...}: off by default
 };
 
 struct MonitorParse {

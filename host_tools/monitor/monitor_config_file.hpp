@@ -31,6 +31,9 @@
 
 namespace rockwatch::monitor::config_detail {
 
+// The forecast's member range (sim::kForecastMembersMin/Max; not included here, so the settings need no sim header).
+inline constexpr long long sim_members_min = 1, sim_members_max = 100000;
+
 using nlohmann::json;
 using options::number_text;
 using options::UsageError;
@@ -58,6 +61,12 @@ struct FileValues {
   std::optional<double> observer[kObserverFieldCount];
   std::optional<std::vector<SourceNetwork>> accept_from;
   std::optional<json> walls;  // checked by expand_monitor_walls (monitor_walls.cpp)
+  // forecast {...} (monitor_forecast.hpp): each value range-checked when read.
+  std::optional<bool> forecast_enabled;
+  std::optional<int> forecast_members;
+  std::optional<double> forecast_horizon_s, forecast_rate_hz;
+  std::optional<std::uint64_t> forecast_seed;
+  std::optional<std::string> forecast_channel;
 };
 
 struct WallField {
@@ -125,7 +134,7 @@ class ConfigReader {
     check_keys(root, "", {"arith", "wall", "wall_file", "r", "model", "kappa", "alarm", "sample_rate_hz", "max_step_s",
                           "max_bridge_samples", "sensor_range_mps2", "late_limit_s", "channels", "lcm_url",
                           "accept_from", "observer", "walls", "clock_tolerance_s", "work_budget_units", "work_overflow", "realtime_priority", "cpu",
-                          "busy_poll_us"});
+                          "busy_poll_us", "forecast"});
     FileValues v;
     if (root.contains("wall")) read_wall(root.at("wall"), v);
     if (root.contains("r")) v.r = read_restitution(root.at("r"));
@@ -180,6 +189,7 @@ class ConfigReader {
       }
     }
     if (root.contains("observer")) read_observer(root.at("observer"), v);
+    if (root.contains("forecast")) read_forecast(root.at("forecast"), v);
     if (root.contains("walls")) v.walls = root.at("walls");
     if (root.contains("accept_from")) {
       const json& a = root.at("accept_from");
@@ -335,6 +345,42 @@ class ConfigReader {
       }
       v.observer[i] = value;
     }
+  }
+
+  // forecast {enabled, members, horizon_s, rate_hz, seed, channel}: the ranges of --forecast and --forecast-rate.
+  void read_forecast(const json& f, FileValues& v) const {
+    object(f, "forecast");
+    check_keys(f, "forecast.", {"enabled", "members", "horizon_s", "rate_hz", "seed", "channel"});
+    if (f.contains("enabled")) {
+      const json& e = f.at("enabled");
+      if (!e.is_boolean()) fail("forecast.enabled", "expected true or false, got " + json_type(e));
+      v.forecast_enabled = e.get<bool>();
+    }
+    if (f.contains("members")) {
+      const long long n = whole(f.at("members"), "forecast.members", "a number of members in [1, 100000]");
+      if (n < sim_members_min || n > sim_members_max) {
+        fail("forecast.members", "must be a whole number in [1, 100000] (got " + f.at("members").dump() + ")");
+      }
+      v.forecast_members = static_cast<int>(n);
+    }
+    if (f.contains("horizon_s")) {
+      const double h = number(f.at("horizon_s"), "forecast.horizon_s", " [s]");
+      if (!(h > 0.0 && h <= 60.0)) fail("forecast.horizon_s", "must be in (0, 60] s (got " + f.at("horizon_s").dump() + ")");
+      v.forecast_horizon_s = h;
+    }
+    if (f.contains("rate_hz")) {
+      const double r = number(f.at("rate_hz"), "forecast.rate_hz", " [Hz]");
+      if (!(r >= kForecastRateMin_hz && r <= kForecastRateMax_hz)) {
+        fail("forecast.rate_hz", "must be in [0.1, 100] Hz (got " + f.at("rate_hz").dump() + ")");
+      }
+      v.forecast_rate_hz = r;
+    }
+    if (f.contains("seed")) {
+      const json& sd = f.at("seed");
+      if (!sd.is_number_unsigned()) fail("forecast.seed", "expected a whole number from 0 to 2^64-1, got " + sd.dump());
+      v.forecast_seed = sd.get<std::uint64_t>();
+    }
+    if (f.contains("channel")) v.forecast_channel = string(f.at("channel"), "forecast.channel");
   }
 
   void read_wall(const json& w, FileValues& v) const {

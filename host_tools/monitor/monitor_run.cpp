@@ -21,6 +21,7 @@
 #include "datagram_input.hpp"
 #include "lcm_transport.hpp"
 #include "monitor_config.hpp"
+#include "monitor_forecast.hpp"
 #include "monitor_output.hpp"
 #include "rockwatch/firmware/multi_wall_monitor.hpp"
 #include "rockwatch/firmware/wall_engine.hpp"
@@ -109,18 +110,22 @@ class LoggedTransport final : public firmware::Transport {
 // The input side of --log: a second subscription to the input channels, made before the loop's, so each input
 // event precedes in the log the outputs it caused.
 // Input messages from the receive path: into the traffic log (when --log), then the loop.
+// With --forecast, the ground messages also go to the forecast's feed (a wait-free copy, monitor_forecast.hpp).
 class LoopInputSink final : public InputMessageSink {
  public:
-  LoopInputSink(firmware::MultiWallMonitor& loop, TrafficLog* log) : loop_(loop), log_(log) {}
+  LoopInputSink(firmware::MultiWallMonitor& loop, TrafficLog* log, ForecastFeed* feed)
+      : loop_(loop), log_(log), feed_(feed) {}
   void on_input_message(const char* channel, const std::uint8_t* data, std::size_t size,
                         std::int64_t receive_utime) override {
     if (log_ != nullptr) log_->add(channel, data, size, receive_utime);
+    if (feed_ != nullptr) feed_->on_input(channel, data, size);
     loop_.on_message(channel, data, size, receive_utime);
   }
 
  private:
   firmware::MultiWallMonitor& loop_;
   TrafficLog* log_;
+  ForecastFeed* feed_;
 };
 
 // Every datagram the socket received, and where it went (datagram_input.hpp).
@@ -415,8 +420,18 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
   firmware::Transport& transport = config.log_path ? static_cast<firmware::Transport&>(logged_transport)
                                                    : static_cast<firmware::Transport&>(lcm_transport);
   LogFlusher flusher(log, config.log_path ? *config.log_path : std::string(), err);
+  // --forecast: the loop's outputs also go to the forecast's feed.
+  std::unique_ptr<ForecastFeed> feed;
+  std::unique_ptr<FeedTransport> feed_transport;
+  if (config.forecast.enabled) {
+    feed = std::make_unique<ForecastFeed>(config.settings.channels, config.settings.engine.observer_enabled);
+    feed_transport = std::make_unique<FeedTransport>(transport, *feed);
+  }
   MonitorWalls walls;
-  if (!init_loop(walls, config, transport, out, err)) return kExitUsage;
+  if (!init_loop(walls, config, feed_transport ? static_cast<firmware::Transport&>(*feed_transport) : transport, out,
+                 err)) {
+    return kExitUsage;
+  }
   firmware::MultiWallMonitor* const loop = walls.monitor.get();
   loop->set_step_clock(&monotonic_ns);
   // Real-time scheduling, CPU and memory locking once everything above is set up; before liblcm's subscription, so
@@ -424,7 +439,7 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
   json timing_report;
   const std::unique_ptr<process::RealtimeConditions> timing =
       apply_timing(config.timing, via_liblcm ? nullptr : &receiver, timing_report, err);
-  LoopInputSink sink(*loop, config.log_path ? &log : nullptr);
+  LoopInputSink sink(*loop, config.log_path ? &log : nullptr, feed.get());
   DatagramInput input(config.settings.channels, config.accept_from, sink, config.settings.engine.observer_enabled);
   input.set_input_channels(loop);
   std::unique_ptr<LcmInput> lcm_input;
@@ -458,6 +473,28 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
     err << std::endl;
   }
   if (!buffer_warning.empty()) err << kPrefix << "note: " << buffer_warning << std::endl;
+  // --forecast: its own thread, publishing on an LCM instance of its own (the sample path's lcm_publish never waits
+  // for a forecast's).
+  std::unique_ptr<lcm::LCM> forecast_lcm;
+  std::unique_ptr<MonitorForecaster> forecaster;
+  std::unique_ptr<ForecastThread> forecast_thread;
+  if (config.forecast.enabled) {
+    forecast_lcm = std::make_unique<lcm::LCM>(url);
+    if (!forecast_lcm->good()) {
+      err << kPrefix << "error: " << config.forecast.origin << ": LCM could not start for the forecasts\n";
+      return kExitRuntime;
+    }
+    forecaster = std::make_unique<MonitorForecaster>(config.forecast, config.settings, *feed);
+    lcm::LCM* const publisher = forecast_lcm.get();
+    forecast_thread = std::make_unique<ForecastThread>(
+        *forecaster, [publisher](const std::string& channel, const std::uint8_t* data, std::size_t size) {
+          return publisher->publish(channel, data, static_cast<unsigned int>(size)) == 0;
+        },
+        config.timing.cpu);
+    err << kPrefix << "forecast: " << config.forecast.members << " members over "
+        << options::number_text(config.forecast.horizon_s) << " s, " << options::number_text(config.forecast.rate_hz)
+        << " per second -> " << config.forecast.channel << std::endl;
+  }
   ServiceNotifier service;  // systemd (Type=notify, WatchdogSec=): ready now, fed from the loop below
   service.ready();
 
@@ -495,6 +532,7 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
     }
   }
   service.stopping();
+  if (forecast_thread) forecast_thread->stop();
   loop->finish_pending();  // samples the engine still worked on (carry-over) are published before the last status
   flusher.flush(*loop);
   loop->publish_status(realtime_utime());
@@ -521,10 +559,12 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
     }
   }
   s["run_time_s"] = run_time_s;
+  if (forecaster) s["forecast"] = forecast_summary(config.forecast, forecaster->counters());
   out << json{{"summary", s}}.dump() << '\n' << std::flush;
   char seconds[32];
   std::snprintf(seconds, sizeof seconds, "%.1f", run_time_s);
   human_summary(err, "stopped by " + s["stopped_by"].get<std::string>() + " after " + seconds + " s", walls, statuses);
+  if (forecaster) forecast_human_summary(err, forecaster->counters());
   if (config.log_path) {
     err << "  log: " << log.events_written() << " events written to " << options::quoted(*config.log_path) << ", "
         << log.events_lost() << " lost in " << log.write_failures() << " failed writes\n";
@@ -565,10 +605,26 @@ int run_offline(const MonitorConfig& config, std::ostream& out, std::ostream& er
     return kExitUsage;
   }
   LogTransport transport(log_out);
+  // --forecast: run in log time, synchronously, every 1/rate s (deterministic; compute_us 0).
+  std::unique_ptr<ForecastFeed> feed;
+  std::unique_ptr<FeedTransport> feed_transport;
+  if (config.forecast.enabled) {
+    feed = std::make_unique<ForecastFeed>(config.settings.channels, config.settings.engine.observer_enabled);
+    feed_transport = std::make_unique<FeedTransport>(transport, *feed);
+  }
   MonitorWalls walls;
-  if (!init_loop(walls, config, transport, out, err)) return kExitUsage;
+  firmware::Transport& loop_transport = feed_transport ? static_cast<firmware::Transport&>(*feed_transport)
+                                                      : static_cast<firmware::Transport&>(transport);
+  if (!init_loop(walls, config, loop_transport, out, err)) return kExitUsage;
   firmware::MultiWallMonitor* const loop = walls.monitor.get();
   // No step clock: worst_step_ns would make the output depend on the machine.
+  std::unique_ptr<MonitorForecaster> forecaster;
+  if (config.forecast.enabled) {
+    forecaster = std::make_unique<MonitorForecaster>(config.forecast, config.settings, *feed, false);
+  }
+  const auto forecast_period_us = static_cast<std::int64_t>(std::llround(1e6 / config.forecast.rate_hz));
+  std::int64_t next_forecast_us = 0;
+  std::vector<std::uint8_t> forecast_bytes;
 
   constexpr std::int64_t kSecondUs = 1000000;
   std::int64_t statuses = 0, events = 0, fed = 0, skipped = 0;
@@ -596,9 +652,22 @@ int run_offline(const MonitorConfig& config, std::ostream& out, std::ostream& er
     }
     ++events;
     last_us = ts;
+    if (forecaster) {
+      // The forecasts due before this event, in log time, from what the loop had done by then.
+      if (next_forecast_us == 0) next_forecast_us = ts + forecast_period_us;
+      for (; ts >= next_forecast_us; next_forecast_us += forecast_period_us) {
+        transport.set_event_time(next_forecast_us);
+        const std::size_t n = encode_forecast(forecaster->run_once(), forecast_bytes);
+        forecaster->note_publish(n > 0 && transport.publish(config.forecast.channel.c_str(), forecast_bytes.data(), n));
+        if (ts - next_forecast_us >= 60 * kSecondUs) {  // a gap of a minute or more: one forecast for it
+          next_forecast_us += (ts - next_forecast_us) / forecast_period_us * forecast_period_us;
+        }
+      }
+    }
     if (loop->reads(event->channel.c_str())) {
       transport.set_event_time(ts);
       const auto size = event->datalen > 0 ? static_cast<std::size_t>(event->datalen) : std::size_t{0};
+      if (feed) feed->on_input(event->channel.c_str(), static_cast<const std::uint8_t*>(event->data), size);
       loop->on_message(event->channel.c_str(), static_cast<const std::uint8_t*>(event->data), size, ts);
       ++fed;
     } else {
@@ -633,12 +702,14 @@ int run_offline(const MonitorConfig& config, std::ostream& out, std::ostream& er
   s["output_events"] = transport.events_written();
   s["input_log_complete"] = complete;
   if (!complete) s["input_log_read_bytes"] = read_end;
+  if (forecaster) s["forecast"] = forecast_summary(config.forecast, forecaster->counters());
   out << json{{"summary", s}}.dump() << '\n' << std::flush;
   human_summary(err,
                 "offline: " + std::to_string(events) + " log events (" + std::to_string(fed) + " on the input channels) -> " +
                     std::to_string(transport.events_written()) + " events in " + out_path +
                     (StopSignals::stopped() ? "; stopped by " + StopSignals::stopped_by() : std::string()),
                 walls, statuses);
+  if (forecaster) forecast_human_summary(err, forecaster->counters());
   if (!write_ok) {
     err << kPrefix << "error: --offline-out " << options::quoted(out_path) << ": " << transport.write_failures()
         << " events could not be written\n";

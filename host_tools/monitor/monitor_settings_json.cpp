@@ -97,6 +97,12 @@ json normalised_settings(const MonitorConfig& config) {
   if (s.clock_tolerance_us != firmware::kDefaultClockTolerance_us) {
     out["clock_tolerance_s"] = static_cast<double>(s.clock_tolerance_us) * 1e-6;
   }
+  // The live forecast adds an output; absent when off (the digest of every configuration without it stays).
+  if (config.forecast.enabled) {
+    const ForecastConfig& f = config.forecast;
+    out["forecast"] = {{"members", f.members}, {"horizon_s", f.horizon_s}, {"rate_hz", f.rate_hz},
+                       {"seed", f.seed},       {"channel", f.channel}};
+  }
   // Which sources are accepted changes what the monitor processes; absent when any is (the default digest stays).
   if (!config.accept_from.empty()) {
     json a = json::array();

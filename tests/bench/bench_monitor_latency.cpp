@@ -4,6 +4,12 @@
 //
 //   bench_monitor_latency MONITOR_EXE [--rate HZ] [--seconds S] [--batch N] [--lcm-url URL] [--queue N]
 //                         [--rx-buffer BYTES] [--receive-path own|liblcm] [--monitor-args "ARG ..."] [--cpu N]
+//                         [--amplitude MPS2] [--frequency HZ]
+//
+// The ground: a sine of --amplitude (default 0.5 m/s2: below the paper wall's rocking threshold, the wall at rest)
+// and --frequency (default 1.5 Hz). 1.4 m/s2 at 4 Hz keeps the paper wall rocking without collapse (max |x| 0.15
+// x_inst, about 8 impacts a second): the case in which `--monitor-args "--forecast 200,5"` computes every forecast
+// (docs/BENCHMARKS.md, "Forecast").
 //
 // --receive-path is handed to the monitor: its own checked datagram path (default) or liblcm's receive thread, so
 // the two can be measured side by side in one session (docs/BENCHMARKS.md). --monitor-args: more arguments for the
@@ -172,6 +178,7 @@ int main(int argc, char** argv) {
   }
   const std::string monitor = argv[1];
   double rate_hz = 1000.0, seconds = 10.0;
+  double amplitude_mps2 = 0.5, frequency_hz = 1.5;  // the ground sine
   int batch = 1;
   int queue = 100000;
   long long rx_buffer = 2097152;
@@ -184,6 +191,8 @@ int main(int argc, char** argv) {
     if (key == "--queue") queue = std::atoi(value.c_str());
     else if (key == "--rx-buffer") rx_buffer = std::atoll(value.c_str());
     else if (key == "--rate") rate_hz = std::atof(value.c_str());
+    else if (key == "--amplitude") amplitude_mps2 = std::atof(value.c_str());
+    else if (key == "--frequency") frequency_hz = std::atof(value.c_str());
     else if (key == "--seconds") seconds = std::atof(value.c_str());
     else if (key == "--batch") batch = std::atoi(value.c_str());
     else if (key == "--lcm-url") url = value;
@@ -277,7 +286,7 @@ int main(int argc, char** argv) {
     for (std::size_t i = 0; i < n; i += std::size_t(batch)) {
       sleep_until_ns(t0 + std::int64_t(i + std::size_t(batch) - 1) * period_ns);  // when the last sample exists
       const std::int64_t now = monotonic_ns();
-      const double ug = 0.5 * std::sin(2.0 * M_PI * 1.5 * double(i) / rate_hz);  // below the rocking threshold
+      const double ug = amplitude_mps2 * std::sin(2.0 * M_PI * frequency_hz * double(i) / rate_hz);
       if (batch == 1) {
         rockwatch::ground_accel_t m{};
         m.utime = realtime_us();
@@ -294,7 +303,7 @@ int main(int argc, char** argv) {
         m.sample_period_us = static_cast<std::int32_t>(std::llround(1e6 / rate_hz));
         m.count = static_cast<std::int32_t>(std::min<std::size_t>(std::size_t(batch), n - i));
         for (std::int32_t k = 0; k < m.count; ++k) {
-          m.ug_mps2[k] = 0.5 * std::sin(2.0 * M_PI * 1.5 * double(i + std::size_t(k)) / rate_hz);
+          m.ug_mps2[k] = amplitude_mps2 * std::sin(2.0 * M_PI * frequency_hz * double(i + std::size_t(k)) / rate_hz);
           published_ns[i + std::size_t(k)].store(now);
         }
         tx.publish("ROCKWATCH_ACCEL_BATCH", &m);
@@ -363,6 +372,13 @@ int main(int argc, char** argv) {
     std::printf("  monitor timing: %s\n", last.substr(at + 9, end == std::string::npos ? std::string::npos : end - at - 8).c_str());
   } else if (!monitor_args.empty()) {
     std::printf("  monitor timing: none in its summary\n");
+  }
+  // With --forecast: what the forecasts cost and whether their rate held (its summary's "forecast" object).
+  const std::size_t fat = last.find("\"forecast\":{");
+  if (fat != std::string::npos) {
+    const std::size_t end = last.find('}', fat);
+    std::printf("  monitor forecast: %s\n",
+                last.substr(fat + 11, end == std::string::npos ? std::string::npos : end - fat - 10).c_str());
   }
   return lost == 0 ? 0 : 3;
 }

@@ -16,8 +16,8 @@ bool is_base_char(char c) {
   return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
 }
 
-constexpr ChannelKind kAllKinds[] = {ChannelKind::state, ChannelKind::alarm, ChannelKind::status, ChannelKind::sensor,
-                                     ChannelKind::estimate};
+constexpr ChannelKind kAllKinds[] = {ChannelKind::state,  ChannelKind::alarm,    ChannelKind::status,
+                                     ChannelKind::sensor, ChannelKind::estimate, ChannelKind::forecast};
 
 }  // namespace
 
@@ -28,6 +28,7 @@ const std::string& DashboardChannels::base(ChannelKind kind) const {
     case ChannelKind::status: return status;
     case ChannelKind::sensor: return sensor;
     case ChannelKind::estimate: return estimate;
+    case ChannelKind::forecast: return forecast;
   }
   return state;
 }
@@ -77,6 +78,7 @@ const char* channel_kind_name(ChannelKind kind) {
     case ChannelKind::status: return "status";
     case ChannelKind::sensor: return "sensor";
     case ChannelKind::estimate: return "estimate";
+    case ChannelKind::forecast: return "forecast";
   }
   return "?";
 }

@@ -1,5 +1,6 @@
 // Which walls the dashboard shows, found from the LCM channel names alone: the monitor publishes each wall's state,
-// alarm events and status (and, with the wall observer, its sensors' samples and the fused estimate) on channels
+// alarm events and status (and, with the wall observer, its sensors' samples and the fused estimate; with --forecast
+// the ensemble forecast) on channels
 // named BASE (the single wall of a one-wall monitor, shown as wall "wall") or BASE_NAME (wall NAME of a many-wall
 // monitor). BASE is the monitor's default channel name (firmware/include/rockwatch/firmware/monitor_loop.hpp:
 // ROCKWATCH_WALL_STATE, ...) unless the dashboard is told another one (--state-channel, ...). Nothing has to be
@@ -11,7 +12,7 @@
 
 namespace rockwatch::cli {
 
-enum class ChannelKind { state, alarm, status, sensor, estimate };
+enum class ChannelKind { state, alarm, status, sensor, estimate, forecast };
 
 inline constexpr const char* kDefaultWallName = "wall";  // the wall of the unsuffixed channels
 // LCM channel names of the monitor are at most 63 bytes (firmware::kChannelNameMax, with the NUL).
@@ -24,6 +25,7 @@ struct DashboardChannels {
   std::string status = "ROCKWATCH_STATUS";           // monitor_status_t
   std::string sensor = "ROCKWATCH_WALL_SENSOR";      // wall_sensor_t (measured x), when the wall has sensors
   std::string estimate = "ROCKWATCH_WALL_ESTIMATE";  // wall_estimate_t, when the monitor runs the observer
+  std::string forecast = "ROCKWATCH_WALL_FORECAST";  // wall_forecast_t, when the monitor runs --forecast
 
   const std::string& base(ChannelKind kind) const;
 };

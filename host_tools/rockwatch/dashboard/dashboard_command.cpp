@@ -49,7 +49,7 @@ int run_dashboard(const DashboardRequest& q) {
   std::cout << "rockwatch dashboard: serving on " << url << "\n"
             << "  LCM " << q.lcm_url << ": walls from " << q.channels.state << "[_NAME], " << q.channels.alarm
             << "[_NAME], " << q.channels.status << "[_NAME], " << q.channels.sensor << "[_NAME], "
-            << q.channels.estimate << "[_NAME]\n"
+            << q.channels.estimate << "[_NAME], " << q.channels.forecast << "[_NAME]\n"
             << "  limits drawn: " << q.wall_text << "\n"
             << "  open " << url << " in a browser; JSON at " << url << "api/state; Ctrl-C stops\n"
             << std::flush;

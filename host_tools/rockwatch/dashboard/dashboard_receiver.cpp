@@ -20,7 +20,7 @@ LcmReceiver::LcmReceiver(const std::string& url, const DashboardChannels& channe
   lcm_ = open_lcm(url, problem);
   if (!lcm_) throw UsageError(problem);
   for (const ChannelKind kind : {ChannelKind::state, ChannelKind::alarm, ChannelKind::status, ChannelKind::sensor,
-                                 ChannelKind::estimate}) {
+                                 ChannelKind::estimate, ChannelKind::forecast}) {
     lcm_->subscribeFunction(
         subscription_regex(channels_.base(kind)),
         +[](const lcm::ReceiveBuffer* rbuf, const std::string& channel, LcmReceiver* self) {

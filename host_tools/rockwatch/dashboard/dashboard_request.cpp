@@ -27,7 +27,7 @@ namespace {
 constexpr double kMaxDashboardDuration_s = 7.0 * 24.0 * 3600.0;
 
 struct DashboardRawOptions {
-  std::string lcm_url, http, state, alarm, status, sensor, estimate, kappa, model, lambda_w, margin, duration;
+  std::string lcm_url, http, state, alarm, status, sensor, estimate, forecast, kappa, model, lambda_w, margin, duration;
   bool allow_remote = false;
   WallOptionTexts wall;
 };
@@ -43,8 +43,8 @@ const char* const kDashboardFooter =
     "  /ws          a WebSocket: the snapshot, then updates, at most 30 per second per wall\n"
     "\n"
     "Walls are found from the channel names: the monitor's wall_state_t on STATE (the --state-channel base) is wall\n"
-    "\"wall\", on STATE_NAME wall NAME (a many-wall monitor); likewise for the alarm, status, sensor and estimate\n"
-    "channels. The lines drawn come from the wall options (all walls): give the dashboard the monitor's wall,\n"
+    "\"wall\", on STATE_NAME wall NAME (a many-wall monitor); likewise for the alarm, status, sensor, estimate and\n"
+    "forecast channels. The lines drawn come from the wall options (all walls): give the dashboard the monitor's wall,\n"
     "--kappa, --lambda-w and --energy-margin.\n"
     "\n"
     "It only listens to LCM: the monitor runs in its own process, untouched. It listens on loopback unless\n"
@@ -76,6 +76,9 @@ void add_dashboard_options(CLI::App& app, DashboardRawOptions& raw) {
       ->type_name("NAME");
   app.add_option("--estimate-channel", raw.estimate,
                  "wall_estimate_t channel base (default ROCKWATCH_WALL_ESTIMATE)")
+      ->type_name("NAME");
+  app.add_option("--forecast-channel", raw.forecast,
+                 "wall_forecast_t channel base (rockwatch-monitor --forecast; default ROCKWATCH_WALL_FORECAST)")
       ->type_name("NAME");
   add_wall_options(app, raw.wall);
   app.add_option("--model", raw.model, "Equation of motion the monitor runs: linear (default) | full")
@@ -145,7 +148,8 @@ DashboardParse parse_dashboard_arguments(int argc, const char* const* argv) {
                          {"--alarm-channel", &raw.alarm, &q.channels.alarm},
                          {"--status-channel", &raw.status, &q.channels.status},
                          {"--sensor-channel", &raw.sensor, &q.channels.sensor},
-                         {"--estimate-channel", &raw.estimate, &q.channels.estimate}};
+                         {"--estimate-channel", &raw.estimate, &q.channels.estimate},
+                         {"--forecast-channel", &raw.forecast, &q.channels.forecast}};
   for (const auto& c : channel_options) {
     if (!given(app, c.option)) continue;
     check_channel_base(c.option, *c.text);

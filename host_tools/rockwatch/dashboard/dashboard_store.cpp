@@ -97,6 +97,27 @@ json estimate_json(const rockwatch::wall_estimate_t& e) {
               {"dropouts", e.dropouts}};
 }
 
+json forecast_json(const rockwatch::wall_forecast_t& f) {
+  using F = rockwatch::wall_forecast_t;
+  const char* status = f.status == F::STATUS_OK        ? "ok"
+                       : f.status == F::STATUS_AT_REST ? "at_rest"
+                       : f.status == F::STATUS_NO_INPUT ? "no_input"
+                       : f.status == F::STATUS_COLLAPSED ? "collapsed"
+                                                        : "unknown";
+  return json{{"utime", f.utime},
+              {"status", status},
+              {"fused", f.fused != 0},
+              {"horizon_s", number_or_null(f.horizon_s)},
+              {"members", f.members},
+              {"p_collapse", number_or_null(f.p_collapse)},
+              {"p_collapse_se", number_or_null(f.p_collapse_se)},
+              {"q50_max_x_over_x_inst", number_or_null(f.q50_max_x_over_x_inst)},
+              {"q90_max_x_over_x_inst", number_or_null(f.q90_max_x_over_x_inst)},
+              {"compute_us", f.compute_us},
+              {"rate_hz", number_or_null(f.rate_hz)},
+              {"ticks_skipped", f.ticks_skipped}};
+}
+
 json limits_json(const WallLimits& l) {
   return json{{"x_inst_m", {l.x_inst_m[0], l.x_inst_m[1]}},
               {"x_collapse_m", {l.x_collapse_m[0], l.x_collapse_m[1]}},
@@ -144,6 +165,11 @@ void deliver_message(const DashboardChannels& channels, SnapshotStore& store, co
     case ChannelKind::estimate: {
       rockwatch::wall_estimate_t m;
       if ((ok = decode_exactly(data, size, m))) store.on_estimate(match->wall, m);
+      break;
+    }
+    case ChannelKind::forecast: {
+      rockwatch::wall_forecast_t m;
+      if ((ok = decode_exactly(data, size, m))) store.on_forecast(match->wall, m);
       break;
     }
   }
@@ -213,6 +239,7 @@ void SnapshotStore::restart(Wall& w) {
   fresh.monitor_restarts = w.monitor_restarts + 1;
   fresh.predicted.next_id = w.predicted.next_id;  // ids keep growing, so a page never confuses old and new points
   fresh.measured.next_id = w.measured.next_id;
+  fresh.forecast_p.next_id = w.forecast_p.next_id;
   fresh.version = w.version + 1;
   fresh.pushed_version = w.pushed_version;
   fresh.pushed_once = w.pushed_once;
@@ -332,6 +359,27 @@ void SnapshotStore::on_estimate(const std::string& name, const rockwatch::wall_e
   w->estimate = m;
 }
 
+void SnapshotStore::on_forecast(const std::string& name, const rockwatch::wall_forecast_t& m) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  ++messages_;
+  Wall* w = wall_for(name);
+  if (w == nullptr) return;
+  if (m.seq <= w->last_forecast_seq) {
+    if (m.seq == w->last_forecast_seq) return;  // a duplicate
+    w->forecast_p.points.clear();  // the monitor's forecasts started again
+  }
+  w->last_forecast_seq = m.seq;
+  ++w->forecasts;
+  ++w->version;
+  w->forecast = m;
+  using F = rockwatch::wall_forecast_t;
+  const double p = m.status == F::STATUS_OK          ? m.p_collapse
+                   : m.status == F::STATUS_AT_REST   ? 0.0
+                   : m.status == F::STATUS_COLLAPSED ? 1.0
+                                                     : std::numeric_limits<double>::quiet_NaN();
+  if (std::isfinite(p) && m.utime > 0) add_point(w->forecast_p, seconds_of(m.utime), p, std::numeric_limits<double>::quiet_NaN());
+}
+
 void SnapshotStore::count_decode_error() {
   const std::lock_guard<std::mutex> lock(mutex_);
   ++decode_errors_;
@@ -351,6 +399,7 @@ json SnapshotStore::wall_json(const Wall& w, bool whole) const {
            {"statuses", w.statuses},
            {"sensor_samples", w.sensor_samples},
            {"estimates", w.estimates},
+           {"forecasts", w.forecasts},
            {"monitor_restarts", w.monitor_restarts}}}};
   if (w.state) {
     const rockwatch::wall_state_t& s = *w.state;
@@ -370,6 +419,7 @@ json SnapshotStore::wall_json(const Wall& w, bool whole) const {
     j["data_quality"] = json::array();
   }
   j["estimate"] = w.estimate ? estimate_json(*w.estimate) : json(nullptr);
+  j["forecast"] = w.forecast ? forecast_json(*w.forecast) : json(nullptr);
   // Points as [id, t_s, x_m, energy_ratio] ([id, t_s, x_m] for the measured x): compact, and the page appends by id.
   const auto series = [whole](const Series& s, bool with_energy) {
     json points = json::array();
@@ -383,6 +433,7 @@ json SnapshotStore::wall_json(const Wall& w, bool whole) const {
   };
   j["points"] = series(w.predicted, true);
   j["measured"] = series(w.measured, false);
+  j["forecast_points"] = series(w.forecast_p, false);
   if (whole || w.send_everything || w.transitions_total != w.pushed_transitions_total) {
     json transitions = json::array();
     for (const rockwatch::alarm_event_t& e : w.transitions) transitions.push_back(transition_json(e));
@@ -421,6 +472,7 @@ std::vector<std::string> SnapshotStore::take_updates(std::int64_t now_ns) {
     w.last_push_ns = now_ns;
     w.predicted.dirty_from = kNothingDirty;
     w.measured.dirty_from = kNothingDirty;
+    w.forecast_p.dirty_from = kNothingDirty;
     w.pushed_transitions_total = w.transitions_total;
     w.pushed_status_seq = w.status ? w.status->seq : -1;
     w.send_everything = false;

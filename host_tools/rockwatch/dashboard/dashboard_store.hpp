@@ -29,6 +29,7 @@
 #include "rockwatch/alarm_event_t.hpp"
 #include "rockwatch/monitor_status_t.hpp"
 #include "rockwatch/wall_estimate_t.hpp"
+#include "rockwatch/wall_forecast_t.hpp"
 #include "rockwatch/wall_sensor_t.hpp"
 #include "rockwatch/wall_state_t.hpp"
 
@@ -61,6 +62,8 @@ class SnapshotStore {
   void on_status(const std::string& wall, const rockwatch::monitor_status_t& m);
   void on_sensor(const std::string& wall, const rockwatch::wall_sensor_t& m);
   void on_estimate(const std::string& wall, const rockwatch::wall_estimate_t& m);
+  // P(collapse) over time: one point per forecast (0 at rest; none without input), at the state's time.
+  void on_forecast(const std::string& wall, const rockwatch::wall_forecast_t& m);
   // A message on a subscribed channel that did not decode as its type.
   void count_decode_error();
 
@@ -96,12 +99,14 @@ class SnapshotStore {
     int level = 0;
     std::uint32_t reasons = 0;
     bool collapsed_latched = false;
-    Series predicted, measured;
+    Series predicted, measured, forecast_p;  // forecast_p: [id, t_s, P(collapse)]
     std::deque<rockwatch::alarm_event_t> transitions;
     std::int64_t transitions_total = 0;
     std::optional<rockwatch::monitor_status_t> status;
     std::optional<rockwatch::wall_estimate_t> estimate;
+    std::optional<rockwatch::wall_forecast_t> forecast;
     std::int64_t states = 0, alarms = 0, statuses = 0, sensor_samples = 0, estimates = 0, monitor_restarts = 0;
+    std::int64_t forecasts = 0, last_forecast_seq = -1;
     std::int64_t last_state_seq = -1, last_alarm_seq = -1, last_status_seq = -1;
     // The WebSocket stream's bookkeeping.
     std::uint64_t version = 0, pushed_version = 0;

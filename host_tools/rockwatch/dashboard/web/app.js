@@ -1,13 +1,14 @@
 // rockwatch dashboard page: one WebSocket (/ws) gives the whole state first, then per-wall updates (at most 30 per
 // second per wall); each wall is a card with the level banner, the values, x(t) and E/E_barrier charts (uPlot) over
-// the last history_s seconds, the alarm transitions and the monitor's status. Points carry ids: an update re-sends
+// the last history_s seconds (and P(collapse) when the monitor runs --forecast), the alarm transitions and the
+// monitor's status. Points carry ids: an update re-sends
 // the last point when the server replaced it (the larger |x| of its time bin), so merging is by id.
 'use strict';
 
 (function () {
   const LEVELS = ['QUIET', 'ROCKING', 'WARNING', 'IMMINENT', 'COLLAPSED'];
   const COLORS = { x: '#1565c0', measured: '#6a1b9a', inst: '#ef6c00', warning: '#f9a825', collapse: '#b71c1c',
-    energy: '#00695c', barrier: '#ef6c00', margin: '#b71c1c' };
+    energy: '#00695c', barrier: '#ef6c00', margin: '#b71c1c', forecast: '#4a148c' };
   const haveCharts = typeof window.uPlot === 'function';
   const walls = new Map();  // name -> wall view
   let historyS = 30;
@@ -61,6 +62,17 @@
     }, [[], [], [], []], el);
   }
 
+  // P(collapse within H) of the monitor's ensemble forecast (wall_forecast_t), 0 to 1.
+  function makePChart(el) {
+    return new uPlot({
+      width: chartWidth(el), height: 180,
+      scales: { x: { time: true }, y: { range: () => [0, 1] } },
+      axes: [{}, { label: 'P(collapse)', size: 50 }],
+      series: [{}, { label: 'P(collapse within H)', stroke: COLORS.forecast, width: 2, spanGaps: false }],
+      legend: { live: false },
+    }, [[], []], el);
+  }
+
   function makeWall(name) {
     const card = $('section', 'wall');
     card.dataset.wall = name;
@@ -81,7 +93,8 @@
       values.appendChild(d);
       return v;
     };
-    const view = { name, card, level, points: [], measured: [], transitions: [], status: null, restarts: null };
+    const view = { name, card, level, points: [], measured: [], forecast: [], transitions: [], status: null,
+      restarts: null };
     view.tInst = value('t-to-instability', 'time to instability', 'countdown');
     view.x = value('x', 'x (mid-height)');
     view.xd = value('xd', 'ẋ');
@@ -90,6 +103,7 @@
     view.time = value('time', 'sample time (UTC)');
     view.quality = value('quality', 'data quality (sample)');
     view.estimate = value('estimate', 'observer');
+    view.pCollapse = value('p-collapse', 'P(collapse), forecast');
     row.appendChild(values);
     card.appendChild(row);
     const charts = $('div', 'charts');
@@ -108,6 +122,17 @@
     charts.appendChild(xBox);
     charts.appendChild(eBox);
     card.appendChild(charts);
+    const pBox = $('div', 'forecast-box');
+    pBox.appendChild($('p', 'chart-title', 'P(collapse within the horizon): the monitor\'s ensemble forecast ' +
+      '(rockwatch-monitor --forecast; 0 while the wall is at rest)'));
+    view.pEl = $('div', 'chart');
+    view.pEl.dataset.testid = 'forecast-chart';
+    view.pEl.dataset.wall = name;
+    view.pEl.dataset.points = '0';
+    pBox.appendChild(view.pEl);
+    pBox.hidden = true;  // shown at the first forecast
+    view.pBox = pBox;
+    card.appendChild(pBox);
     const lists = $('div', 'lists');
     const tBox = $('div'), sBox = $('div');
     tBox.appendChild($('p', 'chart-title', 'alarm transitions (latest first; the last 50)'));
@@ -152,15 +177,17 @@
     if (whole || (view.restarts !== null && restarts !== view.restarts)) {
       view.points = [];
       view.measured = [];
+      view.forecast = [];
     }
     view.restarts = restarts;
     view.data = w;
     view.limits = w.limits;
     mergePoints(view.points, w.points || []);
     mergePoints(view.measured, w.measured || []);
+    mergePoints(view.forecast, w.forecast_points || []);
     const latest = Math.max(view.points.length ? view.points[view.points.length - 1][1] : -Infinity,
       view.measured.length ? view.measured[view.measured.length - 1][1] : -Infinity);
-    if (isFinite(latest)) { prune(view.points, latest); prune(view.measured, latest); }
+    if (isFinite(latest)) { prune(view.points, latest); prune(view.measured, latest); prune(view.forecast, latest); }
     if (w.transitions) view.transitions = w.transitions;
     else if (w.transitions_total !== undefined && view.transitionsTotal !== undefined &&
              w.transitions_total !== view.transitionsTotal && !whole) {
@@ -188,10 +215,17 @@
       (w.estimate.x_inst_estimate_m != null ? ', x_inst ' + mm(w.estimate.x_inst_estimate_m) + ' ± ' +
         mm(w.estimate.sigma_x_inst_m) : '') +
       (w.estimate.sensor_health.length ? ' (' + w.estimate.sensor_health.join(', ') + ')' : '') : 'off';
+    const f = w.forecast;
+    view.pCollapse.textContent = !f ? 'off' : f.status === 'ok' ?
+      fmt(f.p_collapse, 3) + ' ± ' + fmt(f.p_collapse_se, 3) + ' within ' + fmt(f.horizon_s, 1, 's') + ' (' +
+        f.members + ' members, ' + fmt(f.compute_us / 1000, 1, 'ms') + ')' :
+      f.status === 'at_rest' ? 'wall at rest' : f.status === 'collapsed' ? '1 (collapsed)' : 'waiting for input';
+    if (f) view.pBox.hidden = false;
     renderTransitions(view);
     renderStatus(view);
     if (haveCharts) renderCharts(view);
     view.xEl.dataset.points = String(view.points.length);
+    view.pEl.dataset.points = String(view.forecast.length);
   }
 
   function renderCharts(view) {
@@ -216,6 +250,10 @@
     view.eChart.setData([t, view.points.map((p) => p[3]), t.map(() => L.energy_barrier),
       t.map(() => L.energy_margin)]);
     view.xEl.dataset.plotted = String(view.xChart.data[0].length);
+    if (view.forecast.length || view.pChart) {
+      if (!view.pChart) view.pChart = makePChart(view.pEl);
+      view.pChart.setData([view.forecast.map((p) => p[1]), view.forecast.map((p) => p[2])]);
+    }
   }
 
   function renderTransitions(view) {
@@ -314,6 +352,7 @@
       if (v.xChart) {
         v.xChart.setSize({ width: chartWidth(v.xEl), height: 260 });
         v.eChart.setSize({ width: chartWidth(v.eEl), height: 260 });
+        if (v.pChart) v.pChart.setSize({ width: chartWidth(v.pEl), height: 180 });
       }
     }
   });

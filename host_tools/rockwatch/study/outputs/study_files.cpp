@@ -21,7 +21,7 @@ namespace fs = std::filesystem;
 
 bool is_study_figure(const std::string& name) {
   const bool png = name.size() > 4 && name.compare(name.size() - 4, 4, ".png") == 0;
-  return png && (name.rfind("fig6_", 0) == 0 || name.rfind("fig7_", 0) == 0);
+  return png && (name.rfind("fig6_", 0) == 0 || name.rfind("fig7_", 0) == 0 || name == kForecastReliabilityName);
 }
 
 void remove_file(const std::string& path) {
@@ -57,7 +57,8 @@ void prepare_study_directory(const StudyRequest& q) {
   if (!holds_study) return;
   // --force: the old study goes first, state file first, so an interrupted removal leaves no study.json that
   // describes files of a study that is gone.
-  for (const char* name : {kStudyStateName, kRunsCsvName, kSummaryJsonName, kTable3Name, kObserverRunsCsvName}) {
+  for (const char* name : {kStudyStateName, kRunsCsvName, kSummaryJsonName, kTable3Name, kObserverRunsCsvName,
+                           kForecastCsvName}) {
     remove_file(study_file(q, name));
   }
   remove_study_figures(q);

@@ -1,6 +1,7 @@
 #include "study/outputs/study_plot.hpp"
 
 #include <cstddef>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,15 @@ PlotOutcome plot_study_figures(const StudyRequest& q, const sim::study::StudyPla
     args.push_back(c.title + " (" + std::to_string(plan.records.size()) + " records)");
   }
   return run_plot_script("study_figures", args);
+}
+
+PlotOutcome plot_forecast_reliability(const StudyRequest& q, const sim::study::ForecastEvaluationPlan& e,
+                                      const ForecastOutcome& o) {
+  const std::string png = study_file(q, kForecastReliabilityName);
+  std::remove(png.c_str());
+  const std::string title = "Reliability: " + std::to_string(o.forecasts) + " forecasts of " + std::to_string(o.runs) +
+                            " runs, " + std::to_string(e.settings.members) + " members";
+  return run_plot_script("forecast_reliability", {study_file(q, kSummaryJsonName), png, title});
 }
 
 }  // namespace rockwatch::cli

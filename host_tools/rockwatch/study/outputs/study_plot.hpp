@@ -9,6 +9,7 @@
 #include "common/plots/python_plot.hpp"
 #include "rockwatch/sim/study/batch_study.hpp"
 #include "study/plan/study_request.hpp"
+#include "study/statistics/study_forecast.hpp"
 #include "study/statistics/study_summary.hpp"
 
 namespace rockwatch::cli {
@@ -21,5 +22,10 @@ std::vector<std::string> study_figure_names(const StudyOutcome& outcome);
 // (study_files.hpp), so a failed plot never leaves one that looks like this study's.
 PlotOutcome plot_study_figures(const StudyRequest& request, const sim::study::StudyPlan& plan,
                                const StudyOutcome& outcome);
+
+// --forecast: DIR/forecast_reliability.png from DIR/summary.json's "forecast" (written already) by the embedded
+// host_tools/plots/forecast_reliability.py; an old one is removed first.
+PlotOutcome plot_forecast_reliability(const StudyRequest& request, const sim::study::ForecastEvaluationPlan& evaluation,
+                                      const ForecastOutcome& outcome);
 
 }  // namespace rockwatch::cli

@@ -42,6 +42,8 @@ struct RawOptions {
   AlarmOptionTexts alarm;
   ObserverOptionTexts observer;
   bool observer_evaluation = false;
+  bool forecast = false;
+  std::string forecast_members, forecast_horizon, forecast_every, forecast_seed;
   std::string pga = kDefaultStudyPga, r = "ana,exp", vertical = "without,with";
   std::string model = "linear", kappa, max_step;
   std::string units, dt, channel, vertical_channel, gain;
@@ -89,6 +91,9 @@ const char* const kFooter =
     "  study.json    the plan and its digest, and the state (running, interrupted, complete): what --resume reads\n"
     "  observer_runs.csv  with --observer: one row per evaluation run (case, record, pga_g, the true verdict, both\n"
     "                first IMMINENT times, x errors, r_hat, the observer's counts)\n"
+    "  forecast.csv  with --forecast: one row per forecast (run, record, component, r, pga_g, t_s, p_collapse,\n"
+    "                p_collapse_se, the quantiles, the baseline's features and probability, imminent, outcome)\n"
+    "  forecast_reliability.png  with --forecast: the reliability diagram (matplotlib)\n"
     "  with --plots  fig6_collapse_map_R_V.png (record x PGA: collapsed or survived) and fig7_max_displacement_R_V.png\n"
     "                (max |x| per run, survival rate per PGA and the fitted curve), per case: R the restitution,\n"
     "                V H (horizontal only) or HV (with the vertical); matplotlib as for rockwatch static --sweep\n"
@@ -115,6 +120,16 @@ const char* const kFooter =
     "x - x_true over the steps where a wall moves, over the true x_inst), r_error_after_impacts (|r_hat - r_true|\n"
     "after 5 impacts), r_error_final}, per_case, settings; observer_runs.csv the runs. Not checkpointed: an\n"
     "interrupted evaluation is run again by --resume.\n"
+    "\n"
+    "--forecast evaluates the ensemble forecast of collapse (SPEC section 10): every horizontal-only run (each\n"
+    "restitution x record x PGA level) on the double engine with the alarm, a forecast every --forecast-every-s while\n"
+    "the wall moves, scored against the run (outcome: collapse within the horizon). Fitted leave one record out (a\n"
+    "record = its name; a suite set's X and Y together): the state-only baseline (logistic regression on max\n"
+    "E/E_barrier over 2 s and |x|/x_inst) and the thresholds p* (at most 5 % of the other records' surviving runs\n"
+    "reach it; and at IMMINENT's false alarms). summary.json's forecast: brier, brier_skill (vs the base rate),\n"
+    "reliability, calibration, baseline, brier_skill_vs_baseline, lead {ensemble_5_percent, baseline_5_percent,\n"
+    "imminent, ensemble_at_imminent_false_alarms, ...}, goals, definitions. The forecaster's defaults were chosen on\n"
+    "sets 1-3 of the shipped suite: --sets 4-11 keeps them apart. Not checkpointed.\n"
     "\n"
     "Progress goes to stderr (a bar on a terminal, else a line every 10 %). Ctrl-C (SIGINT) or SIGTERM lets the\n"
     "analyses in flight finish, writes runs.csv and study.json and exits with status 130; run the same command with\n"
@@ -155,6 +170,21 @@ void add_options(CLI::App& app, RawOptions& raw) {
   app.add_flag("--observer", raw.observer_evaluation,
                "With --alarms: evaluate the wall observer on true walls that differ from the nominal one (r, b, h1/h2)");
   add_observer_options(app, raw.observer, "With --observer: ");
+  app.add_flag("--forecast", raw.forecast,
+               "Evaluate the ensemble forecast of collapse (SPEC section 10) over the horizontal-only runs: "
+               "forecast.csv, forecast_reliability.png, summary.json forecast (Brier, skill, baseline, lead times)");
+  app.add_option("--forecast-members", raw.forecast_members,
+                 "With --forecast: N members per forecast, 1 to 100000 (default 100)")
+      ->type_name("N");
+  app.add_option("--forecast-horizon-s", raw.forecast_horizon,
+                 "With --forecast: P(collapse) within H seconds, H in (0, 60] (default 3)")
+      ->type_name("H");
+  app.add_option("--forecast-every-s", raw.forecast_every,
+                 "With --forecast: one forecast every S seconds of a run while the wall moves, S in [0.01, 60] "
+                 "(default 0.1)")
+      ->type_name("S");
+  app.add_option("--forecast-seed", raw.forecast_seed, "With --forecast: seed of the members, 0 to 2^64-1 (default 29)")
+      ->type_name("SEED");
   app.add_option("--units", raw.units, "Acceleration units of --records files: g|mps2|cmps2|mmps2 (overrides the file)")
       ->type_name("U");
   app.add_option("--dt", raw.dt, "Sample interval of one-column plain --records files [s]")->type_name("S");
@@ -305,6 +335,57 @@ void parse_analysis(const CLI::App& app, const RawOptions& raw, StudyRequest& q)
   q.pga_g = parse_pga_levels("--pga", raw.pga);
 }
 
+// --forecast and its settings. The defaults (100 members, 3 s, every 0.1 s) are those of the first evaluation
+// (scripts/forecast-evaluation.py, docs/BENCHMARKS.md "Ensemble forecast").
+void parse_forecast(const CLI::App& app, const RawOptions& raw, StudyRequest& q) {
+  if (!raw.forecast) {
+    for (const char* name : {"--forecast-members", "--forecast-horizon-s", "--forecast-every-s", "--forecast-seed"}) {
+      if (given(app, name)) throw UsageError(std::string(name) + " sets the forecast evaluation: give --forecast too");
+    }
+    return;
+  }
+  sim::study::ForecastEvaluationPlan e;
+  e.settings.members = 100;
+  e.settings.horizon_s = 3.0;
+  if (given(app, "--forecast-members")) {
+    const std::optional<std::uint64_t> n =
+        whole_number(raw.forecast_members, sim::kForecastMembersMin, sim::kForecastMembersMax);
+    if (!n) {
+      throw UsageError("--forecast-members must be a whole number from " + std::to_string(sim::kForecastMembersMin) +
+                       " to " + std::to_string(sim::kForecastMembersMax) + " (got " + quoted(raw.forecast_members) +
+                       ")");
+    }
+    e.settings.members = static_cast<int>(*n);
+  }
+  if (given(app, "--forecast-horizon-s")) {
+    e.settings.horizon_s = parse_finite_number("--forecast-horizon-s", raw.forecast_horizon);
+    if (!(e.settings.horizon_s > 0.0 && e.settings.horizon_s <= sim::kForecastHorizonMax_s)) {
+      throw UsageError("--forecast-horizon-s must be in (0, " + number_text(sim::kForecastHorizonMax_s) +
+                       "] s (got " + number_text(e.settings.horizon_s) + ")");
+    }
+  }
+  if (given(app, "--forecast-every-s")) {
+    e.every_s = parse_finite_number("--forecast-every-s", raw.forecast_every);
+    if (!(e.every_s >= sim::study::kForecastEveryMin_s && e.every_s <= sim::study::kForecastEveryMax_s)) {
+      throw UsageError("--forecast-every-s must be in [" + number_text(sim::study::kForecastEveryMin_s) + ", " +
+                       number_text(sim::study::kForecastEveryMax_s) + "] s (got " + number_text(e.every_s) + ")");
+    }
+  }
+  if (given(app, "--forecast-seed")) {
+    const std::optional<std::uint64_t> seed = whole_number(raw.forecast_seed, 0, UINT64_MAX);
+    if (!seed) {
+      throw UsageError("--forecast-seed must be a whole number from 0 to 2^64-1 (got " + quoted(raw.forecast_seed) +
+                       ")");
+    }
+    e.settings.seed = *seed;
+  }
+  if (std::find(q.vertical.begin(), q.vertical.end(), false) == q.vertical.end()) {
+    throw UsageError("--forecast evaluates the horizontal-only runs (the members drive no vertical): --vertical must "
+                     "include without");
+  }
+  q.forecast = e;
+}
+
 void parse_run_options(const CLI::App& app, const RawOptions& raw, StudyRequest& q) {
   if (!given(app, "--out")) throw UsageError("--out DIR is required: the directory the study is written to");
   q.out_dir = parse_name("--out", raw.out, "a directory name");
@@ -397,6 +478,7 @@ StudyParse parse_study_arguments(int argc, const char* const* argv) {
   q.wall = parse_wall_options(app, raw.wall);
   parse_sources(app, raw, q);
   parse_analysis(app, raw, q);
+  parse_forecast(app, raw, q);
   parse_run_options(app, raw, q);
   parse_scale_options(app, raw.scale, q);
   for (int i = 1; i < argc; ++i) q.arguments.emplace_back(argv[i]);

@@ -13,6 +13,7 @@
 #include "rockwatch/records/record.hpp"
 #include "rockwatch/sim/analysis.hpp"
 #include "rockwatch/sim/study/batch_study.hpp"
+#include "rockwatch/sim/study/forecast_evaluation.hpp"
 
 namespace rockwatch::cli {
 
@@ -45,6 +46,8 @@ struct StudyRequest {
   bool dt_check = false;
   bool observer = false;                    // --observer: the wall observer's evaluation (with --alarms)
   core::ObserverOptions observer_options;   // --observer-*
+  // --forecast: the ensemble forecast's evaluation (issue 29 item 4; study/statistics/study_forecast.hpp).
+  std::optional<sim::study::ForecastEvaluationPlan> forecast;
   bool plots = false;
   bool resume = false;
   bool force = false;

@@ -31,6 +31,7 @@
 #include "study/outputs/study_runs_csv.hpp"
 #include "study/scale/study_scaled.hpp"
 #include "study/outputs/study_state.hpp"
+#include "study/statistics/study_forecast.hpp"
 #include "study/statistics/study_summary.hpp"
 #include "study/statistics/study_table3.hpp"
 
@@ -97,6 +98,7 @@ int run(const StudyRequest& q) {
     evaluation = observer_evaluation_plan(plan, q.observer_options);
     plan_description["observer"] = observer_plan_json(*evaluation);
   }
+  if (q.forecast) plan_description["forecast"] = forecast_plan_json(*q.forecast);
 
   prepare_study_directory(q);
   std::vector<study::RunResult> results(total);
@@ -138,10 +140,30 @@ int run(const StudyRequest& q) {
     observed = observer_outcome(plan, *evaluation, observer_results);
   }
 
+  // --forecast: the ensemble forecast's evaluation (not checkpointed either).
+  std::optional<ForecastOutcome> forecasted;
+  std::vector<study::ForecastRunResult> forecast_results;
+  if (q.forecast) {
+    const std::size_t runs = study::forecast_run_count(plan);
+    std::cerr << "study: forecast evaluation: " << runs << " runs (horizontal only), " << q.forecast->settings.members
+              << " members over " << q.forecast->settings.horizon_s << " s every " << q.forecast->every_s << " s\n";
+    const SignalInterrupt interrupt;
+    StudyProgress progress(std::cerr, stderr_is_terminal(), 0, runs, interrupt.flag());
+    study::run_forecast_evaluation(
+        plan, *q.forecast, forecast_results, q.jobs,
+        [&progress](std::size_t done, std::size_t in_call) { progress.report(done, in_call); }, interrupt.flag());
+    progress.finish();
+    std::size_t done = 0;
+    for (const study::ForecastRunResult& r : forecast_results) done += r.done ? 1 : 0;
+    if (done < runs) return interrupted(q, plan, plan_description, results, interrupt.signal_number());
+    forecasted = forecast_outcome(plan, forecast_results);
+  }
+
   const StudyOutcome outcome = summarise_study(plan, results, capacities);
   write_runs(q, plan, results);
   nlohmann::ordered_json summary = summary_json(plan, records, results, outcome);
   if (observed) summary["observer"] = observer_summary_json(*evaluation, *observed);
+  if (forecasted) summary["forecast"] = forecast_summary_json(*q.forecast, *forecasted);
   write_study_file(study_file(q, kSummaryJsonName), [&](std::ostream& out) { out << summary.dump(2) << '\n'; });
   write_study_file(study_file(q, kTable3Name),
                    [&](std::ostream& out) { out << table3_markdown(plan, records, outcome); });
@@ -154,6 +176,12 @@ int run(const StudyRequest& q) {
     });
     files.push_back(study_file(q, kObserverRunsCsvName));
   }
+  if (forecasted) {
+    write_study_file(study_file(q, kForecastCsvName), [&](std::ostream& out) {
+      write_forecast_csv(out, plan, forecast_results, *forecasted);
+    });
+    files.push_back(study_file(q, kForecastCsvName));
+  }
   int status = kExitOk;
   std::string plot_failure;
   if (q.plots) {
@@ -164,11 +192,20 @@ int run(const StudyRequest& q) {
       plot_failure = plot.message;
     }
   }
+  if (forecasted) {  // after the study's figures (their call clears every figure of an earlier run)
+    const PlotOutcome plot = plot_forecast_reliability(q, *q.forecast, *forecasted);
+    if (plot.ok) {
+      files.push_back(study_file(q, kForecastReliabilityName));
+    } else if (plot_failure.empty()) {
+      plot_failure = plot.message;
+    }
+  }
   // The state last: a study.json that says complete means every file above is this study's.
   write_study_state(q, plan_description, StudyState::complete, total, total);
 
   std::cout << study_summary_text(q, plan, records, outcome, files,
-                                  observed ? observer_summary_text(*evaluation, *observed) : std::string());
+                                  (observed ? observer_summary_text(*evaluation, *observed) : std::string()) +
+                                      (forecasted ? forecast_summary_text(*q.forecast, *forecasted) : std::string()));
   if (!plot_failure.empty()) {
     std::cout.flush();
     status = fail(kErrors, "plots not written: " + plot_failure, kExitInternalError);

@@ -57,6 +57,10 @@ void add_scale_options(CLI::App& app, ScaleOptionTexts& texts) {
 
 void parse_scale_options(const CLI::App& app, const ScaleOptionTexts& texts, StudyRequest& q) {
   const bool walls = given(app, "--walls"), shard = given(app, "--shard");
+  if ((walls || shard || texts.mpi) && q.forecast) {
+    throw UsageError(std::string(walls ? "--walls" : shard ? "--shard" : "--mpi") +
+                     " cannot be combined with --forecast: run the forecast evaluation as a study of its own");
+  }
   if ((walls || shard || texts.mpi) && q.observer) {
     throw UsageError(std::string(walls ? "--walls" : shard ? "--shard" : "--mpi") +
                      " cannot be combined with --observer: run the observer evaluation as a study of its own");

@@ -1,7 +1,7 @@
 // The dashboard's snapshot store and wall discovery: walls from channel names (default and suffixed, the longer base
 // winning, bad suffixes ignored), decimation of x(t) to <= 30 points per second of sample time and of the WebSocket
 // stream to <= 30 updates per second per wall, the transitions capped at 50, COLLAPSED latched until the monitor
-// restarts, undecodable messages counted.
+// restarts, undecodable messages counted, P(collapse) over time from the monitor's forecasts.
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -85,7 +85,7 @@ TEST(DashboardChannels, TheDefaultChannelsAreWallNamedWall) {
     ChannelKind kind;
   } cases[] = {{"ROCKWATCH_WALL_STATE", ChannelKind::state},   {"ROCKWATCH_ALARM", ChannelKind::alarm},
                {"ROCKWATCH_STATUS", ChannelKind::status},      {"ROCKWATCH_WALL_SENSOR", ChannelKind::sensor},
-               {"ROCKWATCH_WALL_ESTIMATE", ChannelKind::estimate}};
+               {"ROCKWATCH_WALL_ESTIMATE", ChannelKind::estimate}, {"ROCKWATCH_WALL_FORECAST", ChannelKind::forecast}};
   for (const auto& k : cases) {
     const auto m = match_channel(c, k.channel);
     CHECK_TEXT(m.has_value(), k.channel);
@@ -352,4 +352,51 @@ TEST(DashboardStore, StatusAndMeasuredXAreKept) {
   CHECK_EQUAL(1u, w["measured"].size());
   DOUBLES_EQUAL(0.0125, w["measured"][0][2].get<double>(), 0.0);
   CHECK_EQUAL(2, w["counters"]["sensor_samples"].get<int>());
+}
+
+// rockwatch-monitor --forecast: P(collapse) over time (0 at rest, nothing without input), the latest forecast; a
+// forecast sequence that goes back (the monitor restarted) starts the curve again; the raw message through
+// deliver_message as the receiver hands it.
+TEST(DashboardStore, ForecastsGiveTheCollapseOddsOverTime) {
+  SnapshotStore store{StoreSettings{}};
+  const DashboardChannels channels;
+  auto forecast = [](std::int64_t seq, std::int64_t utime, int status, double p) {
+    rockwatch::wall_forecast_t f{};
+    f.utime = utime;
+    f.seq = seq;
+    f.schema_version = rockwatch::wall_forecast_t::SCHEMA_VERSION;
+    f.wall = "wall";
+    f.status = static_cast<std::int8_t>(status);
+    f.horizon_s = 5.0;
+    f.members = status == rockwatch::wall_forecast_t::STATUS_OK ? 200 : 0;
+    f.p_collapse = p;
+    f.p_collapse_se = std::sqrt(p * (1.0 - p) / 200.0);
+    f.compute_us = 4200;
+    return f;
+  };
+  using F = rockwatch::wall_forecast_t;
+  const F sequence[] = {forecast(0, 0, F::STATUS_NO_INPUT, 0.0), forecast(1, kStartUtime, F::STATUS_AT_REST, 0.0),
+                        forecast(2, kStartUtime + 100000, F::STATUS_OK, 0.25),
+                        forecast(3, kStartUtime + 200000, F::STATUS_OK, 0.75)};
+  for (const F& f : sequence) {
+    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(f.getEncodedSize()));
+    f.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+    rockwatch::cli::deliver_message(channels, store, "ROCKWATCH_WALL_FORECAST", bytes.data(), bytes.size());
+  }
+  json w = wall_of(store.state_json(), "wall");
+  CHECK_EQUAL(4, w["counters"]["forecasts"].get<int>());
+  const json& points = w["forecast_points"];
+  CHECK_EQUAL(3u, points.size());  // none for NO_INPUT
+  DOUBLES_EQUAL(0.0, points[0][2].get<double>(), 0.0);
+  DOUBLES_EQUAL(0.25, points[1][2].get<double>(), 0.0);
+  DOUBLES_EQUAL(0.75, points[2][2].get<double>(), 0.0);
+  DOUBLES_EQUAL(kStartUtime * 1e-6 + 0.2, points[2][1].get<double>(), 1e-6);
+  STRCMP_EQUAL("ok", w["forecast"]["status"].get<std::string>().c_str());
+  DOUBLES_EQUAL(0.75, w["forecast"]["p_collapse"].get<double>(), 0.0);
+  CHECK_EQUAL(200, w["forecast"]["members"].get<int>());
+  // The monitor restarted: its forecasts count from 0 again.
+  store.on_forecast("wall", forecast(0, kStartUtime + 300000, F::STATUS_OK, 0.5));
+  w = wall_of(store.state_json(), "wall");
+  CHECK_EQUAL(1u, w["forecast_points"].size());
+  DOUBLES_EQUAL(0.5, w["forecast_points"][0][2].get<double>(), 0.0);
 }
