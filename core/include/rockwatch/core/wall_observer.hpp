@@ -257,7 +257,7 @@ struct ObserverStepperTraits<FixedRockingStepper> {
   using Input = AccelQ7_56;
   using Report = FixedStepReport;
   // Upper bounds measured on the emulated M4 (docs/BENCHMARKS.md, "The metered observer").
-  static constexpr ObserverWorkCosts kWork{3000, 12000, 9000};
+  static constexpr ObserverWorkCosts kWork{5000, 16000, 9000};
   static Scalar x(const FixedRockingStepper& s) { return wide_convert<Scalar>(s.x_m()); }
   static Scalar xd(const FixedRockingStepper& s) { return wide_convert<Scalar>(s.xd_mps()); }
   static Scalar xdd(const FixedRockingStepper& s) { return wide_convert<Scalar>(s.xdd_mps2()); }
