@@ -70,8 +70,10 @@ struct WallEngineConfig {
   bool observer_enabled = false;
   ObserverOptions observer{};
   // The work one step/step_at call of the fixed-point engine may do [work units = Cortex-M4 instructions]: the rest
-  // waits for the next call (carry-over, core/work_meter.hpp). 0: every sample finishes in its own call. Only the
-  // open-loop fixed-point engine is metered (the observer's and the double engine's steps are not).
+  // waits for the next call (carry-over, core/work_meter.hpp). 0: every sample finishes in its own call. The
+  // fixed-point engine is metered; with the observer on, its work is metered too and the call's budget is
+  // observer_work_budget_units(dt_s) (the estimator's share of the sample) whenever this is not 0. The double
+  // engine is never metered.
   std::int32_t work_budget_units = kDefaultWorkBudgetUnits;
   // What the budgeted engine does when its queue of waiting samples is full (core/work_meter.hpp): shed keeps every
   // call within the budget, finish keeps every answer.

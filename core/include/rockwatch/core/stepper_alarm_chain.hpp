@@ -337,7 +337,7 @@ class StepperAlarmChain {
 
   // The open loop's stand-in for an observer (run(), call()): no observer code is instantiated.
   struct NoObserver {
-    static constexpr ObserverWorkCosts kWork{0, 0, 0};
+    static constexpr ObserverWorkCosts kWork{0, 0, 0, 0};
   };
   template <typename Observer>
   static constexpr bool kObserved = !std::is_same_v<Observer, NoObserver>;

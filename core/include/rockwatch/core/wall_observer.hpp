@@ -219,12 +219,13 @@ inline std::int64_t time_difference_us(std::int64_t a, std::int64_t b) {
 
 // What each piece of the observer's work costs when metered [work units] (core/work_meter.hpp): a sub-step's
 // prediction (begin_step, end_step), one sensor sample applied (its displacement and acceleration updates, the
-// covariance brought up to date first, the corrections fed back into the stepper), and a sample's end (the covariance
-// brought up to date, the alarm's scales of the estimated wall).
+// covariance brought up to date first, the corrections fed back into the stepper), a sample's end (the covariance
+// brought up to date, the alarm's scales of the estimated wall, the published estimates), one sensor sample dropped.
 struct ObserverWorkCosts {
   std::int32_t substep;
   std::int32_t update;
   std::int32_t sample_end;
+  std::int32_t dropped;     // a due sensor sample dropped unapplied (stale, or the wall collapsed)
 };
 
 // How the observer reads and corrects a stepper. Specialised for the two steppers.
@@ -236,7 +237,7 @@ struct ObserverStepperTraits<RockingStepper<double>> {
   using Scalar = double;
   using Input = double;
   using Report = StepReport<double>;
-  static constexpr ObserverWorkCosts kWork{0, 0, 0};  // hosts only: never metered
+  static constexpr ObserverWorkCosts kWork{0, 0, 0, 0};  // hosts only: never metered
   static double x(const RockingStepper<double>& s) { return s.state().x_m; }
   static double xd(const RockingStepper<double>& s) { return s.state().xd_mps; }
   static double xdd(const RockingStepper<double>& s) { return s.state().xdd_mps2; }
@@ -257,7 +258,7 @@ struct ObserverStepperTraits<FixedRockingStepper> {
   using Input = AccelQ7_56;
   using Report = FixedStepReport;
   // Upper bounds measured on the emulated M4 (docs/BENCHMARKS.md, "The metered observer").
-  static constexpr ObserverWorkCosts kWork{5000, 16000, 9000};
+  static constexpr ObserverWorkCosts kWork{5000, 16000, 9000, 300};
   static Scalar x(const FixedRockingStepper& s) { return wide_convert<Scalar>(s.x_m()); }
   static Scalar xd(const FixedRockingStepper& s) { return wide_convert<Scalar>(s.xd_mps()); }
   static Scalar xdd(const FixedRockingStepper& s) { return wide_convert<Scalar>(s.xdd_mps2()); }
@@ -474,12 +475,14 @@ class WallObserver {
         out.flags |= observer_flag::queue_overflow;
         continue;
       }
-      if (!meter.take(kWork.update)) return false;
+      const std::int64_t age_us = time_difference_us(step_t_us_, queue_[head_].utime_us);
+      const bool stale = age_us > max_age_us_;
+      // A sample dropped (stale, or nothing left to estimate) costs its check only; one applied, its updates.
+      if (!meter.take(stale || stepper.collapsed() ? kWork.dropped : kWork.update)) return false;
       const WallSensorSample s = queue_[head_];
       head_ = (head_ + 1) % kQueueCapacity;
       --count_;
-      const std::int64_t age_us = time_difference_us(step_t_us_, s.utime_us);
-      if (age_us > max_age_us_) {
+      if (stale) {
         ++counters_.stale;
         out.flags |= observer_flag::stale;
         continue;
@@ -930,7 +933,9 @@ class WallObserver {
       pending_flags_ |= observer_flag::estimate_clamped;
     }
     Traits::set_sqrt_r(stepper, e_);
-    Traits::set_capacity(stepper, kc_, kk_, ug, vg);
+    // The stepper's capacity only when it moved (a considered-parameters update leaves κc, κk as they were): the
+    // same constants, without recomputing them.
+    if (clamped || dz(C) != Scalar(0) || dz(K) != Scalar(0)) Traits::set_capacity(stepper, kc_, kk_, ug, vg);
     if (stepper.moving()) {
       const Scalar x_before = Traits::x(stepper);
       Scalar xd_after = xd;
