@@ -52,48 +52,64 @@ TEST(RockingSegments, AnImpactThatRestsTheWallReportsTheImpactLawsVelocityInBoth
   CHECK(abs(fr.first_impact_v_after_mps) < f.setup().v_rest_mps);
 }
 
-TEST(RockingSegments, ChatterIsCutAtEachArithmeticsBoundAndTheWallPutAtRest) {
-  // r = 0.98 from 1 nm: bounces tens of microseconds apart at ~1e-4 m/s, far more than a 5 ms step holds. Each
-  // segment ends in an impact; at the bound the wall is put at rest (rest_forced), whatever the arithmetic.
+TEST(RockingSegments, TheChatterRuleLocatesKImpactsAStepThenRestsTheWallInBothArithmetics) {
+  // r = 0.98 from 1 nm: bounces tens of microseconds apart at ~1e-4 m/s, far more than a 5 ms step holds. The first K
+  // impacts of the step are located; the next crossing is not: the wall rests on the hinge at the step end
+  // (rest_forced), the same rule and the same count in both arithmetics (SPEC §3).
   const StepperSetup<double> setup = paper_setup(0.98, 0.005);
+  const int k = kMaxImpactsPerSubstep;
   RockingStepper<double> d;
   d.init(setup);
   d.set_state(1e-9, 0.0, 0.0, 0.0);
   const StepReport<double> dr = d.step(0.0, 0.0);
-  LONGS_EQUAL(RockingStepper<double>::kMaxSegmentsPerStep, dr.segments);
-  LONGS_EQUAL(RockingStepper<double>::kMaxSegmentsPerStep, dr.impacts_total);
+  LONGS_EQUAL(k + 1, dr.segments);
+  LONGS_EQUAL(k, dr.impacts_total);
+  LONGS_EQUAL(k, dr.events_located);
   CHECK_TRUE(dr.rest_forced);
   CHECK_TRUE(dr.came_to_rest);
+  CHECK_FALSE(dr.work_shed);
   CHECK_FALSE(d.moving());
+  DOUBLES_EQUAL(0.0, d.state().x_m, 0.0);
+  DOUBLES_EQUAL(0.0, d.state().xd_mps, 0.0);
+  // At rest with no drive the next step does nothing.
+  const StepReport<double> dn = d.step(0.0, 0.0);
+  LONGS_EQUAL(0, dn.impacts_total);
+  CHECK_FALSE(dn.started);
 
-  // The fixed-point stepper: kMaxSegmentsPerStep per step, within its sample budget of further segments.
   FixedRockingStepper f;
   CHECK(f.init(setup) == FixedSetupError::ok);
   f.set_state(LengthQ1_62(1e-9), SpeedQ3_60{}, AccelQ7_56{}, AccelQ7_56{});
   const FixedStepReport fr = f.step(AccelQ7_56{}, AccelQ7_56{});
-  LONGS_EQUAL(FixedRockingStepper::kMaxSegmentsPerStep, fr.segments);
-  LONGS_EQUAL(FixedRockingStepper::kMaxSegmentsPerStep, fr.impacts_total);
+  LONGS_EQUAL(k + 1, fr.segments);
+  LONGS_EQUAL(k, fr.impacts_total);
+  LONGS_EQUAL(k, fr.events_located);
   CHECK_TRUE(fr.rest_forced);
+  CHECK_FALSE(fr.work_shed);
   CHECK_FALSE(f.moving());
+  const FixedStepReport fn = f.step(AccelQ7_56{}, AccelQ7_56{});
+  LONGS_EQUAL(0, fn.impacts_total);
+  CHECK_FALSE(fn.started);
+}
 
-  // A budget of 3 further segments shared with the sample's other sub-steps: 4 segments, then rest; the budget is
-  // spent, and the next sub-step (the wall at rest, no drive) needs none.
-  f.set_state(LengthQ1_62(1e-9), SpeedQ3_60{}, AccelQ7_56{}, AccelQ7_56{});
-  EventBudget budget{3};
-  const FixedStepReport limited = f.step(AccelQ7_56{}, AccelQ7_56{}, budget);
-  LONGS_EQUAL(4, limited.segments);
-  LONGS_EQUAL(4, limited.impacts_total);
-  CHECK_TRUE(limited.rest_forced);
-  LONGS_EQUAL(0, budget.extra_segments);
-  const FixedStepReport next = f.step(AccelQ7_56{}, AccelQ7_56{}, budget);
-  LONGS_EQUAL(0, next.impacts_total);
-  CHECK_FALSE(next.started);
-  CHECK_FALSE(f.moving());
-
-  // The double stepper spends from a budget in the same way (the chain gives it an unlimited one).
+TEST(RockingSegments, AfterTheChatterRuleTheStartRuleTakesOverWhenTheGroundDrivesTheWallOut) {
+  // The same chatter, then a ground acceleration beyond the threshold in the next step: the wall put at rest by the
+  // rule starts again in that step (SPEC §2), in both arithmetics.
+  const StepperSetup<double> setup = paper_setup(0.98, 0.005);
+  const double beyond_mps2 = 3.0 * threshold_mps2(setup.model, Side::negative, setup.g_mps2);
+  RockingStepper<double> d;
+  d.init(setup);
   d.set_state(1e-9, 0.0, 0.0, 0.0);
-  EventBudget small{3};
-  const StepReport<double> dl = d.step(0.0, 0.0, small);
-  LONGS_EQUAL(4, dl.segments);
-  CHECK_TRUE(dl.rest_forced);
+  CHECK_TRUE(d.step(0.0, 0.0).rest_forced);
+  const StepReport<double> dn = d.step(beyond_mps2, 0.0);
+  CHECK_TRUE(dn.started);
+  CHECK_TRUE(d.moving());
+
+  FixedRockingStepper f;
+  CHECK(f.init(setup) == FixedSetupError::ok);
+  f.set_state(LengthQ1_62(1e-9), SpeedQ3_60{}, AccelQ7_56{}, AccelQ7_56{});
+  CHECK_TRUE(f.step(AccelQ7_56{}, AccelQ7_56{}).rest_forced);
+  const FixedStepReport fn = f.step(AccelQ7_56(beyond_mps2), AccelQ7_56{});
+  CHECK_TRUE(fn.started);
+  CHECK_TRUE(f.moving());
+  CHECK(d.side() == f.side());
 }

@@ -1,8 +1,8 @@
 // The real-time engine: the linear two-block rocking model (SPEC §1–4) in fixed point, with the same algorithm
 // as RockingStepper<double> — Newmark (β = 1/4, γ = 1/2), input linear inside the step, start at the threshold,
-// impacts and collapse located inside the step, rest after an impact — with the work of a sample bounded: each
-// event located by a fixed number of Newton iterations that always run, and a per-sample budget of segments shared by
-// the sample's sub-steps (EventBudget, StepperAlarmChain).
+// impacts and collapse located inside the step, rest after an impact, the chatter rule — with the work of a step
+// bounded: each event located by a fixed number of Newton iterations that always run, and at most
+// kMaxImpactsPerSubstep impacts located per step (the chatter rule of every engine, rocking_segments.hpp).
 //
 // Formats: 64-bit state and coefficients (Fixed64, exact 128-bit intermediates); docs/FIXED_POINT.md gives the
 // ranges measured over the shipped suite and the real records, and what saturates first:
@@ -25,11 +25,8 @@
 // full model's coefficients; here the linear equation is divided by p1 once and each event is located by
 // kLocateIterations Newton steps on the exact Newmark residual (a cubic in the sub-step), from the secant. Both
 // arithmetics are pinned bit for bit (golden files, `rockwatch simulate --arith double|fixed`, the monitor); the
-// differences that remain are of arithmetic and of bounds, measured in docs/FIXED_POINT.md:
-// - at most kMaxSegmentsPerStep segments per step and the sample's budget of further segments (EventBudget,
-//   kSampleBudget): beyond them the wall is put at rest (`rest_forced`); the double engine allows 64 segments per
-//   step and no sample budget.
-// - events located by a fixed number of Newton steps; the double engine iterates to convergence.
+// differences that remain are of arithmetic: events located by a fixed number of Newton steps, where the double engine
+// iterates to convergence (measured in docs/FIXED_POINT.md). The chatter rule and its K are the same in both.
 #pragma once
 
 #include <cstdint>
@@ -145,8 +142,6 @@ struct FixedRockingStepperTypes {
   using Speed = SpeedQ3_60;
   using Accel = AccelQ7_56;
   using Fraction = FractionQ1_62;
-  // Segments (impacts + 1) handled inside one step; more means settling speeds and the wall is put at rest.
-  static constexpr int kMaxSegmentsPerStep = 16;
   // What each piece of work costs on a Cortex-M4 [instructions], upper bounds measured on the emulated M4
   // (scripts/m4-replay.sh; docs/BENCHMARKS.md, "Bounded work per call"): the meter of a call (core/work_meter.hpp).
   static constexpr WorkCosts kWork{800, 1450, 10000, 1100};
@@ -162,11 +157,6 @@ class FixedRockingStepper : public RockingSegments<FixedRockingStepper, FixedRoc
   // keep the default study's agreement with the double engine (recall 1.0, verdicts 99.94 %); 4 and 6 lose it
   // (docs/BENCHMARKS.md, "Sub-steps, the worst sample and the alarm"). Was 12.
   static constexpr int kLocateIterations = 8;
-  // The event budget of one sample (StepperAlarmChain), whatever its number of sub-steps: 32 further segments, which
-  // bounds a sample of settling chatter (impacts microseconds apart) at 5 + 32 segments instead of 5 × 16 at 200 Hz.
-  // Tighter budgets, or events beyond a budget located with fewer iterations, cost the agreement with the double
-  // engine (measured in docs/BENCHMARKS.md); a cheaper location for chatter is what would allow them.
-  static constexpr EventBudget kSampleBudget{32};
 
   FixedSetupError init(const StepperSetup<double>& setup) {
     const FixedSetupError e = make_fixed_setup(setup, setup_);
@@ -189,23 +179,17 @@ class FixedRockingStepper : public RockingSegments<FixedRockingStepper, FixedRoc
     state_.xdd_mps2 = f_prev_[i] - wide_mul<AccelQ7_56>(k_prev_[i], state_.x_m);
   }
 
-  // Advances one step of setup dt to the given input at the step end, with a budget of its own (kSampleBudget).
-  FixedStepReport step(AccelQ7_56 ug_mps2, AccelQ7_56 vg_mps2) {
-    EventBudget budget = kSampleBudget;
-    return step(ug_mps2, vg_mps2, budget);
-  }
-
   // The step in pieces paid from a meter (core/work_meter.hpp): begin_step(), then continue_step() until it returns
-  // true; step_report() is then the step's report. step(ug, vg, budget) is both at once (RockingSegments).
+  // true; step_report() is then the step's report. step(ug, vg) is both at once (RockingSegments).
   void begin_step(AccelQ7_56 ug_mps2, AccelQ7_56 vg_mps2) {
     report_ = FixedStepReport{};
     step_valid_ = coefficients(ug_mps2, vg_mps2, f_end_, k_end_);
     begin_segments();
   }
   template <typename Meter>
-  bool continue_step(EventBudget& budget, Meter& meter) {
+  bool continue_step(Meter& meter) {
     if (!collapsed_ && step_valid_) {
-      if (!run_segments(budget, meter)) return false;
+      if (!run_segments(meter)) return false;
       report_.saturated = state_.x_m.saturated() || state_.xd_mps.saturated() || state_.xdd_mps2.saturated();
     } else {
       report_.input_invalid = !step_valid_;

@@ -5,9 +5,11 @@
 //   |x| rising through x_inst → the exceedance is located (the segment goes on);
 //   |x| reaching κ·x_inst → collapse, located; the stepper stops;
 // and at rest, the start of motion where the ground's drive s·p6 crosses zero (input linear in the step, so the
-// crossing is exact). The segments of a step are bounded: kMaxSegmentsPerStep per step and, across the sub-steps of
-// one input sample, an EventBudget of further segments; beyond them the wall is put at rest (`rest_forced`: impacts
-// that close together mean settling speeds).
+// crossing is exact). The chatter rule (SPEC §3, one rule for every arithmetic): within one step (one integration
+// sub-step) at most kMaxImpactsPerSubstep impacts are located; a further crossing of the hinge in that step is not
+// located — the wall is put at rest on the hinge at the step's end (`rest_forced`: bounces that close together are a
+// wall settling), and from there the start rule decides at the next step (it rocks again at once if the ground
+// drives it out). The rule depends on the step only, never on the input's sample rate.
 //
 // The arithmetic is the derived stepper's (CRTP, the Kernel below): RockingStepper<Scalar> (double: Newmark through
 // the model's coefficients, events by Illinois regula falsi to convergence) and FixedRockingStepper (64-bit fixed
@@ -28,12 +30,11 @@
 //   Speed rebound(Speed v)                         √r·v
 // and its setup (x_inst_m, x_collapse_m, v_rest_mps, v_count_mps per the stepper's formats); and, public, the step in
 // pieces: begin_step(ug, vg) (the input at the step end; resets report_ and calls begin_segments()) and
-// continue_step(budget, meter) (run_segments() until done, then the step's end), which step(ug, vg, budget) runs at once.
+// continue_step(meter) (run_segments() until done, then the step's end), which step(ug, vg) runs at once.
 //
 // Core rules: header-only, no heap, no exceptions, no I/O; the loops are bounded by kMaxSegmentsPerStep.
 #pragma once
 
-#include <climits>
 #include <cstdint>
 
 #include "rockwatch/core/model.hpp"
@@ -45,36 +46,39 @@ namespace rockwatch::core {
 // What happened inside one step, in the stepper's formats (Fraction: of the step, in [0, 1]; Speed: m/s).
 template <typename Fraction, typename Speed = Fraction>
 struct StepReport {
-  bool input_invalid = false;     // G = g + v̈ ≤ 0 at the step end: outside the model, state held
-  bool started = false;           // rocking started from rest in this step
-  Fraction start_fraction{};
-  std::uint16_t impacts_counted = 0;  // impacts with |ẋ⁻| ≥ v_count
-  std::uint16_t impacts_total = 0;    // all impacts
+  // Members widest first (no padding between them): a report is zeroed and copied out at every step.
+  Fraction start_fraction{};          // rocking started from rest at this fraction of the step (when `started`)
   Fraction first_impact_fraction{};   // the first impact of the step: when,
   Speed first_impact_v_before_mps{};  //   ẋ⁻ [m/s]
   Speed first_impact_v_after_mps{};   //   and ẋ⁺ = √r·ẋ⁻ [m/s], also when the impact puts the wall at rest
-  bool came_to_rest = false;
-  bool rest_forced = false;       // the step's segments (or the sample's budget) ran out: put at rest (settling)
-  bool exceeded = false;          // |x| rose through x_inst in this step (first time in the step)
-  Fraction exceed_fraction{};
-  bool collapsed = false;         // |x| reached κ·x_inst; the stepper stops
-  Fraction collapse_fraction{};
-  bool saturated = false;         // fixed point: a state quantity reached the end of its format (results unreliable)
-  bool work_shed = false;         // the engine's queue was full: an event was not located (core/work_meter.hpp)
+  Fraction exceed_fraction{};         // when |x| rose through x_inst (when `exceeded`)
+  Fraction collapse_fraction{};       // when |x| reached κ·x_inst (when `collapsed`)
+  std::uint16_t impacts_counted = 0;  // impacts with |ẋ⁻| ≥ v_count
+  std::uint16_t impacts_total = 0;    // all impacts
   // Work done, for the constant-iteration proofs and worst-case accounting (tests/sim/test_fixed_engine.cpp):
   std::uint16_t segments = 0;           // segments integrated to the step end (≤ kMaxSegmentsPerStep)
   std::uint16_t events_located = 0;     // impacts, collapse and x_inst passages located inside the step
   std::uint16_t locate_iterations = 0;  // iterations of the event locator
+  bool input_invalid = false;     // G = g + v̈ ≤ 0 at the step end: outside the model, state held
+  bool started = false;           // rocking started from rest in this step
+  bool came_to_rest = false;
+  bool rest_forced = false;       // the chatter rule (a crossing beyond the step's K located impacts), or a shed
+                                  // crossing: put at rest at the step end (settling)
+  bool exceeded = false;          // |x| rose through x_inst in this step (first time in the step)
+  bool collapsed = false;         // |x| reached κ·x_inst; the stepper stops
+  bool saturated = false;         // fixed point: a state quantity reached the end of its format (results unreliable)
+  bool work_shed = false;         // the engine's queue was full: an event was not located (core/work_meter.hpp)
 };
 
-// The segments one sample may spend beyond the first of each sub-step, shared by its sub-steps (StepperAlarmChain
-// passes one per sample): what bounds the worst sample of the fixed-point engine. Spent: a sub-step that would need
-// another segment puts the wall at rest (`rest_forced`). unlimited() for the double engine, which is bounded by
-// kMaxSegmentsPerStep alone.
-struct EventBudget {
-  int extra_segments = 0;
-  static constexpr EventBudget unlimited() { return EventBudget{INT_MAX}; }
-};
+// The chatter rule's K (SPEC §3): impacts located inside one integration step, in every engine. Chosen by measurement
+// (docs/BENCHMARKS.md, "The chatter rule"): the smallest K that keeps the default study's verdicts, Table 3 and the
+// reference cases of the double engine and agrees with the fixed engine on every verdict. The macro is there only to
+// repeat that measurement (a build with -DROCKWATCH_CHATTER_IMPACTS=N); the tools and the firmware use the default.
+#ifndef ROCKWATCH_CHATTER_IMPACTS
+#define ROCKWATCH_CHATTER_IMPACTS 4
+#endif
+inline constexpr int kMaxImpactsPerSubstep = ROCKWATCH_CHATTER_IMPACTS;
+static_assert(kMaxImpactsPerSubstep >= 1 && kMaxImpactsPerSubstep <= 1000, "the chatter rule needs 1 <= K <= 1000");
 
 template <typename Derived, typename Types>
 class RockingSegments {
@@ -85,8 +89,9 @@ class RockingSegments {
   using Fraction = typename Types::Fraction;
   using State = MotionState<Length, Speed, Accel>;
   using Report = StepReport<Fraction, Speed>;
-  // Segments (impacts + 1) handled inside one step.
-  static constexpr int kMaxSegmentsPerStep = Types::kMaxSegmentsPerStep;
+  // Impacts located inside one step (the chatter rule, SPEC §3), and so segments (impacts + 1) integrated in it.
+  static constexpr int kMaxImpactsPerStep = kMaxImpactsPerSubstep;
+  static constexpr int kMaxSegmentsPerStep = kMaxImpactsPerStep + 1;
   // What each piece of the work costs when metered (core/work_meter.hpp).
   static constexpr WorkCosts kWork = Types::kWork;
 
@@ -94,12 +99,12 @@ class RockingSegments {
   bool moving() const { return moving_; }
   bool collapsed() const { return collapsed_; }
 
-  // One whole step to this input at the step end, spending from a budget shared with the other sub-steps of the
-  // sample (EventBudget): the derived stepper's begin_step(), then its continue_step() with no meter.
-  Report step(Accel ug_mps2, Accel vg_mps2, EventBudget& budget) {
+  // One whole step to this input at the step end: the derived stepper's begin_step(), then its continue_step() with
+  // no meter.
+  Report step(Accel ug_mps2, Accel vg_mps2) {
     UnmeteredWork meter;
     derived().begin_step(ug_mps2, vg_mps2);
-    derived().continue_step(budget, meter);
+    derived().continue_step(meter);
     return report_;
   }
   // The report of the step in progress (the derived stepper's begin_step/continue_step); the step's own once
@@ -127,42 +132,26 @@ class RockingSegments {
     moving_ = x_m != Length{} || xd_mps != Speed{};
   }
 
-  // The segments of one step, from θ = 0 to the step end (or collapse), spending from `budget`: begin_segments(),
-  // then run_segments() until it returns true. It returns false when `meter` cannot pay for the next piece of work
-  // (core/work_meter.hpp); the next call goes on from there, and the report and the state are then the same as
-  // if the step had run at once.
+  // The segments of one step, from θ = 0 to the step end (or collapse): begin_segments(), then run_segments() until
+  // it returns true. It returns false when `meter` cannot pay for the next piece of work (core/work_meter.hpp); the
+  // next call goes on from there, and the report and the state are then the same as if the step had run at once.
   void begin_segments() {
     seg_theta_ = Fraction{};
     seg_index_ = 0;
-    seg_paid_ = false;
     seg_counted_ = false;
   }
   template <typename Meter>
-  bool run_segments(EventBudget& budget, Meter& meter) {
+  bool run_segments(Meter& meter) {
     Report& report = report_;
-    bool finished = false;
+    // Each pass either ends the step or ends in an impact; after kMaxImpactsPerStep impacts the next crossing of the
+    // hinge ends the step (the chatter rule, advance_segment), so the loop runs at most kMaxSegmentsPerStep times.
     while (seg_index_ < kMaxSegmentsPerStep) {
-      if (seg_index_ > 0 && !seg_paid_) {
-        if (budget.extra_segments <= 0) break;
-        --budget.extra_segments;
-        seg_paid_ = true;
-      }
       if (!moving_ && !try_start(seg_theta_, report)) break;
       const SegmentEnd end = advance_segment(seg_theta_, report, meter);
       if (end == SegmentEnd::suspended) return false;
-      if (end == SegmentEnd::finished) {
-        finished = true;
-        break;
-      }
+      if (end == SegmentEnd::finished) break;
       ++seg_index_;
-      seg_paid_ = false;
       seg_counted_ = false;
-    }
-    if (!finished && moving_) {
-      // Impacts closer together than the step allows: settling speeds. Rest; the start logic takes over if the
-      // ground drives the wall out.
-      put_at_rest(report);
-      report.rest_forced = true;
     }
     return true;
   }
@@ -179,11 +168,10 @@ class RockingSegments {
  private:
   enum class SegmentEnd : std::uint8_t { finished, impact, suspended };
 
-  // Where the step in progress stands (run_segments): position in the step, segment number, whether that segment
-  // has drawn from the budget and been counted in the report.
+  // Where the step in progress stands (run_segments): position in the step, segment number (= impacts so far in the
+  // step), whether that segment has been counted in the report.
   Fraction seg_theta_{};
   int seg_index_ = 0;
-  bool seg_paid_ = false;
   bool seg_counted_ = false;
 
   const Derived& kernel() const { return static_cast<const Derived&>(*this); }
@@ -221,7 +209,9 @@ class RockingSegments {
     }
     const Side s = side_;
     const Length x0 = signed_x(s, state_.x_m);
+    const bool chatter = seg_index_ >= kMaxImpactsPerStep;  // the step's located impacts are spent (SPEC §3)
     if (x0 == Length{} && signed_v(s, state_.xd_mps) < Speed{}) {
+      if (chatter) return close_chatter(theta, report, false);
       impact(theta, state_.xd_mps, report);  // sitting on the hinge and moving across it
       return SegmentEnd::impact;
     }
@@ -231,13 +221,9 @@ class RockingSegments {
     const State end = kernel().end_of(segment);
     const Length x1 = signed_x(s, end.x_m);
     if (x1 < Length{}) {
-      if (meter.shed) {  // the queue is full: no location; at rest at the step end (core/work_meter.hpp)
-        theta = Fraction(1);
-        put_at_rest(report);
-        report.rest_forced = true;
-        report.work_shed = true;
-        return SegmentEnd::finished;
-      }
+      // The chatter rule, or the queue is full and events are not located (core/work_meter.hpp): the crossing is not
+      // located; at rest at the step end.
+      if (chatter || meter.shed) return close_chatter(theta, report, !chatter);
       // Crossed x = 0 inside the step: locate the crossing and apply the impact there (SPEC §3, §4.1).
       if (!meter.take(kWork.locate)) return SegmentEnd::suspended;
       const auto at = kernel().locate(segment, end, Length{}, report);
@@ -303,6 +289,17 @@ class RockingSegments {
       }
     }
     state_ = State{Length{}, v_after, kernel().accel_at_hinge(side_, theta)};
+  }
+
+  // The chatter rule (SPEC §3): a crossing of the hinge beyond the step's kMaxImpactsPerStep located impacts (or one
+  // the meter sheds) is not located; the wall rests on the hinge at the step's end and the start rule takes over at the
+  // next step.
+  SegmentEnd close_chatter(Fraction& theta, Report& report, bool shed) {
+    theta = Fraction(1);
+    put_at_rest(report);
+    report.rest_forced = true;
+    if (shed) report.work_shed = true;
+    return SegmentEnd::finished;
   }
 
   void put_at_rest(Report& report) {

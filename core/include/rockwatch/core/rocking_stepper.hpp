@@ -82,9 +82,6 @@ struct RockingStepperTypes {
   using Speed = Scalar;
   using Accel = Scalar;
   using Fraction = Scalar;
-  // Upper bound on segments (impacts + 1) inside one step. Reached only when impacts are microseconds apart, i.e. at
-  // velocities of ~1e-5 m/s, where the wall is at rest for every practical purpose.
-  static constexpr int kMaxSegmentsPerStep = 64;
   // Never metered (hosts only): no costs (core/work_meter.hpp).
   static constexpr WorkCosts kWork{0, 0, 0, 0};
 };
@@ -122,14 +119,8 @@ class RockingStepper : public RockingSegments<RockingStepper<Scalar>, RockingSte
     this->state_.xdd_mps2 = acceleration(this->side_, this->state_.x_m, ug_mps2, vg_mps2);
   }
 
-  // Advances one step of setup.dt_s to the given input at the step end (no budget beyond kMaxSegmentsPerStep).
-  Report step(Scalar ug_mps2, Scalar vg_mps2) {
-    EventBudget budget = EventBudget::unlimited();
-    return step(ug_mps2, vg_mps2, budget);
-  }
-
   // The step in pieces paid from a meter (core/work_meter.hpp): begin_step(), then continue_step() until it returns
-  // true; step_report() is then the step's report. step(ug, vg, budget) is both at once (RockingSegments).
+  // true; step_report() is then the step's report. step(ug, vg) is both at once (RockingSegments).
   void begin_step(Scalar ug_mps2, Scalar vg_mps2) {
     this->report_ = Report{};
     step_done_ = true;
@@ -146,9 +137,9 @@ class RockingStepper : public RockingSegments<RockingStepper<Scalar>, RockingSte
     this->begin_segments();
   }
   template <typename Meter>
-  bool continue_step(EventBudget& budget, Meter& meter) {
+  bool continue_step(Meter& meter) {
     if (step_done_) return true;
-    if (!this->run_segments(budget, meter)) return false;
+    if (!this->run_segments(meter)) return false;
     ug_prev_ = ug_next_;
     vg_prev_ = vg_next_;
     step_done_ = true;

@@ -41,8 +41,6 @@ struct AlarmChainTraits<RockingStepper<double>> {
     return true;
   }
   using Fraction = double;
-  // The double stepper locates every event to convergence: no per-sample budget beyond its segments per step.
-  static EventBudget sample_budget() { return EventBudget::unlimited(); }
   // Sub-step j of n (1 ≤ j ≤ n) of the input linear from `from` to `to`: the expression sim::analyse has always
   // used on its integration grid, and `to` itself at j = n.
   static Input interpolate(Input from, Input to, int j, int n, const Fraction*) {
@@ -77,8 +75,6 @@ struct AlarmChainTraits<FixedRockingStepper> {
     return make_fixed_instability_constants(setup, a, out);
   }
   using Fraction = FractionQ1_62;
-  // One event budget per sample, shared by its sub-steps: what bounds the worst sample (EventBudget).
-  static EventBudget sample_budget() { return FixedRockingStepper::kSampleBudget; }
   // (1 − θ_j)·from + θ_j·to with θ_j = j/n (theta: the chain's table θ_0..θ_n), `to` itself at j = n.
   // Scaling and overflow: a convex combination of two Q7.56 inputs stays within their range (no difference is
   // formed, so inputs of opposite sign near ±128 m/s² cannot overflow); one rounding per product.
@@ -422,7 +418,6 @@ class StepperAlarmChain {
     sub_j_ = 1;
     sub_active_ = false;
     motion_done_ = false;
-    budget_ = Traits::sample_budget();
   }
   template <typename Meter, typename OnSubstep, typename Observer = NoObserver>
   bool advance_motion(Input ug_mps2, Input vg_mps2, Report& total, Meter& meter, OnSubstep& on_substep,
@@ -441,7 +436,7 @@ class StepperAlarmChain {
         sub_active_ = true;
       }
       if (obs_phase_ == ObserverPhase::none) {
-        if (!stepper_.continue_step(budget_, meter)) return false;
+        if (!stepper_.continue_step(meter)) return false;
         if constexpr (kObserved<Observer>) obs_phase_ = ObserverPhase::begin;
       }
       const Report& sub = stepper_.step_report();
@@ -510,11 +505,10 @@ class StepperAlarmChain {
   int substeps_ = 1;
   Fraction theta_[kMaxSubsteps + 1]{};  // θ_j = j / substeps_
   Input ug_last_{}, vg_last_{};          // the previous sample's input: where the sub-steps' ramp starts
-  // The sample in progress (advance_motion): next sub-step, one begun and not finished, all done, the budget left.
+  // The sample in progress (advance_motion): next sub-step, one begun and not finished, all done.
   int sub_j_ = 1;
   bool sub_active_ = false;
   bool motion_done_ = false;
-  EventBudget budget_{};
   Input sub_ug_{}, sub_vg_{};  // the sub-step's input
   // The observer's part of the sample in progress (begin_observed, advance_motion): the sample's end and interval
   // on the sensor clock [µs], where the sub-step stands (the stepper's part under way, done and the observer's

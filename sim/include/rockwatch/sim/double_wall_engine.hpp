@@ -4,8 +4,8 @@
 // full model as well as the linear one. Host code: firmware never includes this header.
 //
 // Why it exists: a lab that wants the monitor to agree with the double analysis to the last bit (or runs the full
-// model) and has a host with an FPU. Its price: its work per sample is bounded (at most kMaxSegmentsPerStep
-// segments) but not as even as the fixed-point engine's — the slowest sample measured is ~400 × the median
+// model) and has a host with an FPU. Its price: its work per sample is bounded (the chatter rule: at most
+// kMaxImpactsPerSubstep impacts located per sub-step, SPEC §3) but not as even as the fixed-point engine's — the slowest sample measured is ~400 × the median
 // (docs/BENCHMARKS.md) — and on a Cortex-M4F double is software-emulated. The fixed-point engine stays the default.
 #pragma once
 
