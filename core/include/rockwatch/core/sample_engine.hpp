@@ -88,8 +88,8 @@ struct WallEngineConfig {
 // A call pays its pieces from a meter of `budget` units and starts no piece the meter cannot pay; at a full queue it
 // first finishes the oldest sample without a meter (the overrun) and the queue gets the budget less the overrun's
 // units (StepperAlarmChain::call). The overrun's work is one sample's, by the policy:
-//   shed:   n·(substep + trial [+ observer substep]) + evaluate [+ observer sample_end]   (no event located, no
-//           sensor sample applied: one trial a sub-step)
+//   shed:   n·(substep + trial [+ observer substep]) + evaluate [+ kQueueCapacity·dropped + sample_end]   (no event
+//           located, no sensor sample applied — each dropped at the cost of its check: one trial a sub-step)
 //   finish: n·(substep + S·(trial + locate) + locate [+ observer substep]) + evaluate
 //           [+ kQueueCapacity·update + sample_end]                                        (every event, every sample)
 // overhead: what a call does beyond its meter (the seam's conversions, the queue's bookkeeping, the cost model's
@@ -120,7 +120,7 @@ inline WorstCallBound worst_call_bound(const WallEngineConfig& c) {
   const bool shed = b.metered && c.work_overflow == WorkOverflow::shed;
   const std::int64_t per_substep = shed ? w.substep + w.trial : w.substep + segments * (w.trial + w.locate) + w.locate;
   b.overrun_units = n * (per_substep + (observed ? o.substep : 0)) + w.evaluate +
-                    (observed ? o.sample_end + (shed ? 0 : std::int64_t(b.updates_per_sample) * o.update) : 0);
+                    (observed ? o.sample_end + std::int64_t(b.updates_per_sample) * (shed ? o.dropped : o.update) : 0);
   b.overhead_units = observed ? kObserverCallOverheadUnits : kDefaultCallOverheadUnits;
   b.bound_units = b.overhead_units + (b.budget_units > b.overrun_units ? b.budget_units : b.overrun_units);
   b.share_units = observed ? estimator_share_units(c.dt_s) : 0;

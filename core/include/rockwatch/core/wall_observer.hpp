@@ -468,7 +468,8 @@ class WallObserver {
   bool run_updates(Stepper& stepper, Meter& meter) {
     ObserverStepReport& out = step_out_;
     while (count_ > 0 && queue_[head_].utime_us <= step_t_us_) {
-      if (meter.shed) {  // the engine sheds: the sample is dropped, not applied
+      if (meter.shed) {  // the engine sheds: the sample is dropped, not applied (its check paid, as a stale one's)
+        if (!meter.take(kWork.dropped)) return false;
         head_ = (head_ + 1) % kQueueCapacity;
         --count_;
         ++counters_.queue_overflow;
