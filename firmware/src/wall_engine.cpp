@@ -49,6 +49,7 @@ WallEngineError WallEngine::init(const WallEngineConfig& c) {
   }
   axes_ = core::cast_sensor_axes<core::AccelQ7_24>(c.axes);
   work_budget_units_ = c.work_budget_units;
+  observer_budget_units_ = core::observer_work_budget_units(c.dt_s);
   work_overflow_ = c.work_overflow;
   calls_ = 0;
   finished_count_ = 0;
@@ -113,14 +114,14 @@ EngineSample WallEngine::start(double ug_mps2, double vg_mps2) {
 }
 
 EngineSample WallEngine::restart(double ug_mps2, double vg_mps2) {
-  if (chain_.pending() > 0) return step_metered(core::AccelQ7_56(ug_mps2), core::AccelQ7_56(vg_mps2), true);
+  if (chain_.pending() > 0) return step_metered(core::AccelQ7_56(ug_mps2), core::AccelQ7_56(vg_mps2), true, 0, 0);
   restart_motion(core::AccelQ7_56(ug_mps2), core::AccelQ7_56(vg_mps2));
   return finish_now();
 }
 
 EngineSample WallEngine::step(double ug_mps2, double vg_mps2) {
   if (work_budget_units_ > 0 && !observer_enabled_) {
-    return step_metered(core::AccelQ7_56(ug_mps2), core::AccelQ7_56(vg_mps2), false);
+    return step_metered(core::AccelQ7_56(ug_mps2), core::AccelQ7_56(vg_mps2), false, 0, 0);
   }
   process_wall(core::AccelQ7_56(ug_mps2), core::AccelQ7_56(vg_mps2));
   return finish_now();
@@ -128,6 +129,9 @@ EngineSample WallEngine::step(double ug_mps2, double vg_mps2) {
 
 EngineSample WallEngine::step_at(double ug_mps2, double vg_mps2, std::int64_t t_us, std::int64_t step_us) {
   if (!observer_enabled_) return step(ug_mps2, vg_mps2);
+  if (work_budget_units_ > 0) {
+    return step_metered(core::AccelQ7_56(ug_mps2), core::AccelQ7_56(vg_mps2), false, t_us, step_us);
+  }
   process_wall_at(core::AccelQ7_56(ug_mps2), core::AccelQ7_56(vg_mps2), t_us, step_us);
   return finish_now();
 }
@@ -140,15 +144,22 @@ EngineSample WallEngine::finish_now() {
 
 // Carry-over (core/work_meter.hpp). The queue's samples are finished in order, each exactly as process_wall() would
 // have; only the call that finishes it changes.
-EngineSample WallEngine::step_metered(core::AccelQ7_56 ug_mps2, core::AccelQ7_56 vg_mps2, bool restart) {
+EngineSample WallEngine::step_metered(core::AccelQ7_56 ug_mps2, core::AccelQ7_56 vg_mps2, bool restart,
+                                      std::int64_t t_us, std::int64_t step_us) {
   ++calls_;
   finished_count_ = 0;
   out_.ug_mps2 = core::wide_convert<core::AccelQ7_24>(ug_mps2);
   out_.vg_mps2 = core::wide_convert<core::AccelQ7_24>(vg_mps2);
-  const auto report = chain_.call(ug_mps2, vg_mps2, restart, work_budget_units_, work_overflow_, calls_,
-                                  kMaxFinishedPerCall,
-                                  [this](const core::AlarmChainOutput<core::FixedRockingStepper>& o,
-                                         std::uint32_t tag) { finish_queued(o, tag); });
+  const auto on_sample = [this](const core::AlarmChainOutput<core::FixedRockingStepper>& o, std::uint32_t tag) {
+    finish_queued(o, tag);
+  };
+  // With the observer its pieces are paid from the same meter and carried over with the samples (core/
+  // stepper_alarm_chain.hpp, run_observed): the call's budget is the estimator's share of the sample.
+  const auto report = observer_enabled_
+                          ? chain_.call_observed(ug_mps2, vg_mps2, t_us, step_us, restart, observer_budget_units_,
+                                                 work_overflow_, calls_, kMaxFinishedPerCall, observer_, on_sample)
+                          : chain_.call(ug_mps2, vg_mps2, restart, work_budget_units_, work_overflow_, calls_,
+                                        kMaxFinishedPerCall, on_sample);
   if (report.overrun) finished_[0].work_overrun = true;  // the overrun's sample is the call's first
   work_counters_.count_call(report);
   last_call_units_ = report.units_spent + report.overrun_units;
@@ -159,14 +170,20 @@ EngineSample WallEngine::step_metered(core::AccelQ7_56 ug_mps2, core::AccelQ7_56
 void WallEngine::finish_pending() {
   finished_count_ = 0;
   core::WorkMeter meter = core::WorkMeter::unlimited();  // the metered instantiation (one copy in the image)
-  chain_.run(meter, kMaxFinishedPerCall, [](int, const core::FixedStepReport&, core::AccelQ7_56, core::AccelQ7_56) {},
-             [this](const core::AlarmChainOutput<core::FixedRockingStepper>& o, std::uint32_t tag) {
-               finish_queued(o, tag);
-             });
+  const auto on_sample = [this](const core::AlarmChainOutput<core::FixedRockingStepper>& o, std::uint32_t tag) {
+    finish_queued(o, tag);
+  };
+  if (observer_enabled_) {
+    chain_.run_observed(meter, observer_, kMaxFinishedPerCall, on_sample);
+  } else {
+    chain_.run(meter, kMaxFinishedPerCall,
+               [](int, const core::FixedStepReport&, core::AccelQ7_56, core::AccelQ7_56) {}, on_sample);
+  }
 }
 
 void WallEngine::finish_queued(const core::AlarmChainOutput<core::FixedRockingStepper>& o, std::uint32_t tag) {
   static_cast<core::AlarmChainOutput<core::FixedRockingStepper>&>(out_) = o;
+  if (observer_enabled_) observer_report_ = chain_.observer_report();
   EngineSample& e = finished_[finished_count_++];
   e = sample();
   e.late_calls = static_cast<std::uint16_t>(calls_ - tag > 65535u ? 65535u : calls_ - tag);

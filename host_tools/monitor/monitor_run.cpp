@@ -745,6 +745,25 @@ int run_monitor(int argc, const char* const* argv, std::ostream& out, std::ostre
            {"wall", config->wall_origin},
            {"lcm_url", config->lcm_url},
            {"lcm_url_origin", config->lcm_url_origin}};
+    // The worst call of the firmware's engine on paper at the configured rate (core::worst_call_bound; docs/
+    // FIXED_POINT.md "The worst call on paper"): what the fixed-point engine does per call on the wall's Cortex-M4
+    // with the firmware's work budget, with the observer as configured. Not part of the settings (nor the digest).
+    if (config->settings.arithmetic == core::MonitorArithmetic::fixed_point) {
+      core::WallEngineConfig e = config->settings.engine;
+      e.dt_s = 1.0 / config->settings.sample_rate_hz;
+      if (e.work_budget_units == 0) e.work_budget_units = core::kDefaultWorkBudgetUnits;  // the firmware's
+      const core::WorstCallBound b = core::worst_call_bound(e);
+      j["worst_call"] = {{"observer", e.observer_enabled},
+                         {"work_overflow", options::work_overflow_name(e.work_overflow)},
+                         {"substeps", b.substeps},
+                         {"segments_per_substep", b.segments_per_substep},
+                         {"sensor_samples_per_sample", b.updates_per_sample},
+                         {"budget_units", b.budget_units},
+                         {"overrun_units", b.overrun_units},
+                         {"overhead_units", b.overhead_units},
+                         {"bound_m4_instructions", b.bound_units},
+                         {"estimator_share_m4_instructions", e.observer_enabled ? json(b.share_units) : json(nullptr)}};
+    }
     const TimingSettings& t = config->timing;
     if (t.any()) {
       j["timing"] = {{"realtime_priority", t.priority > 0 ? json(t.priority) : json(nullptr)},

@@ -222,9 +222,10 @@ TEST(WallObserver, SensorSamplesWithoutGroundSamplesOverflowTheQueueCounted) {
   WallObserver<RockingStepper<double>> observer;
   CHECK(observer.init(ObserverOptions{}, setup_with_r(0.8), paper_wall()) == ObserverError::ok);
   std::uint32_t flags = 0;
-  for (int k = 0; k < 20; ++k) flags |= observer.push(displacement(k * kDtUs, 0.0));
+  constexpr int kSent = WallObserver<RockingStepper<double>>::kQueueCapacity + 4;
+  for (int k = 0; k < kSent; ++k) flags |= observer.push(displacement(k * kDtUs, 0.0));
   CHECK(flags & observer_flag::queue_overflow);
-  LONGS_EQUAL(20 - WallObserver<RockingStepper<double>>::kQueueCapacity, observer.counters().queue_overflow);
+  LONGS_EQUAL(kSent - WallObserver<RockingStepper<double>>::kQueueCapacity, observer.counters().queue_overflow);
 }
 
 TEST(WallObserver, RefusesSettingsOutOfRangeNamingWhich) {
@@ -430,4 +431,63 @@ TEST(WallObserver, ClampsACapacityOutsideThePhysicalRangeAndFlagsIt) {
   CHECK(std::isfinite(w.x_inst_double) && std::isfinite(w.sigma_double));
   CHECK(w.x_inst_double >= 0.3 * 0.1003276 - 1e-9);
   CHECK(w.flags & observer_flag::estimate_clamped);
+}
+
+// The covariance propagated once per input sample (the sub-steps' transitions composed: Φ ← F Φ, the pending noise of
+// x, ẋ, P ← Φ P Φᵀ + Q at the sample's end) against the same prediction applied at every sub-step (after_step), in
+// double, over free rocking with impacts and no sensor: the same P to rounding (the parameters' walks, added once
+// per sample, are the only difference, of order walk² = 1e-10 × ẋ). And the fixed-point observer's per-sample P
+// follows the double one's.
+TEST(WallObserver, ThePerSampleCovarianceIsTheStepByStepOne) {
+  constexpr int kSub = 5;
+  RockingStepper<double> a, b;
+  a.init(setup_with_r(0.8));
+  b.init(setup_with_r(0.8));
+  a.set_state(0.04, 0.0, 0.0, 0.0);
+  b.set_state(0.04, 0.0, 0.0, 0.0);
+  FixedRockingStepper f;
+  CHECK(f.init(setup_with_r(0.8)) == FixedSetupError::ok);
+  f.set_state(LengthQ1_62(0.04), SpeedQ3_60{}, AccelQ7_56{}, AccelQ7_56{});
+  WallObserver<RockingStepper<double>> step_by_step, per_sample;
+  WallObserver<FixedRockingStepper> fixed;
+  CHECK(step_by_step.init(ObserverOptions{}, setup_with_r(0.8), paper_wall()) == ObserverError::ok);
+  CHECK(per_sample.init(ObserverOptions{}, setup_with_r(0.8), paper_wall()) == ObserverError::ok);
+  CHECK(fixed.init(ObserverOptions{}, setup_with_r(0.8), paper_wall()) == ObserverError::ok);
+  std::int64_t t = 0;
+  int impacts = 0;
+  double worst = 0.0, worst_fixed = 0.0, most_var_x = 0.0;
+  for (int k = 0; k < 400; ++k) {
+    for (int j = 0; j < kSub; ++j) {
+      t += kDtUs;
+      const StepReport<double> ra = a.step(0.0, 0.0);
+      step_by_step.after_step(a, ra, 0.0, 0.0, t, kDtUs);
+      const StepReport<double> rb = b.step(0.0, 0.0);
+      impacts += rb.impacts_total;
+      per_sample.begin_step(b, rb, 0.0, 0.0, t, kDtUs);
+      UnmeteredWork meter;
+      per_sample.run_updates(b, meter);
+      per_sample.end_step(b);
+      const FixedStepReport rf = f.step(AccelQ7_56{}, AccelQ7_56{});
+      fixed.begin_step(f, rf, AccelQ7_56{}, AccelQ7_56{}, t, kDtUs);
+      fixed.run_updates(f, meter);
+      fixed.end_step(f);
+    }
+    per_sample.end_sample();
+    fixed.end_sample();
+    const auto& p = step_by_step.covariance();
+    const auto& q = per_sample.covariance();
+    const auto& r = fixed.covariance();
+    most_var_x = std::fmax(most_var_x, p(0, 0));
+    for (int i = 0; i < 6; ++i) {
+      for (int j = 0; j < 6; ++j) {
+        const double scale = std::sqrt(std::fabs(p(i, i) * p(j, j))) + 1e-30;
+        worst = std::fmax(worst, std::fabs(p(i, j) - q(i, j)) / scale);
+        worst_fixed = std::fmax(worst_fixed, std::fabs(q(i, j) - r(i, j).to_double()) / scale);
+      }
+    }
+  }
+  CHECK(impacts > 5);
+  CHECK(most_var_x > 0.0);  // the wall rocked (it rests at the end)
+  CHECK(worst < 1e-6);        // relative to the entries' scale √(P_ii P_jj)
+  CHECK(worst_fixed < 1e-6);
 }

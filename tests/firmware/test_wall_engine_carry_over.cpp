@@ -289,3 +289,71 @@ TEST(WallEngineCarryOver, TheAnalysisMeasuresOnlyWithABudget) {
   motion.dt_s = dt;
   CHECK_FALSE(rockwatch::sim::analyse(core::paper_wall(), motion, unmeasured).alarm.published.measured);
 }
+
+// With the wall observer the engine's work and the observer's are paid from one meter per call (the estimator's share
+// of a 1 kHz sample, less than a sample with the observer costs) and carried over together: every finished sample —
+// the fused state, the alarm and the published estimates — is the unmetered engine's bit for bit, though many finish
+// a call late; the sensor samples, pushed on arrival, are applied to the sub-step they belong to, never a later one;
+// nothing shed.
+TEST(WallEngineCarryOver, TheObserverIsMeteredAndCarriedOverBitIdentical) {
+  double dt5 = 0.0;
+  const std::vector<double> ug5 = suite_record(1, 0, 0.25, &dt5);
+  // The record resampled to 1 kHz (linear), its first 8 s.
+  const double dt = 0.001;
+  std::vector<double> ug;
+  for (std::size_t k = 0; double(k) * dt <= 8.0; ++k) {
+    const double t = double(k) * dt, pos = t / dt5;
+    const std::size_t i = static_cast<std::size_t>(pos);
+    const double a = pos - double(i);
+    ug.push_back(i + 1 < ug5.size() ? ug5[i] + (ug5[i + 1] - ug5[i]) * a : 0.0);
+  }
+  // The sensors: a truer wall (r_ana, the model r_exp) through the open-loop engine, with a 1 mm offset.
+  fw::WallEngine truth;
+  LONGS_EQUAL(static_cast<int>(fw::WallEngineError::ok),
+              static_cast<int>(truth.init(config(dt, 0, core::RestitutionKind::ana))));
+  std::vector<double> x_true;
+  x_true.push_back(truth.start(ug[0], 0.0).x_m);
+  for (std::size_t k = 1; k < ug.size(); ++k) x_true.push_back(truth.step(ug[k], 0.0).x_m);
+
+  fw::WallEngineConfig metered = config(dt, core::kDefaultWorkBudgetUnits, core::RestitutionKind::exp);
+  metered.observer_enabled = true;
+  fw::WallEngineConfig unmetered = metered;
+  unmetered.work_budget_units = 0;
+  fw::WallEngine a, b;
+  LONGS_EQUAL(static_cast<int>(fw::WallEngineError::ok), static_cast<int>(a.init(metered)));
+  LONGS_EQUAL(static_cast<int>(fw::WallEngineError::ok), static_cast<int>(b.init(unmetered)));
+  const std::int64_t step_us = 1000;
+  std::vector<fw::EngineSample> expected, got;
+  a.start(ug[0], 0.0);
+  b.start(ug[0], 0.0);
+  for (std::size_t k = 1; k < ug.size(); ++k) {
+    const std::int64_t t_us = core::observed_step_end_us(double(k - 1) * dt, dt);
+    core::WallSensorSample s;
+    s.utime_us = t_us;
+    s.x_mid_m = x_true[k] + 0.001;
+    s.x_valid = true;
+    a.push_sensor(s);
+    b.push_sensor(s);
+    expected.push_back(b.step_at(ug[k], 0.0, t_us, step_us));
+    a.step_at(ug[k], 0.0, t_us, step_us);
+    for (int i = 0; i < a.finished_count(); ++i) got.push_back(a.finished_sample(i));
+  }
+  while (a.pending_samples() > 0) {
+    a.finish_pending();
+    for (int i = 0; i < a.finished_count(); ++i) got.push_back(a.finished_sample(i));
+  }
+  LONGS_EQUAL(static_cast<long>(expected.size()), static_cast<long>(got.size()));
+  for (std::size_t k = 0; k < expected.size(); ++k) {
+    CHECK_TRUE(got[k].x_m == expected[k].x_m);
+    CHECK_TRUE(got[k].xd_mps == expected[k].xd_mps);
+    CHECK_TRUE(got[k].alarm.level == expected[k].alarm.level);
+    CHECK_TRUE(got[k].observer.sigma_x_m == expected[k].observer.sigma_x_m);
+    CHECK_TRUE(got[k].observer.r_estimate == expected[k].observer.r_estimate);
+    CHECK_TRUE(got[k].observer.x_inst_alarm_m == expected[k].observer.x_inst_alarm_m);
+  }
+  CHECK_TRUE(b.observer_counters().x_updates > 1000);
+  LONGS_EQUAL(static_cast<long>(b.observer_counters().x_updates), static_cast<long>(a.observer_counters().x_updates));
+  CHECK_TRUE(a.work_counters().late_samples > 100);  // the meter did carry work over
+  LONGS_EQUAL(0, static_cast<long>(a.work_counters().shed_samples));
+  LONGS_EQUAL(0, static_cast<long>(a.observer_counters().queue_overflow));
+}

@@ -415,7 +415,7 @@ std::uint32_t run_replay(std::uint32_t (*stack_used_bytes)()) {
     out.text(" ");
     out.number(static_cast<std::uint64_t>(g_seam.pending_samples()));
     out.text(" ");
-    out.number(static_cast<std::uint64_t>(observed ? 0 : g_seam.last_call_units()));
+    out.number(static_cast<std::uint64_t>(g_seam.last_call_units()));
     out.text("\n");
   }
   // The samples still waiting at the end are finished without a budget (as the monitor does when its input stops).

@@ -25,9 +25,35 @@ namespace rockwatch::core {
 // The default work budget of a call: with the call's own overhead, at most 25 000 Cortex-M4 instructions per sample
 // (docs/BENCHMARKS.md, "Bounded work per call").
 inline constexpr std::int32_t kDefaultWorkBudgetUnits = 23000;
+// What an open-loop call does beyond its meter, at most (measured: docs/BENCHMARKS.md, "Bounded work per call").
+inline constexpr std::int32_t kDefaultCallOverheadUnits = 2000;
 // The least budget: a sample with one located event must fit one call, else the queue would only ever grow.
 inline constexpr std::int32_t kMinWorkBudgetUnits = FixedRockingStepper::kWork.substep + FixedRockingStepper::kWork.trial +
                                                     FixedRockingStepper::kWork.locate + FixedRockingStepper::kWork.evaluate;
+
+// With the wall observer on, the estimator's share of a sample (issue 28): a quarter of the sample period on the
+// wall's Cortex-M4 at 168 MHz and about 1.3 cycles per instruction, taken as 128 million instructions a second
+// (1 kHz: 32 000 instructions a sample, 200 Hz: 160 000, 100 Hz: 320 000).
+inline constexpr double kM4InstructionsPerSecond = 128e6;
+inline constexpr double kEstimatorShareOfSample = 0.25;
+inline std::int64_t estimator_share_units(double dt_s) {
+  return static_cast<std::int64_t>(kEstimatorShareOfSample * dt_s * kM4InstructionsPerSecond);
+}
+// What a call of the engine does beyond the units its meter charged, at most: the seam's conversions, the queue's
+// bookkeeping, the publication of the samples it finishes (their estimates in double) and the cost model's error
+// (measured on the emulated M4: docs/BENCHMARKS.md, "The metered observer").
+inline constexpr std::int32_t kObserverCallOverheadUnits = 12000;
+// The work budget of a call with the observer on: the estimator's share less that overhead (at least the least
+// budget). The open loop keeps WallEngineConfig::work_budget_units (kDefaultWorkBudgetUnits: 25 000 at any rate).
+inline std::int32_t observer_work_budget_units(double dt_s) {
+  using Observer = WallObserver<FixedRockingStepper>;
+  const std::int64_t least = kMinWorkBudgetUnits + Observer::kWork.substep + Observer::kWork.update +
+                             Observer::kWork.sample_end;
+  std::int64_t units = estimator_share_units(dt_s) - kObserverCallOverheadUnits;
+  if (units < least) units = least;
+  if (units > 1000000000) units = 1000000000;
+  return static_cast<std::int32_t>(units);
+}
 
 // What a wall engine is configured with (both engines).
 struct WallEngineConfig {
@@ -44,13 +70,62 @@ struct WallEngineConfig {
   bool observer_enabled = false;
   ObserverOptions observer{};
   // The work one step/step_at call of the fixed-point engine may do [work units = Cortex-M4 instructions]: the rest
-  // waits for the next call (carry-over, core/work_meter.hpp). 0: every sample finishes in its own call. Only the
-  // open-loop fixed-point engine is metered (the observer's and the double engine's steps are not).
+  // waits for the next call (carry-over, core/work_meter.hpp). 0: every sample finishes in its own call. The
+  // fixed-point engine is metered; with the observer on, its work is metered too and the call's budget is
+  // observer_work_budget_units(dt_s) (the estimator's share of the sample) whenever this is not 0. The double
+  // engine is never metered.
   std::int32_t work_budget_units = kDefaultWorkBudgetUnits;
   // What the budgeted engine does when its queue of waiting samples is full (core/work_meter.hpp): shed keeps every
   // call within the budget, finish keeps every answer.
   WorkOverflow work_overflow = WorkOverflow::shed;
 };
+
+// The worst call of the fixed-point engine on paper (docs/FIXED_POINT.md, "The worst call on paper"): from the caps —
+// n sub-steps per sample, kMaxSegmentsPerStep segments per sub-step, at most kQueueCapacity sensor samples applied
+// in a sample — and the cost model (FixedRockingStepper::kWork, WallObserver::kWork), an upper bound on the
+// instructions of one step()/step_at() call:
+//   bound = overhead + max(budget, overrun)
+// A call pays its pieces from a meter of `budget` units and starts no piece the meter cannot pay; at a full queue it
+// first finishes the oldest sample without a meter (the overrun) and the queue gets the budget less the overrun's
+// units (StepperAlarmChain::call). The overrun's work is one sample's, by the policy:
+//   shed:   n·(substep + trial [+ observer substep]) + evaluate [+ kQueueCapacity·dropped + sample_end]   (no event
+//           located, no sensor sample applied — each dropped at the cost of its check: one trial a sub-step)
+//   finish: n·(substep + S·(trial + locate) + locate [+ observer substep]) + evaluate
+//           [+ kQueueCapacity·update + sample_end]                                        (every event, every sample)
+// overhead: what a call does beyond its meter (the seam's conversions, the queue's bookkeeping, the cost model's
+// error), measured. Without a budget (0) the engine is not metered: the bound is the finish overrun's, a whole
+// sample. All in work units (Cortex-M4 instructions).
+struct WorstCallBound {
+  bool metered = false;            // a budget is in force (else every sample finishes in its own call)
+  int substeps = 1;                // n
+  int segments_per_substep = 0;    // S = FixedRockingStepper::kMaxSegmentsPerStep
+  int updates_per_sample = 0;      // the observer's queue capacity (0: observer off)
+  std::int64_t budget_units = 0;   // the meter of a call
+  std::int64_t overrun_units = 0;  // one sample without a meter, by the overflow policy
+  std::int64_t overhead_units = 0;
+  std::int64_t bound_units = 0;    // overhead + max(budget, overrun)
+  std::int64_t share_units = 0;    // with the observer: the estimator's share of the sample (target), else 0
+};
+inline WorstCallBound worst_call_bound(const WallEngineConfig& c) {
+  constexpr WorkCosts w = FixedRockingStepper::kWork;
+  constexpr ObserverWorkCosts o = WallObserver<FixedRockingStepper>::kWork;
+  WorstCallBound b;
+  b.substeps = substeps_per_sample(c.dt_s, c.max_step_s);
+  b.segments_per_substep = FixedRockingStepper::kMaxSegmentsPerStep;
+  const std::int64_t n = b.substeps, segments = b.segments_per_substep;
+  const bool observed = c.observer_enabled;
+  b.updates_per_sample = observed ? WallObserver<FixedRockingStepper>::kQueueCapacity : 0;
+  b.budget_units = c.work_budget_units == 0 ? 0 : observed ? observer_work_budget_units(c.dt_s) : c.work_budget_units;
+  b.metered = b.budget_units > 0;
+  const bool shed = b.metered && c.work_overflow == WorkOverflow::shed;
+  const std::int64_t per_substep = shed ? w.substep + w.trial : w.substep + segments * (w.trial + w.locate) + w.locate;
+  b.overrun_units = n * (per_substep + (observed ? o.substep : 0)) + w.evaluate +
+                    (observed ? o.sample_end + std::int64_t(b.updates_per_sample) * (shed ? o.dropped : o.update) : 0);
+  b.overhead_units = observed ? kObserverCallOverheadUnits : kDefaultCallOverheadUnits;
+  b.bound_units = b.overhead_units + (b.budget_units > b.overrun_units ? b.budget_units : b.overrun_units);
+  b.share_units = observed ? estimator_share_units(c.dt_s) : 0;
+  return b;
+}
 
 // Why init() refused a configuration. Values are stable: append, never renumber.
 enum class WallEngineError : std::uint8_t {
@@ -145,15 +220,16 @@ ObserverSample observer_sample(const Observer& observer, const ObserverStepRepor
   o.bias_m = observer.bias_m();
   o.innovation_x_m = observer.last_innovation_x_m();
   o.innovation_a_mps2 = observer.last_innovation_a_mps2();
+  // Each root once (the accessors would recompute σ(x_inst), ω and σ(k); the same values).
   o.x_inst_estimate_m = observer.x_inst_estimate_m();
   o.sigma_x_inst_m = observer.sigma_x_inst_m();
-  o.x_inst_alarm_m = observer.x_inst_alarm_m();
+  o.x_inst_alarm_m = observer.x_inst_alarm_m(o.x_inst_estimate_m, o.sigma_x_inst_m, Side::positive);
   o.omega_estimate_rps = observer.omega_estimate_rps();
-  o.sigma_omega_rps = observer.sigma_omega_rps();
   o.c_estimate_mps2 = observer.c_estimate_mps2();
   o.sigma_c_mps2 = observer.sigma_c_mps2();
   o.k_estimate_ps2 = observer.k_estimate_ps2();
   o.sigma_k_ps2 = observer.sigma_k_ps2();
+  o.sigma_omega_rps = o.omega_estimate_rps > 0.0 ? o.sigma_k_ps2 / (2.0 * o.omega_estimate_rps) : 0.0;
   return o;
 }
 

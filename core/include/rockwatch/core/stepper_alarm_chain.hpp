@@ -13,12 +13,14 @@
 
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 
 #include "rockwatch/core/alarm.hpp"
 #include "rockwatch/core/fixed_instability_indicators.hpp"
 #include "rockwatch/core/fixed_rocking_stepper.hpp"
 #include "rockwatch/core/instability_indicators.hpp"
 #include "rockwatch/core/rocking_stepper.hpp"
+#include "rockwatch/core/wall_observer.hpp"
 
 namespace rockwatch::core {
 
@@ -88,11 +90,13 @@ struct AlarmChainTraits<FixedRockingStepper> {
     if (n == 1) return f;
     return theta[j - 1] + wide_mul<FractionQ1_62>(f, theta[1]);
   }
-  // As the double chain's, in the indicators' 32-bit formats. Once per observed sample: one square root and three
-  // divisions in double (soft float on the M4), then five 32-bit products per side.
+  // As the double chain's, in the indicators' 32-bit formats. Once per observed sample: the root and the three
+  // reciprocals in single precision on the M4F's FPU (24-bit mantissas: within a unit in the last place of the
+  // Q7.24 ratios, for a few dozen instructions instead of soft double's ~3 000), then five 32-bit products per side.
   static void scale_constants(Constants& c, const Constants& n, double q, double kk) {
-    const double w = std::sqrt(kk);
-    const RatioQ7_24 fq(q), inv_q(1.0 / q), inv_w(1.0 / w), inv_qw(1.0 / (q * w));
+    const float qf = static_cast<float>(q), w = std::sqrt(static_cast<float>(kk));
+    const RatioQ7_24 fq(q), inv_q(static_cast<double>(1.0f / qf)), inv_w(static_cast<double>(1.0f / w)),
+        inv_qw(static_cast<double>(1.0f / (qf * w)));
     for (int i = 0; i < 2; ++i) {
       c.x_inst_m[i] = fixed_mul<LengthQ1_30>(fq, n.x_inst_m[i]);
       c.x_warning_m[i] = fixed_mul<LengthQ1_30>(fq, n.x_warning_m[i]);
@@ -215,23 +219,16 @@ class StepperAlarmChain {
   template <typename Observer, typename OnSubstep>
   typename Observer::StepOutcome step_observed(Input ug_mps2, Input vg_mps2, Observer& observer, std::int64_t t_us,
                                                std::int64_t step_us, Output& out, OnSubstep&& on_substep) {
-    typename Observer::StepOutcome total{};
-    const std::int64_t n = substeps_;
-    step_motion(ug_mps2, vg_mps2, out, [&](int j, const Report& sub, Input ug, Input vg) {
-      const std::int64_t end_us = t_us - (step_us * (n - j)) / n;
-      const typename Observer::StepOutcome o = observer.after_step(stepper_, sub, ug, vg, end_us, step_us / n);
-      total.flags |= o.flags;
-      total.x_updates += o.x_updates;
-      total.a_updates += o.a_updates;
-      total.corrected = total.corrected || o.corrected;
-      on_substep(j, sub, ug, vg);
-    });
-    // The alarm judges the estimated wall (its capacity less the observer's margin, ObserverOptions::
-    // alarm_capacity_sigmas), not the nominal one. Open loop (step, step_motion, run) keeps the nominal constants.
-    double q = 1.0, kk = 1.0;
-    if (observer.alarm_scales(q, kk)) Traits::scale_constants(constants_, nominal_constants_, q, kk);
+    UnmeteredWork meter;
+    begin_motion();
+    begin_observed(t_us, step_us);
+    out.step = Report{};
+    advance_motion(ug_mps2, vg_mps2, out.step, meter, on_substep, &observer);
+    ug_last_ = ug_mps2;
+    vg_last_ = vg_mps2;
+    end_observed(observer);
     evaluate(out);
-    return total;
+    return obs_total_;
   }
   template <typename Observer>
   typename Observer::StepOutcome step_observed(Input ug_mps2, Input vg_mps2, Observer& observer, std::int64_t t_us,
@@ -259,9 +256,12 @@ class StepperAlarmChain {
   // Queues a sample (restart: the motion restarts from rest with this input, as restart_motion()). False, nothing
   // queued, when kMaxPendingSamples wait.
   // tag: the caller's, handed back with the finished sample.
-  bool submit(Input ug_mps2, Input vg_mps2, bool restart = false, std::uint32_t tag = 0) {
+  // t_us, step_us: the sample's end on the sensor clock and its interval (the observer's, submit_observed()).
+  bool submit(Input ug_mps2, Input vg_mps2, bool restart = false, std::uint32_t tag = 0, std::int64_t t_us = 0,
+              std::int64_t step_us = 0) {
     if (pending_count_ == kMaxPendingSamples) return false;
-    queue_[(pending_head_ + pending_count_) % kMaxPendingSamples] = PendingSample{ug_mps2, vg_mps2, restart, tag};
+    queue_[(pending_head_ + pending_count_) % kMaxPendingSamples] =
+        PendingSample{ug_mps2, vg_mps2, restart, tag, t_us, step_us};
     ++pending_count_;
     return true;
   }
@@ -271,6 +271,7 @@ class StepperAlarmChain {
   void clear_pending() {
     pending_count_ = 0;
     head_begun_ = false;
+    obs_phase_ = ObserverPhase::none;
   }
 
   // Works on the queue until it is empty, max_samples are finished or the meter cannot pay for the next piece:
@@ -278,30 +279,19 @@ class StepperAlarmChain {
   // indicators and alarm; the stepper then stands at its end).
   template <typename Meter, typename OnSubstep, typename OnSample>
   void run(Meter& meter, int max_samples, OnSubstep&& on_substep, OnSample&& on_sample) {
-    for (int finished = 0; pending_count_ > 0 && finished < max_samples; ++finished) {
-      const PendingSample& p = queue_[pending_head_];
-      if (p.restart) {
-        if (!meter.take(Stepper::kWork.evaluate)) return;
-        restart_motion(p.ug_mps2, p.vg_mps2, head_out_);
-      } else {
-        if (!head_begun_) {
-          begin_motion();
-          head_out_.step = Report{};
-          head_begun_ = true;
-        }
-        if (!advance_motion(p.ug_mps2, p.vg_mps2, head_out_.step, meter, on_substep)) return;
-        if (!meter.take(Stepper::kWork.evaluate)) return;
-        evaluate(head_out_);
-        ug_last_ = p.ug_mps2;
-        vg_last_ = p.vg_mps2;
-      }
-      const std::uint32_t tag = p.tag;
-      head_begun_ = false;
-      pending_head_ = (pending_head_ + 1) % kMaxPendingSamples;
-      --pending_count_;
-      on_sample(static_cast<const Output&>(head_out_), tag);
-    }
+    run_with(meter, max_samples, on_substep, on_sample, static_cast<NoObserver*>(nullptr));
   }
+  // The same with the wall observer between the stepper and the indicators (queued with submit_observed(), as
+  // step_observed() does it all at once): its pieces (core/wall_observer.hpp: a sub-step's prediction, each sensor
+  // sample applied, the sample's end) paid from the same meter, in the same order, so a sample finished at a later
+  // call is bit-identical to step_observed(). The observer's report of the finished sample: observer_report().
+  template <typename Meter, typename Observer, typename OnSample>
+  void run_observed(Meter& meter, Observer& observer, int max_samples, OnSample&& on_sample) {
+    const auto no_substep = [](int, const Report&, Input, Input) {};
+    run_with(meter, max_samples, no_substep, on_sample, &observer);
+  }
+  // The observer's report of the last sample finished by run_observed() (zero after a restart).
+  const ObserverStepReport& observer_report() const { return obs_total_; }
 
   // One call of a budgeted engine (the policy of firmware::WallEngine's step(), and of the studies that measure its
   // latency): this sample queued, then the queue worked with a meter of budget_units, finishing at most max_samples
@@ -309,25 +299,24 @@ class StepperAlarmChain {
   // queue still full (a sample's trials alone exceed the budget) first finishes the oldest without a budget, shedding
   // (an overrun); finish — a sample arriving at a full queue first finishes the oldest without a budget and without
   // shedding (an overrun), so nothing is ever shed. An overrun's sample is the call's first on_sample.
+  //
+  // The overrun's work is the call's first: the budget left for the queue is the budget less the overrun's units (at
+  // least 0), so that a call does at most max(budget, the overrun's work) units (docs/FIXED_POINT.md, "The worst call
+  // on paper").
   using CallReport = WorkCallReport;
   template <typename OnSample>
   CallReport call(Input ug_mps2, Input vg_mps2, bool restart, std::int32_t budget_units, WorkOverflow overflow,
                   std::uint32_t tag, int max_samples, OnSample&& on_sample) {
-    const auto no_substep = [](int, const Report&, Input, Input) {};
-    CallReport report;
-    if (pending_count_ == kMaxPendingSamples) {
-      WorkMeter room = WorkMeter::counting();
-      room.shed = overflow == WorkOverflow::shed;
-      run(room, 1, no_substep, on_sample);
-      report.overrun = true;
-      report.overrun_units = room.spent_of(WorkMeter::kCountingUnits);
-    }
-    submit(ug_mps2, vg_mps2, restart, tag);
-    WorkMeter meter = WorkMeter::of(budget_units);
-    meter.shed = overflow == WorkOverflow::shed && pending_count_ == kMaxPendingSamples;
-    run(meter, max_samples, no_substep, on_sample);
-    report.units_spent = meter.spent_of(budget_units);
-    return report;
+    return call_with(ug_mps2, vg_mps2, restart, 0, 0, budget_units, overflow, tag, max_samples, on_sample,
+                     static_cast<NoObserver*>(nullptr));
+  }
+  // The same with the wall observer (t_us, step_us as step_observed()'s; on_sample may read observer_report()).
+  template <typename Observer, typename OnSample>
+  CallReport call_observed(Input ug_mps2, Input vg_mps2, std::int64_t t_us, std::int64_t step_us, bool restart,
+                           std::int32_t budget_units, WorkOverflow overflow, std::uint32_t tag, int max_samples,
+                           Observer& observer, OnSample&& on_sample) {
+    return call_with(ug_mps2, vg_mps2, restart, t_us, step_us, budget_units, overflow, tag, max_samples, on_sample,
+                     &observer);
   }
 
   const Stepper& stepper() const { return stepper_; }
@@ -339,7 +328,89 @@ class StepperAlarmChain {
     Input ug_mps2, vg_mps2;
     bool restart;
     std::uint32_t tag;
+    std::int64_t t_us, step_us;  // with the observer: the sample's end on the sensor clock, its interval [µs]
   };
+
+  // The open loop's stand-in for an observer (run(), call()): no observer code is instantiated.
+  struct NoObserver {
+    static constexpr ObserverWorkCosts kWork{0, 0, 0, 0};
+  };
+  template <typename Observer>
+  static constexpr bool kObserved = !std::is_same_v<Observer, NoObserver>;
+
+  template <typename Meter, typename OnSubstep, typename OnSample, typename Observer>
+  void run_with(Meter& meter, int max_samples, OnSubstep& on_substep, OnSample& on_sample, Observer* observer) {
+    for (int finished = 0; pending_count_ > 0 && finished < max_samples; ++finished) {
+      const PendingSample& p = queue_[pending_head_];
+      if (p.restart) {
+        if (!meter.take(Stepper::kWork.evaluate)) return;
+        restart_motion(p.ug_mps2, p.vg_mps2, head_out_);
+        if constexpr (kObserved<Observer>) {
+          observer->restart_motion();
+          obs_total_ = ObserverStepReport{};
+        }
+      } else {
+        if (!head_begun_) {
+          begin_motion();
+          if constexpr (kObserved<Observer>) begin_observed(p.t_us, p.step_us);
+          head_out_.step = Report{};
+          head_begun_ = true;
+        }
+        if (!advance_motion(p.ug_mps2, p.vg_mps2, head_out_.step, meter, on_substep, observer)) return;
+        // The sample's end (the observer's, when on, and the indicators and the alarm): one piece, all of it
+        // idempotent until the queue advances.
+        if (!meter.take(Stepper::kWork.evaluate + Observer::kWork.sample_end)) return;
+        ug_last_ = p.ug_mps2;
+        vg_last_ = p.vg_mps2;
+        if constexpr (kObserved<Observer>) end_observed(*observer);
+        evaluate(head_out_);
+      }
+      const std::uint32_t tag = p.tag;
+      head_begun_ = false;
+      pending_head_ = (pending_head_ + 1) % kMaxPendingSamples;
+      --pending_count_;
+      on_sample(static_cast<const Output&>(head_out_), tag);
+    }
+  }
+
+  template <typename OnSample, typename Observer>
+  CallReport call_with(Input ug_mps2, Input vg_mps2, bool restart, std::int64_t t_us, std::int64_t step_us,
+                       std::int32_t budget_units, WorkOverflow overflow, std::uint32_t tag, int max_samples,
+                       OnSample& on_sample, Observer* observer) {
+    const auto no_substep = [](int, const Report&, Input, Input) {};
+    CallReport report;
+    if (pending_count_ == kMaxPendingSamples) {
+      WorkMeter room = WorkMeter::counting();
+      room.shed = overflow == WorkOverflow::shed;
+      run_with(room, 1, no_substep, on_sample, observer);
+      report.overrun = true;
+      report.overrun_units = room.spent_of(WorkMeter::kCountingUnits);
+    }
+    submit(ug_mps2, vg_mps2, restart, tag, t_us, step_us);
+    const std::int32_t left = budget_units > report.overrun_units ? budget_units - report.overrun_units : 0;
+    WorkMeter meter = WorkMeter::of(left);
+    meter.shed = overflow == WorkOverflow::shed && pending_count_ == kMaxPendingSamples;
+    run_with(meter, max_samples, no_substep, on_sample, observer);
+    report.units_spent = meter.spent_of(left);
+    return report;
+  }
+
+  // The observed sample in progress: its end and interval on the sensor clock, and the observer's report so far.
+  void begin_observed(std::int64_t t_us, std::int64_t step_us) {
+    obs_t_us_ = t_us;
+    obs_step_us_ = step_us;
+    obs_total_ = ObserverStepReport{};
+    obs_phase_ = ObserverPhase::none;
+  }
+  // The sample's end with the observer: the covariance brought up to date; the alarm judges the estimated wall (its
+  // capacity less the observer's margin, ObserverOptions::alarm_capacity_sigmas), not the nominal one. Open loop
+  // (step, step_motion, run) keeps the nominal constants.
+  template <typename Observer>
+  void end_observed(Observer& observer) {
+    observer.end_sample();
+    double q = 1.0, kk = 1.0;
+    if (observer.alarm_scales(q, kk)) Traits::scale_constants(constants_, nominal_constants_, q, kk);
+  }
 
   // The sample in progress: its sub-steps one by one, each in pieces paid from the meter (begin_motion(), then
   // advance_motion() until it returns true; `total` then holds the merged report).
@@ -348,8 +419,9 @@ class StepperAlarmChain {
     sub_active_ = false;
     motion_done_ = false;
   }
-  template <typename Meter, typename OnSubstep>
-  bool advance_motion(Input ug_mps2, Input vg_mps2, Report& total, Meter& meter, OnSubstep& on_substep) {
+  template <typename Meter, typename OnSubstep, typename Observer = NoObserver>
+  bool advance_motion(Input ug_mps2, Input vg_mps2, Report& total, Meter& meter, OnSubstep& on_substep,
+                      Observer* observer = nullptr) {
     while (!motion_done_) {
       if (!sub_active_) {
         // One step per sample runs even on a collapsed wall (its report says whether the input was valid).
@@ -363,9 +435,30 @@ class StepperAlarmChain {
         stepper_.begin_step(sub_ug_, sub_vg_);
         sub_active_ = true;
       }
-      if (!stepper_.continue_step(meter)) return false;
-      sub_active_ = false;
+      if (obs_phase_ == ObserverPhase::none) {
+        if (!stepper_.continue_step(meter)) return false;
+        if constexpr (kObserved<Observer>) obs_phase_ = ObserverPhase::begin;
+      }
       const Report& sub = stepper_.step_report();
+      if constexpr (kObserved<Observer>) {
+        // The observer after the sub-step: its prediction, then the sensor samples due by the sub-step's end
+        // (sub-step j ends at t_us − step_us·(n − j)/n, integer µs), each a piece of its own.
+        if (obs_phase_ == ObserverPhase::begin) {
+          if (!meter.take(Observer::kWork.substep)) return false;
+          const std::int64_t n = substeps_;
+          const std::int64_t end_us = obs_t_us_ - (obs_step_us_ * (n - sub_j_)) / n;
+          observer->begin_step(stepper_, sub, sub_ug_, sub_vg_, end_us, obs_step_us_ / n);
+          obs_phase_ = ObserverPhase::updates;
+        }
+        if (!observer->run_updates(stepper_, meter)) return false;
+        const ObserverStepReport o = observer->end_step(stepper_);
+        obs_phase_ = ObserverPhase::none;
+        obs_total_.flags |= o.flags;
+        obs_total_.x_updates += o.x_updates;
+        obs_total_.a_updates += o.a_updates;
+        obs_total_.corrected = obs_total_.corrected || o.corrected;
+      }
+      sub_active_ = false;
       on_substep(sub_j_, sub, sub_ug_, sub_vg_);
       merge(total, sub, sub_j_);
       ++sub_j_;
@@ -417,6 +510,14 @@ class StepperAlarmChain {
   bool sub_active_ = false;
   bool motion_done_ = false;
   Input sub_ug_{}, sub_vg_{};  // the sub-step's input
+  // The observer's part of the sample in progress (begin_observed, advance_motion): the sample's end and interval
+  // on the sensor clock [µs], where the sub-step stands (the stepper's part under way, done and the observer's
+  // prediction next, the observer's updates under way) and the
+  // observer's report of the sample so far.
+  enum class ObserverPhase : std::uint8_t { none, begin, updates };
+  std::int64_t obs_t_us_ = 0, obs_step_us_ = 0;
+  ObserverPhase obs_phase_ = ObserverPhase::none;
+  ObserverStepReport obs_total_{};
   // The queue of run(): a ring of kMaxPendingSamples, the head in progress when head_begun_.
   PendingSample queue_[kMaxPendingSamples]{};
   int pending_head_ = 0;

@@ -38,6 +38,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 
 #include <Eigen/Core>
 
@@ -47,6 +48,7 @@
 #include "rockwatch/core/model.hpp"
 #include "rockwatch/core/rocking_stepper.hpp"
 #include "rockwatch/core/wall.hpp"
+#include "rockwatch/core/work_meter.hpp"
 
 namespace rockwatch::core {
 
@@ -215,6 +217,17 @@ inline std::int64_t time_difference_us(std::int64_t a, std::int64_t b) {
   return d;
 }
 
+// What each piece of the observer's work costs when metered [work units] (core/work_meter.hpp): a sub-step's
+// prediction (begin_step, end_step), one sensor sample applied (its displacement and acceleration updates, the
+// covariance brought up to date first, the corrections fed back into the stepper), a sample's end (the covariance
+// brought up to date, the alarm's scales of the estimated wall, the published estimates), one sensor sample dropped.
+struct ObserverWorkCosts {
+  std::int32_t substep;
+  std::int32_t update;
+  std::int32_t sample_end;
+  std::int32_t dropped;     // a due sensor sample dropped unapplied (stale, or the wall collapsed)
+};
+
 // How the observer reads and corrects a stepper. Specialised for the two steppers.
 template <typename Stepper>
 struct ObserverStepperTraits;
@@ -224,6 +237,7 @@ struct ObserverStepperTraits<RockingStepper<double>> {
   using Scalar = double;
   using Input = double;
   using Report = StepReport<double>;
+  static constexpr ObserverWorkCosts kWork{0, 0, 0, 0};  // hosts only: never metered
   static double x(const RockingStepper<double>& s) { return s.state().x_m; }
   static double xd(const RockingStepper<double>& s) { return s.state().xd_mps; }
   static double xdd(const RockingStepper<double>& s) { return s.state().xdd_mps2; }
@@ -243,6 +257,8 @@ struct ObserverStepperTraits<FixedRockingStepper> {
   using Scalar = ObserverQ10_53;
   using Input = AccelQ7_56;
   using Report = FixedStepReport;
+  // Upper bounds measured on the emulated M4 (docs/BENCHMARKS.md, "The metered observer").
+  static constexpr ObserverWorkCosts kWork{5000, 16000, 9000, 300};
   static Scalar x(const FixedRockingStepper& s) { return wide_convert<Scalar>(s.x_m()); }
   static Scalar xd(const FixedRockingStepper& s) { return wide_convert<Scalar>(s.xd_mps()); }
   static Scalar xdd(const FixedRockingStepper& s) { return wide_convert<Scalar>(s.xdd_mps2()); }
@@ -275,7 +291,12 @@ class WallObserver {
   static constexpr int kStates = 6;
   using Mat = Eigen::Matrix<Scalar, kStates, kStates>;
   using Vec = Eigen::Matrix<Scalar, kStates, 1>;
-  static constexpr int kQueueCapacity = 16;  // sensor samples waiting for the ground stream
+  // Sensor samples waiting for the ground stream: as many as the engine's queue of input samples holds
+  // (StepperAlarmChain::kMaxPendingSamples), so that samples finished at later calls (carry-over) find theirs.
+  static constexpr int kQueueCapacity = 64;
+  // What each piece costs when metered (StepperAlarmChain; work units = Cortex-M4 instructions for the fixed-point
+  // observer, upper bounds measured on the emulated M4: docs/FIXED_POINT.md "Bounded work per call").
+  static constexpr ObserverWorkCosts kWork = Traits::kWork;
   enum : int { X = 0, V = 1, E = 2, B = 3, C = 4, K = 5 };
 
   // Initialisation time (double): the stepper's setup (its dt is the step) and the wall. Starts at rest with
@@ -342,6 +363,7 @@ class WallObserver {
     kc_ = kk_ = Scalar(1);
     p_(C, C) = p_(K, K) = capacity_sigma0_ * capacity_sigma0_;
     x_prev_ = Scalar(0);
+    reset_transition();
     head_ = count_ = 0;
     counters_ = ObserverCounters{};
     last_x_used_us_ = last_x_accepted_us_ = last_a_used_us_ = 0;
@@ -363,6 +385,7 @@ class WallObserver {
 
   // The wall's motion restarted from rest (long gap, publisher restart): what was learned (ê, b̂) stays.
   void restart_motion() {
+    flush();
     zero_motion_covariance();
     consecutive_rejections_ = 0;
   }
@@ -408,40 +431,83 @@ class WallObserver {
 
   // After the stepper's step that ends at `t_us` with input (ug, vg) at its end (report: what the stepper did):
   // covariance prediction through the step (and its impact), then every queued sample with utime ≤ t_us, in
-  // order. Corrects the stepper's state and √r. Bounded work: at most kQueueCapacity updates.
+  // order, then the end of the sample (the covariance brought up to date). Corrects the stepper's state and √r.
+  // All at once: begin_step(), run_updates() without a meter, end_step(), end_sample() (tests and tools that step the
+  // observer by hand; StepperAlarmChain runs the pieces, metered, and end_sample() once per input sample).
   ObserverStepReport after_step(Stepper& stepper, const Report& report, Input ug, Input vg, std::int64_t t_us,
                                 std::int64_t step_us) {
-    ObserverStepReport out;
-    out.flags = pending_flags_;
+    begin_step(stepper, report, ug, vg, t_us, step_us);
+    UnmeteredWork meter;
+    run_updates(stepper, meter);
+    const ObserverStepReport out = end_step(stepper);
+    end_sample();
+    return out;
+  }
+
+  // The pieces of after_step (the chain's carry-over, core/work_meter.hpp). begin_step: the prediction through the
+  // step, composed into the sample's transition (kWork.substep). run_updates: the queued samples with utime ≤ t_us,
+  // in order, one piece each (kWork.update, the covariance brought up to date first); false when the meter cannot
+  // pay for the next one (nothing of it done: the next call goes on from there). A shedding meter (the engine's queue
+  // is full) drops the due samples instead (counted and flagged queue_overflow). end_step: the step's bookkeeping
+  // and its report. end_sample: once per input sample, the covariance brought up to date (kWork.sample_end, with the
+  // chain's alarm scales).
+  void begin_step(Stepper& stepper, const Report& report, Input ug, Input vg, std::int64_t t_us, std::int64_t step_us) {
+    step_out_ = ObserverStepReport{};
+    step_out_.flags = pending_flags_;
     pending_flags_ = 0;
-    const bool impact = report.impacts_total > 0;
-    if (impact) last_impact_us_ = t_us;
+    step_impact_ = report.impacts_total > 0;
+    if (step_impact_) last_impact_us_ = t_us;
     predict(stepper, report);
-    const Scalar ug_s = Traits::input(ug);
-    const bool quiet = abs(ug_s) < quiet_ug_;
-    while (count_ > 0 && queue_[head_].utime_us <= t_us) {
+    step_ug_ = ug;
+    step_vg_ = vg;
+    step_t_us_ = t_us;
+    step_us_ = step_us;
+    step_quiet_ = abs(Traits::input(ug)) < quiet_ug_;
+  }
+  template <typename Meter>
+  bool run_updates(Stepper& stepper, Meter& meter) {
+    ObserverStepReport& out = step_out_;
+    while (count_ > 0 && queue_[head_].utime_us <= step_t_us_) {
+      if (meter.shed) {  // the engine sheds: the sample is dropped, not applied (its check paid, as a stale one's)
+        if (!meter.take(kWork.dropped)) return false;
+        head_ = (head_ + 1) % kQueueCapacity;
+        --count_;
+        ++counters_.queue_overflow;
+        out.flags |= observer_flag::queue_overflow;
+        continue;
+      }
+      const std::int64_t age_us = time_difference_us(step_t_us_, queue_[head_].utime_us);
+      const bool stale = age_us > max_age_us_;
+      // A sample dropped (stale, or nothing left to estimate) costs its check only; one applied, its updates.
+      if (!meter.take(stale || stepper.collapsed() ? kWork.dropped : kWork.update)) return false;
       const WallSensorSample s = queue_[head_];
       head_ = (head_ + 1) % kQueueCapacity;
       --count_;
-      const std::int64_t age_us = time_difference_us(t_us, s.utime_us);
-      if (age_us > max_age_us_) {
+      if (stale) {
         ++counters_.stale;
         out.flags |= observer_flag::stale;
         continue;
       }
-      if (age_us > step_us) {
+      if (age_us > step_us_) {
         ++counters_.misaligned;
         out.flags |= observer_flag::misaligned;
       }
       if (stepper.collapsed()) continue;  // nothing left to estimate
-      if (s.x_valid) update_x(stepper, s, age_us, ug, vg, quiet, out);
+      // The updates need the covariance of now: the sample's transition so far applied.
+      flush();
+      if (s.x_valid) update_x(stepper, s, age_us, step_ug_, step_vg_, step_quiet_, out);
       // An acceleration taken before the last impact (queued, applied after it) belongs to the other side: its ẍ
       // differs by about 2·c_s from the model's now. Only samples taken after the step that held the impact are used.
       const bool after_impact = s.utime_us > last_impact_us_;
-      if (s.a_valid && !impact && !impact_last_step_ && after_impact && stepper.moving())
-        update_a(stepper, s, ug_s, vg, ug, out);
+      if (s.a_valid && !step_impact_ && !impact_last_step_ && after_impact && stepper.moving())
+        update_a(stepper, s, Traits::input(step_ug_), step_vg_, step_ug_, out);
     }
-    impact_last_step_ = impact;
+    return true;
+  }
+  ObserverStepReport end_step(const Stepper& stepper) {
+    ObserverStepReport& out = step_out_;
+    const std::int64_t t_us = step_t_us_;
+    impact_last_step_ = step_impact_;
     if (!have_first_t_) {
       have_first_t_ = true;
       first_t_us_ = t_us;
@@ -461,21 +527,22 @@ class WallObserver {
     x_prev_ = Traits::x(stepper);
     return out;
   }
+  void end_sample() { flush(); }
 
   // Estimates (double, for publishing; the filter itself runs in Scalar).
   double r_estimate() const { return to_d(e_) * to_d(e_); }
   double sqrt_r_estimate() const { return to_d(e_); }
   double bias_m() const { return to_d(b_); }
-  double sigma_x_m() const { return std::sqrt(std::fmax(0.0, to_d(p_(X, X)))); }
-  double sigma_xd_mps() const { return std::sqrt(std::fmax(0.0, to_d(p_(V, V)))); }
-  double sigma_r() const { return 2.0 * to_d(e_) * std::sqrt(std::fmax(0.0, to_d(p_(E, E)))); }
-  double sigma_bias_m() const { return std::sqrt(std::fmax(0.0, to_d(p_(B, B)))); }
+  double sigma_x_m() const { return root(p_(X, X)); }
+  double sigma_xd_mps() const { return root(p_(V, V)); }
+  double sigma_r() const { return 2.0 * to_d(e_) * root(p_(E, E)); }
+  double sigma_bias_m() const { return root(p_(B, B)); }
   // The capacity (SPEC §9), side +1 (the negative side's: x_inst_estimate_m(Side::negative)); c [m/s²] and k [1/s²]
   // at ü = v̈ = 0 per unit p1, ω = √k [rad/s], x_inst = c/k [m]; σ by first-order propagation of the covariance.
   double capacity_scale() const { return to_d(kc_); }
   double stiffness_scale() const { return to_d(kk_); }
-  double sigma_capacity_scale() const { return std::sqrt(std::fmax(0.0, to_d(p_(C, C)))); }
-  double sigma_stiffness_scale() const { return std::sqrt(std::fmax(0.0, to_d(p_(K, K)))); }
+  double sigma_capacity_scale() const { return root(p_(C, C)); }
+  double sigma_stiffness_scale() const { return root(p_(K, K)); }
   double c_estimate_mps2(Side s = Side::positive) const {
     return to_d(kc_) * std::fabs(to_d(f0_[side_index(s)]));
   }
@@ -486,7 +553,7 @@ class WallObserver {
   double sigma_k_ps2(Side s = Side::positive) const {
     return sigma_stiffness_scale() * std::fabs(to_d(k0_[side_index(s)]));
   }
-  double omega_estimate_rps(Side s = Side::positive) const { return std::sqrt(k_estimate_ps2(s)); }
+  double omega_estimate_rps(Side s = Side::positive) const { return published_sqrt(k_estimate_ps2(s)); }
   double sigma_omega_rps(Side s = Side::positive) const {
     const double w = omega_estimate_rps(s);
     return w > 0.0 ? sigma_k_ps2(s) / (2.0 * w) : 0.0;
@@ -494,16 +561,21 @@ class WallObserver {
   double x_inst_estimate_m(Side s = Side::positive) const {
     return to_d(kc_) / to_d(kk_) * x_inst0_[side_index(s)];
   }
+  // The variance of κc/κk by first-order propagation, in the filter's arithmetic (Q10.53 in fixed point, so no
+  // soft-float operation but the root).
   double sigma_x_inst_m(Side s = Side::positive) const {
-    const double kc = to_d(kc_), kk = to_d(kk_), ratio = kc / kk;
-    const double var = to_d(p_(C, C)) - 2.0 * ratio * to_d(p_(C, K)) + ratio * ratio * to_d(p_(K, K));
-    return x_inst0_[side_index(s)] / kk * std::sqrt(std::fmax(0.0, var));
+    const Scalar ratio = kc_ / kk_;
+    const Scalar var = p_(C, C) - Scalar(2) * ratio * p_(C, K) + ratio * ratio * p_(K, K);
+    return x_inst0_[side_index(s)] / to_d(kk_) * root(var);
   }
   // The x_inst the alarm may rely on: x_inst,est − k_σ·σ(x_inst) (ObserverOptions::alarm_capacity_sigmas), at least
   // 0.3 × nominal.
   double x_inst_alarm_m(Side s = Side::positive) const {
-    return std::fmax(0.3 * x_inst0_[side_index(s)],
-                     x_inst_estimate_m(s) - alarm_capacity_sigmas_ * sigma_x_inst_m(s));
+    return x_inst_alarm_m(x_inst_estimate_m(s), sigma_x_inst_m(s), s);
+  }
+  // The same from the estimate and its σ already computed (observer_sample: each root once).
+  double x_inst_alarm_m(double x_inst_estimate, double sigma_x_inst, Side s) const {
+    return std::fmax(0.3 * x_inst0_[side_index(s)], x_inst_estimate - alarm_capacity_sigmas_ * sigma_x_inst);
   }
   // What the alarm's constants are scaled by (StepperAlarmChain::step_observed): x_inst_alarm / x_inst,nominal and κk.
   // False when the observer has nothing of its own (the nominal wall: margin 0 and κ = 1 would give 1, 1 anyway).
@@ -532,6 +604,24 @@ class WallObserver {
 
  private:
   static double to_d(double v) { return v; }
+  // The published σ from a variance: in double for the double observer; for the fixed-point one in single
+  // precision (the M4F's VSQRT.F32: 7 significant digits, what a published σ needs, for ~100 instructions instead of
+  // soft double's square root, ~1 000). Negative variances (rounding) publish 0.
+  static double root(Scalar v) {
+    if constexpr (std::is_same_v<Scalar, double>) {
+      return std::sqrt(std::fmax(0.0, v));
+    } else {
+      if (v.raw() <= 0) return 0.0;
+      return static_cast<double>(std::sqrt(static_cast<float>(v.raw()) * 0x1p-53f));
+    }
+  }
+  static double published_sqrt(double v) {
+    if constexpr (std::is_same_v<Scalar, double>) {
+      return std::sqrt(v);
+    } else {
+      return v > 0.0 ? static_cast<double>(std::sqrt(static_cast<float>(v))) : 0.0;
+    }
+  }
   template <typename F>
   static double to_d(const F& v) {
     return v.to_double();
@@ -549,12 +639,21 @@ class WallObserver {
     }
   }
 
+  // The prediction through one step. Not applied to P at once: the step's transition F (the identity but in rows X
+  // and V: the Newmark step, the impact's saltation matrix, the zeroing at rest) is composed into the sample's
+  // transition Φ ← F Φ, and the process noise of x, ẋ into Q ← F Q Fᵀ + q (a 2 × 2 block), so that P ← Φ P Φᵀ + Q
+  // is done once per input sample (flush(): at the sample's end, or before a measurement update) instead of at
+  // every sub-step. The parameters' random walks (diagonal of q) are added at the flush, n steps' worth; their
+  // coupling into x, ẋ within the sample (of order walk²·F(V,E)) is left out. Exact otherwise: the same P as
+  // propagating step by step (to rounding).
   void predict(const Stepper& stepper, const Report& report) {
     if (stepper.collapsed()) return;
-    if (!stepper.moving() || report.started) zero_motion_covariance();
+    if (!stepper.moving() || report.started) zero_motion_transition();
     if (stepper.moving()) {
       const int i = side_index(stepper.side());
-      propagate_xv(transition(i, x_prev_, Traits::x(stepper)));
+      Scalar fx[kStates], fv[kStates];
+      transition(i, x_prev_, Traits::x(stepper), fx, fv);
+      compose(fx, fv);
       if (report.impacts_total > 0) {
         // Saltation through the first impact of the step (the side after it is the current one).
         ++counters_.impacts;
@@ -564,110 +663,224 @@ class WallObserver {
         Scalar v_floored = v;
         if (abs(v) < v_min_) v_floored = v < Scalar(0) ? -v_min_ : v_min_;
         const Scalar a_after = kc_ * f0_[i], a_before = kc_ * f0_[1 - i];
-        Mat j = Mat::Identity();
-        j(X, X) = e_;
-        j(V, X) = (a_after - e_ * a_before) / v_floored;
-        j(V, V) = e_;
+        Scalar jx[kStates] = {}, jv[kStates] = {};
+        jx[X] = e_;
+        jv[X] = (a_after - e_ * a_before) / v_floored;
+        jv[V] = e_;
         // The impact informs e only when it is certain: |ẋ⁻| well above its own uncertainty (inform_sigmas σ).
         // Below, whether the real wall hit the hinge at all is a coin toss decided by the sensor noise (a wall
         // rocking at sub-noise amplitude, or one the corrections push across the hinge): the linearised jump would
         // attribute that noise to e and drag r̂ far from the truth with a confident σ. There the velocity jump
         // (1 − e)·ẋ⁻ is treated as noise instead.
-        const bool certain = v * v >= inform_var_ * p_(V, V) && abs(v) >= v_min_ &&
+        const bool certain = v * v >= inform_var_ * current_vv() && abs(v) >= v_min_ &&
                              peak_x_ * peak_x_ >= inform_peak_var_ * r_x_;
         peak_x_ = Scalar(0);
-        if (certain) j(V, E) = v;
-        propagate_xv(j);
+        if (certain) jv[E] = v;
+        compose(jx, jv);
         if (!certain) {
           const Scalar jump = (Scalar(1) - e_) * v;
-          p_(V, V) = p_(V, V) + jump * jump;
+          qa_[2] = qa_[2] + jump * jump;
+          qa_zero_ = false;
         }
       }
-      p_ += q_;
-    } else {
-      p_(E, E) += q_(E, E);
-      p_(B, B) += q_(B, B);
-      p_(C, C) += q_(C, C);
-      p_(K, K) += q_(K, K);
+      qa_[0] = qa_[0] + q_(X, X);
+      qa_[1] = qa_[1] + q_(X, V);
+      qa_[2] = qa_[2] + q_(V, V);
+      qa_zero_ = false;
     }
-    if (!stepper.moving()) zero_motion_covariance();
+    ++walk_steps_;
+    if (!stepper.moving()) zero_motion_transition();
     const Scalar x_now = abs(Traits::x(stepper));
     if (!stepper.moving()) peak_x_ = Scalar(0);
     else if (x_now > peak_x_) peak_x_ = x_now;
   }
 
-  // P ← F P Fᵀ for an F that is the identity but in rows X and V (the step's transition, the impact's Jacobian):
-  // those two rows, then those two columns, O(n²) instead of two dense n³ products (the M4's cost).
-  void propagate_xv(const Mat& f) {
-    Vec rx, rv;
-    for (int c = 0; c < kStates; ++c) {
-      Scalar ax = Scalar(0), av = Scalar(0);
-      for (int j = 0; j < kStates; ++j) {
-        ax = ax + f(X, j) * p_(j, c);
-        av = av + f(V, j) * p_(j, c);
+  // Φ = I, Q = 0: nothing pending.
+  void reset_transition() {
+    for (int c = 0; c < kStates; ++c) phi_x_[c] = phi_v_[c] = Scalar(0);
+    phi_x_[X] = phi_v_[V] = Scalar(1);
+    phi_identity_ = true;
+    qa_[0] = qa_[1] = qa_[2] = Scalar(0);
+    qa_zero_ = true;
+    walk_steps_ = 0;
+  }
+
+  // The motion known exactly (at rest): rows X and V of Φ and the pending noise zero (P's rows and columns X, V
+  // become zero at the flush, as zero_motion_covariance()).
+  void zero_motion_transition() {
+    for (int c = 0; c < kStates; ++c) phi_x_[c] = phi_v_[c] = Scalar(0);
+    phi_identity_ = false;
+    qa_[0] = qa_[1] = qa_[2] = Scalar(0);
+    qa_zero_ = true;
+  }
+
+  // Φ ← F Φ and Q ← F Q Fᵀ for an F that is the identity but in rows X, V (fx, fv): with Φ = [A B; 0 I] and
+  // F = [a b; 0 I] (blocks of rows X, V and of the other four), F Φ = [a A, a B + b; 0 I]. 24 products.
+  void compose(const Scalar* fx, const Scalar* fv) {
+    if (!qa_zero_) {  // Q ← a Q aᵀ (a: F's 2 × 2 block of x, ẋ)
+      const Scalar t00 = fx[X] * qa_[0] + fx[V] * qa_[1], t01 = fx[X] * qa_[1] + fx[V] * qa_[2];
+      const Scalar t10 = fv[X] * qa_[0] + fv[V] * qa_[1], t11 = fv[X] * qa_[1] + fv[V] * qa_[2];
+      qa_[0] = t00 * fx[X] + t01 * fx[V];
+      qa_[1] = t00 * fv[X] + t01 * fv[V];
+      qa_[2] = t10 * fv[X] + t11 * fv[V];
+    }
+    if (phi_identity_) {
+      for (int c = 0; c < kStates; ++c) {
+        phi_x_[c] = fx[c];
+        phi_v_[c] = fv[c];
       }
-      rx(c) = ax;
-      rv(c) = av;
+      phi_identity_ = false;
+      return;
+    }
+    Scalar nx[kStates], nv[kStates];
+    for (int c = 0; c < kStates; ++c) {
+      const bool motion = c == X || c == V;
+      nx[c] = fx[X] * phi_x_[c] + fx[V] * phi_v_[c];
+      nv[c] = fv[X] * phi_x_[c] + fv[V] * phi_v_[c];
+      if (!motion) {
+        nx[c] = nx[c] + fx[c];
+        nv[c] = nv[c] + fv[c];
+      }
     }
     for (int c = 0; c < kStates; ++c) {
-      p_(X, c) = rx(c);
-      p_(V, c) = rv(c);
-    }
-    for (int r = 0; r < kStates; ++r) {
-      Scalar ax = Scalar(0), av = Scalar(0);
-      for (int j = 0; j < kStates; ++j) {
-        ax = ax + p_(r, j) * f(X, j);
-        av = av + p_(r, j) * f(V, j);
-      }
-      rx(r) = ax;
-      rv(r) = av;
-    }
-    for (int r = 0; r < kStates; ++r) {
-      p_(r, X) = rx(r);
-      p_(r, V) = rv(r);
+      phi_x_[c] = nx[c];
+      phi_v_[c] = nv[c];
     }
   }
 
-  // The covariance transition of one step on side i from x0 to x1 (the linearised Newmark step with the estimated
-  // stiffness, and its derivatives by κc and κk: see the header).
-  Mat transition(int i, Scalar x0, Scalar x1) const {
+  // P(V, V) as it stands now: (Φ P Φᵀ)(V, V) + Q(V, V), without applying Φ. 42 products.
+  Scalar current_vv() const {
+    if (phi_identity_) return p_(V, V) + qa_[2];
+    Scalar acc = Scalar(0);
+    for (int r = 0; r < kStates; ++r) {
+      Scalar w = Scalar(0);
+      for (int c = 0; c < kStates; ++c) w = w + p_(r, c) * phi_v_[c];
+      acc = acc + phi_v_[r] * w;
+    }
+    return acc + qa_[2];
+  }
+
+  // P ← Φ P Φᵀ + Q, the parameters' walks, then Φ = I: rows X, V of Φ P (R, 2 × 6), which are P's new rows X, V in
+  // the other four columns, and R Φᵀ its new 2 × 2 block of x, ẋ. 90 products; nothing when nothing is pending.
+  void flush() {
+    if (!phi_identity_) {
+      Scalar rx[kStates], rv[kStates];
+      for (int c = 0; c < kStates; ++c) {
+        Scalar ax = Scalar(0), av = Scalar(0);
+        for (int j = 0; j < kStates; ++j) {
+          ax = ax + phi_x_[j] * p_(j, c);
+          av = av + phi_v_[j] * p_(j, c);
+        }
+        rx[c] = ax;
+        rv[c] = av;
+      }
+      Scalar xx = Scalar(0), xv = Scalar(0), vv = Scalar(0);
+      for (int j = 0; j < kStates; ++j) {
+        xx = xx + rx[j] * phi_x_[j];
+        xv = xv + rx[j] * phi_v_[j];
+        vv = vv + rv[j] * phi_v_[j];
+      }
+      for (int c = 0; c < kStates; ++c) {
+        if (c == X || c == V) continue;
+        p_(X, c) = p_(c, X) = rx[c];
+        p_(V, c) = p_(c, V) = rv[c];
+      }
+      p_(X, X) = xx;
+      p_(X, V) = p_(V, X) = xv;
+      p_(V, V) = vv;
+    }
+    if (!qa_zero_) {
+      p_(X, X) = p_(X, X) + qa_[0];
+      p_(X, V) = p_(X, V) + qa_[1];
+      p_(V, X) = p_(X, V);
+      p_(V, V) = p_(V, V) + qa_[2];
+    }
+    for (int k = 0; k < walk_steps_; ++k) {  // n additions: the same sum as step by step, and no product
+      p_(E, E) = p_(E, E) + q_(E, E);
+      p_(B, B) = p_(B, B) + q_(B, B);
+      p_(C, C) = p_(C, C) + q_(C, C);
+      p_(K, K) = p_(K, K) + q_(K, K);
+    }
+    reset_transition();
+  }
+
+  // Rows X, V of the covariance transition of one step on side i from x0 to x1 (the linearised Newmark step with the
+  // estimated stiffness, and its derivatives by κc and κk: see the header); the other rows are the identity's.
+  // One division (1/D), products otherwise.
+  void transition(int i, Scalar x0, Scalar x1, Scalar* fx, Scalar* fv) const {
     const Scalar k = kk_ * k0_[i];
-    const Scalar q = quarter_h2_ * k, d = Scalar(1) + q;
-    const Scalar f11 = (Scalar(1) - q) / d, f12 = h_ / d;
-    Mat f = Mat::Identity();
-    f(X, X) = f11;
-    f(X, V) = f12;
-    f(V, X) = -(half_h_ * k) * (Scalar(1) + f11);
-    f(V, V) = Scalar(1) - half_h_ * k * f12;
+    const Scalar q = quarter_h2_ * k;
+    const Scalar inv_d = Scalar(1) / (Scalar(1) + q);
+    const Scalar f11 = (Scalar(1) - q) * inv_d, f12 = h_ * inv_d;
+    for (int c = 0; c < kStates; ++c) fx[c] = fv[c] = Scalar(0);
+    fx[X] = f11;
+    fx[V] = f12;
+    fv[X] = -(half_h_ * k) * (Scalar(1) + f11);
+    fv[V] = Scalar(1) - half_h_ * k * f12;
     const Scalar fc = f0_[i];
-    const Scalar dx_c = (quarter_h2_ * (fc + fc)) / d;
-    f(X, C) = dx_c;
-    f(V, C) = half_h_ * (fc + fc - k * dx_c);
+    const Scalar dx_c = (quarter_h2_ * (fc + fc)) * inv_d;
+    fx[C] = dx_c;
+    fv[C] = half_h_ * (fc + fc - k * dx_c);
     const Scalar sum = x0 + x1;
-    const Scalar dx_k = -(quarter_h2_ * k0_[i] * sum) / d;
-    f(X, K) = dx_k;
-    f(V, K) = half_h_ * (-(k0_[i] * sum) - k * dx_k);
-    return f;
+    const Scalar dx_k = -(quarter_h2_ * k0_[i] * sum) * inv_d;
+    fx[K] = dx_k;
+    fv[K] = half_h_ * (-(k0_[i] * sum) - k * dx_k);
   }
 
-  // One scalar measurement: innovation y with H = h (4-vector), variance r. Returns false when gated out.
+  // 1/s for the gains k = P h / s: one division for the whole gain (six products instead of six divisions). In
+  // fixed point a normalised reciprocal: 2^(62 + w) / s with w = bit length(s) − 1, 61 significant bits whatever s's
+  // magnitude (s ≥ r: from 1e-12 m² to ~1e3), so each gain is P h·(2^(62+w)/s) shifted back by 62 + w − 53, within
+  // one unit in the last place of the quotient. Scaling and overflow: the reciprocal is in [2^61, 2^62] (64-bit);
+  // the product is exact in 128 bits; a gain beyond ±1024 saturates (|gain| ≤ 1 for X, B, E, C, K and ≤ 1/h for V).
+  struct Reciprocal {
+    Scalar inv{};       // double
+    std::int64_t raw = 0;  // fixed point
+    int shift = 0;
+  };
+  static Reciprocal reciprocal(Scalar s) {
+    Reciprocal r;
+    if constexpr (std::is_same_v<Scalar, double>) {
+      r.inv = 1.0 / s;
+    } else {
+      const std::int64_t sr = s.raw();  // > 0
+      const int w = 63 - fixed64_detail::clz64(static_cast<std::uint64_t>(sr));  // bit length − 1
+      r.raw = fixed64_detail::div_round(std::int64_t(1) << 62, sr, w);
+      r.shift = 62 + w - Scalar::kFracBits;
+    }
+    return r;
+  }
+  static Scalar times(Scalar v, const Reciprocal& r) {
+    if constexpr (std::is_same_v<Scalar, double>) {
+      return v * r.inv;
+    } else {
+      return Scalar::from_raw(fixed64_detail::mul_round(v.raw(), r.raw, r.shift));
+    }
+  }
+
+  // One scalar measurement with P h = ph already formed (h sparse: the callers add P's columns), s = hᵀ P h + r,
+  // innovation y. Returns false when gated out. Only the upper triangle of P is computed (then mirrored).
   // learn = false: the wall's parameters (e, κc, κk) are considered, not estimated (Schmidt–Kalman: their gain is
   // zero and the covariance follows the Joseph form of that gain, so it stays the covariance of the errors).
-  bool scalar_update(const Vec& h, Scalar y, Scalar r, Vec& correction, bool learn = true) {
-    const Vec ph = p_ * h;
-    const Scalar s = h.dot(ph) + r;
+  bool scalar_update(Scalar (&ph)[kStates], Scalar s, Scalar y, Vec& correction, bool learn = true) {
     if (!(s > Scalar(0))) return false;
     if (y * y > gate_ * s) return false;
-    Vec k = ph / s;
+    const Reciprocal inv_s = reciprocal(s);
+    Scalar k[kStates];
+    for (int a = 0; a < kStates; ++a) k[a] = times(ph[a], inv_s);
     if (learn) {
-      correction = k * y;
-      p_ = (p_ - k * ph.transpose()).eval();
-    } else {
-      k(E) = k(C) = k(K) = Scalar(0);
-      correction = k * y;
-      // (I − k hᵀ) P (I − k hᵀ)ᵀ + r k kᵀ = P − k (Ph)ᵀ − (Ph) kᵀ + s k kᵀ: O(n²).
       for (int a = 0; a < kStates; ++a) {
-        for (int c = 0; c < kStates; ++c) p_(a, c) = p_(a, c) - k(a) * ph(c) - ph(a) * k(c) + s * k(a) * k(c);
+        correction(a) = k[a] * y;
+        for (int c = a; c < kStates; ++c) p_(a, c) = p_(a, c) - k[a] * ph[c];
+      }
+    } else {
+      k[E] = k[C] = k[K] = Scalar(0);
+      // (I − k hᵀ) P (I − k hᵀ)ᵀ + r k kᵀ = P − k (Ph)ᵀ − (Ph) kᵀ + s k kᵀ, on the entries a gain touches.
+      for (int a = 0; a < kStates; ++a) {
+        correction(a) = k[a] * y;
+        for (int c = a; c < kStates; ++c) {
+          if (k[a] == Scalar(0) && k[c] == Scalar(0)) continue;
+          p_(a, c) = p_(a, c) - k[a] * ph[c] - ph[a] * k[c] + s * k[a] * k[c];
+        }
       }
     }
     symmetrise();
@@ -721,7 +934,9 @@ class WallObserver {
       pending_flags_ |= observer_flag::estimate_clamped;
     }
     Traits::set_sqrt_r(stepper, e_);
-    Traits::set_capacity(stepper, kc_, kk_, ug, vg);
+    // The stepper's capacity only when it moved (a considered-parameters update leaves κc, κk as they were): the
+    // same constants, without recomputing them.
+    if (clamped || dz(C) != Scalar(0) || dz(K) != Scalar(0)) Traits::set_capacity(stepper, kc_, kk_, ug, vg);
     if (stepper.moving()) {
       const Scalar x_before = Traits::x(stepper);
       Scalar xd_after = xd;
@@ -733,11 +948,14 @@ class WallObserver {
                            (x_before < Scalar(0) && x > Scalar(0) && xd > Scalar(0));
       if (crossed) {
         xd_after = e_ * xd;
-        Mat j = Mat::Identity();
-        j(V, V) = e_;
+        // P is up to date here (an update flushed it): the reset's Jacobian composed and applied at once.
+        Scalar jx[kStates] = {}, jv[kStates] = {};
+        jx[X] = Scalar(1);
+        jv[V] = e_;
         const bool certain = xd * xd >= inform_var_ * p_(V, V) && abs(xd) >= v_min_ && informative(x_before);
-        if (certain) j(V, E) = xd;
-        propagate_xv(j);
+        if (certain) jv[E] = xd;
+        compose(jx, jv);
+        flush();
         if (!certain) {
           const Scalar jump = (Scalar(1) - e_) * xd;
           p_(V, V) = p_(V, V) + jump * jump;
@@ -782,12 +1000,12 @@ class WallObserver {
     const Scalar age_s = Scalar(age_us) * us_to_s_;
     // The reading was taken age_s before the step end: carried forward along the estimated velocity.
     const Scalar y = z + xd * age_s - (x + b_);
-    Vec h = Vec::Zero();
-    h(X) = Scalar(1);
-    h(B) = Scalar(1);
+    // H = [1 0 0 1 0 0]: P h is the sum of P's columns X and B, without a product.
+    Scalar ph[kStates];
+    for (int a = 0; a < kStates; ++a) ph[a] = p_(a, X) + p_(a, B);
     Vec dz = Vec::Zero();
     last_innovation_x_ = y;
-    if (scalar_update(h, y, r_x_, dz, informative(x))) {
+    if (scalar_update(ph, ph[X] + ph[B] + r_x_, y, dz, informative(x))) {
       apply(stepper, dz, ug, vg);
       ++counters_.x_updates;
       ++out.x_updates;
@@ -843,13 +1061,13 @@ class WallObserver {
     const Scalar gravity_over_h1 = g_over_h1_ + Traits::input(vg) * inv_h1_;  // G/h1 = (g + v̈)/h1
     const Scalar predicted = ug_s + Traits::xdd(stepper) - gravity_over_h1 * x;
     const Scalar y = Scalar(s.a_mid_mps2) - predicted;
-    Vec h = Vec::Zero();
-    h(X) = -(kk_ * k0_[i] + gravity_over_h1);
-    h(C) = f0_[i];
-    h(K) = -(k0_[i] * x);
+    // H non-zero in X, C, K only: P h from three columns.
+    const Scalar hx = -(kk_ * k0_[i] + gravity_over_h1), hc = f0_[i], hk = -(k0_[i] * x);
+    Scalar ph[kStates];
+    for (int a = 0; a < kStates; ++a) ph[a] = p_(a, X) * hx + p_(a, C) * hc + p_(a, K) * hk;
     Vec dz = Vec::Zero();
     last_innovation_a_ = y;
-    if (!scalar_update(h, y, r_a_, dz, informative(x))) {
+    if (!scalar_update(ph, hx * ph[X] + hc * ph[C] + hk * ph[K] + r_a_, y, dz, informative(x))) {
       ++counters_.rejected;
       out.flags |= observer_flag::rejected;
       return;
@@ -882,6 +1100,19 @@ class WallObserver {
   Scalar kc_{1}, kk_{1};  // κc, κk [-]
   Scalar x_prev_{};       // x at the end of the previous step (after its corrections) [m]
   Mat p_{};
+  // The prediction pending since the last flush (predict, compose, flush): rows X and V of Φ, Φ = I, the noise of
+  // x, ẋ (XX, XV, VV), whether it is zero, and the steps whose parameter walks are still to add.
+  Scalar phi_x_[kStates]{}, phi_v_[kStates]{};
+  bool phi_identity_ = true;
+  Scalar qa_[3]{};
+  bool qa_zero_ = true;
+  int walk_steps_ = 0;
+  // The step in progress (begin_step .. end_step): its report, input, end, length, and whether the ground is quiet
+  // and the step held an impact.
+  ObserverStepReport step_out_{};
+  Input step_ug_{}, step_vg_{};
+  std::int64_t step_t_us_ = 0, step_us_ = 0;
+  bool step_quiet_ = false, step_impact_ = false;
   WallSensorSample queue_[kQueueCapacity]{};
   int head_ = 0, count_ = 0;
   std::uint32_t pending_flags_ = 0;

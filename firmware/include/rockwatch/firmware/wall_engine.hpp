@@ -4,7 +4,7 @@
 // runs integer arithmetic only, allocates nothing and takes the same work every sample (bounded loops with fixed
 // iteration counts). With the observer enabled (WallEngineConfig::observer_enabled), core::WallObserver over the same
 // fixed-point stepper (scalar ObserverQ10_53) corrects the state between the stepper and the indicators: its work is
-// bounded too (at most kQueueCapacity scalar updates per sample). It is the firmware's SampleEngine: the monitor loop runs it behind that seam; the embedded
+// metered with the stepper's (its pieces paid from the same budget and carried over with the samples). It is the firmware's SampleEngine: the monitor loop runs it behind that seam; the embedded
 // build (scripts/embedded-build.sh) compiles it for a Cortex-M4.
 #pragma once
 
@@ -63,8 +63,8 @@ class WallEngine final : public SampleEngine {
   int pending_samples() const override { return chain_.pending(); }
   void finish_pending() override;
 
-  // Carry-over (core/work_meter.hpp): with a work budget (WallEngineConfig::work_budget_units > 0) and the observer
-  // off, step() and step_at() queue the sample and work on the queue until the call's budget is spent; a sample whose
+  // Carry-over (core/work_meter.hpp): with a work budget (WallEngineConfig::work_budget_units > 0), step() and
+  // step_at() queue the sample and work on the queue until the call's budget is spent; a sample whose
   // work does not fit finishes at a later call, bit-identical to process_wall(). At most kMaxFinishedPerCall samples
   // finish per call; at a full queue (WallEngineConfig::work_overflow, StepperAlarmChain::call) the engine sheds or
   // finishes the oldest sample beyond the budget (an overrun: flagged EngineSample::work_overrun, counted).
@@ -95,7 +95,9 @@ class WallEngine final : public SampleEngine {
   // The seam's result: one sample finished in its own call.
   EngineSample finish_now();
   // The metered path of step()/step_at()/restart().
-  EngineSample step_metered(core::AccelQ7_56 ug_mps2, core::AccelQ7_56 vg_mps2, bool restart);
+  // With the observer, t_us and step_us as step_at()'s.
+  EngineSample step_metered(core::AccelQ7_56 ug_mps2, core::AccelQ7_56 vg_mps2, bool restart, std::int64_t t_us,
+                            std::int64_t step_us);
   void finish_queued(const core::AlarmChainOutput<core::FixedRockingStepper>& o, std::uint32_t tag);
 
   core::SensorAxes<core::AccelQ7_24> axes_{};
@@ -106,6 +108,7 @@ class WallEngine final : public SampleEngine {
   core::WallObserver<core::FixedRockingStepper> observer_{};
   core::ObserverStepReport observer_report_{};  // the observer's report of the last step (zero after start/restart)
   std::int32_t work_budget_units_ = 0;
+  std::int32_t observer_budget_units_ = 0;  // with the observer: core::observer_work_budget_units(dt)
   core::WorkOverflow work_overflow_ = core::WorkOverflow::shed;
   std::int32_t last_call_units_ = 0;
   std::uint32_t calls_ = 0;  // metered calls so far: the tag of a queued sample
