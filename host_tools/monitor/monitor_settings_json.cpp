@@ -8,6 +8,7 @@
 #include "monitor_config.hpp"
 #include "monitor_walls.hpp"
 #include "rockwatch/core/restitution.hpp"
+#include "rockwatch/options/option_values.hpp"
 
 namespace rockwatch::monitor {
 
