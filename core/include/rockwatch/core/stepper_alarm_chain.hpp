@@ -22,6 +22,12 @@
 #include "rockwatch/core/rocking_stepper.hpp"
 #include "rockwatch/core/wall_observer.hpp"
 
+// The queue of samples waiting for work (carry-over): 64 by default. A build may set another length to measure the
+// trade-off between samples shed and samples late (docs/BENCHMARKS.md, "The overflow policy").
+#ifndef ROCKWATCH_PENDING_SAMPLES
+#define ROCKWATCH_PENDING_SAMPLES 64
+#endif
+
 namespace rockwatch::core {
 
 template <typename Stepper>
@@ -249,7 +255,7 @@ class StepperAlarmChain {
   // Carry-over (core/work_meter.hpp): samples queued with submit() and worked by run() in pieces paid from a meter,
   // in order; a sample whose work the meter cannot pay goes on at the next run() from where it stopped. The results
   // are those of step() on the same samples, bit for bit, unless the meter sheds.
-  static constexpr int kMaxPendingSamples = 64;
+  static constexpr int kMaxPendingSamples = ROCKWATCH_PENDING_SAMPLES;
   // The most samples one call of a budgeted engine finishes (call()'s callers: firmware::WallEngine, sim).
   static constexpr int kMaxFinishedPerCall = 8;
 
