@@ -40,8 +40,8 @@ inline std::int64_t estimator_share_units(double dt_s) {
   return static_cast<std::int64_t>(kEstimatorShareOfSample * dt_s * kM4InstructionsPerSecond);
 }
 // What a call of the engine does beyond the units its meter charged, at most: the seam's conversions, the queue's
-// bookkeeping, the publication of the samples it finishes (their estimates in double) and the cost model's error
-// (measured on the emulated M4: docs/BENCHMARKS.md, "The metered observer").
+// bookkeeping, the publication of the samples it finishes (their estimates computed in float, widened to double)
+// and the cost model's error (measured on the emulated M4: docs/BENCHMARKS.md, "The metered observer").
 inline constexpr std::int32_t kObserverCallOverheadUnits = 4000;
 // The work budget of a call with the observer on: the estimator's share less that overhead (at least the least
 // budget). The open loop keeps WallEngineConfig::work_budget_units (kDefaultWorkBudgetUnits: 25 000 at any rate).

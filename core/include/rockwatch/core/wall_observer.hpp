@@ -32,7 +32,8 @@
 // Samples older than max_age are dropped (stale); older than one step are applied but flagged (misaligned).
 //
 // Scalar: the stepper's (ObserverStepperTraits): double for core::RockingStepper<double>, ObserverQ10_53 for the
-// fixed-point stepper. Core rules: header-only, no heap, no exceptions, no I/O; init() is initialisation-time code
+// fixed-point stepper (the state e, b, κc, κk, the innovations); Cov, the covariance's, gains' and linearisations':
+// double, and single precision for the fixed-point stepper (the M4F's FPU; -ffp-contract=off). Core rules: header-only, no heap, no exceptions, no I/O; init() is initialisation-time code
 // (double), the rest is bounded work (at most kQueueCapacity updates per step, each a few 4×4 products).
 #pragma once
 
@@ -52,8 +53,9 @@
 
 namespace rockwatch::core {
 
-// The observer's one fixed-point format (covariances, gains, corrections, e, b): ±1024, resolution 1.1e-16.
-// Scaling: variances of x down to (10 µm)² = 1e-10 m² keep 6 significant digits; gains ẋ/x up to 1024 1/s.
+// The fixed-point observer's state format (corrections, e, b, κc, κk, innovations): ±1024, resolution 1.1e-16. Its
+// covariance is single precision (ObserverStepperTraits<FixedRockingStepper>::Cov); a correction k·y comes back into
+// this format saturating at ±1024.
 using ObserverQ10_53 = Fixed64<10, 53>;
 
 // Settings, SI units. Defaults: a displacement transducer of 0.5 mm noise and an accelerometer of 0.05 m/s².
