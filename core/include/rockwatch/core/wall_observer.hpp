@@ -33,8 +33,9 @@
 //
 // Scalar: the stepper's (ObserverStepperTraits): double for core::RockingStepper<double>, ObserverQ10_53 for the
 // fixed-point stepper (the state e, b, κc, κk, the innovations); Cov, the covariance's, gains' and linearisations':
-// double, and single precision for the fixed-point stepper (the M4F's FPU; -ffp-contract=off). Core rules: header-only, no heap, no exceptions, no I/O; init() is initialisation-time code
-// (double), the rest is bounded work (at most kQueueCapacity updates per step, each a few 4×4 products).
+// double, and single precision for the fixed-point stepper (the M4F's FPU; -ffp-contract=off). Core rules:
+// header-only, no heap, no exceptions, no I/O; init() is initialisation-time code (double), the rest is bounded work
+// (at most kQueueCapacity updates per step, each a few 6 × 6 products).
 #pragma once
 
 #include <cmath>
@@ -614,7 +615,6 @@ class WallObserver {
       return static_cast<double>(std::sqrt(v));
     }
   }
-  static double to_d(float v) { return static_cast<double>(v); }
   template <typename F>
   static double to_d(const F& v) {
     return v.to_double();
@@ -661,7 +661,8 @@ class WallObserver {
     } else {
       static_assert(Scalar::kFracBits == 53, "the observer's scalar is Q10.53");
       const std::int64_t raw = v.raw();
-      const std::uint64_t m = raw < 0 ? std::uint64_t(0) - static_cast<std::uint64_t>(raw) : static_cast<std::uint64_t>(raw);
+      const auto u = static_cast<std::uint64_t>(raw);
+      const std::uint64_t m = raw < 0 ? std::uint64_t(0) - u : u;
       const auto hi = static_cast<std::uint32_t>(m >> 32), lo = static_cast<std::uint32_t>(m & 0xFFFFFFFFu);
       const float magnitude = (static_cast<float>(hi) * 0x1p32f + static_cast<float>(lo)) * 0x1p-53f;
       return raw < 0 ? -magnitude : magnitude;
