@@ -78,7 +78,9 @@ mkdir -p "$out_dir/lcmtypes" "$out_dir/lcm-include/lcm"
 cp "$lcm_include/lcm/lcm_coretypes.h" "$out_dir/lcm-include/lcm/"
 
 target_flags=(-mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16)
-cxx_flags=(-std=c++17 "${target_flags[@]}" -fno-exceptions -fno-rtti ${ROCKWATCH_M4_OPT:--O2} -ffunction-sections -fdata-sections
+# -ffp-contract=off: no fused multiply-add (VFMA.F32) where the source has a product and a sum, so the observer's
+# single-precision covariance is the host's bit for bit (CMakeLists.txt passes the same flag).
+cxx_flags=(-std=c++17 "${target_flags[@]}" -fno-exceptions -fno-rtti ${ROCKWATCH_M4_OPT:--O2} -ffp-contract=off -ffunction-sections -fdata-sections
            "${warnings[@]}" "${eigen_flags[@]}" -I"$root/core/include" -I"$root/firmware/include"
            -isystem "$out_dir/lcmtypes" -isystem "$out_dir/lcm-include"
            -DROCKWATCH_VERSION_MAJOR="$version_major" -DROCKWATCH_VERSION_MINOR="$version_minor"

@@ -404,7 +404,8 @@ ThinnerWall release_thinner_wall(double b_scale) {
   out.sigma_fixed = fobs.sigma_x_inst_m();
   // The stepper runs with the estimate: its x_inst is the observer's.
   DOUBLES_EQUAL(out.x_inst_double, dmodel.x_inst_m(Side::positive), 1e-12);
-  DOUBLES_EQUAL(out.x_inst_fixed, fmodel.setup().x_inst_m[1].to_double(), 1e-9);
+  // (the fixed-point observer publishes in single precision: 7 significant digits)
+  DOUBLES_EQUAL(out.x_inst_fixed, fmodel.setup().x_inst_m[1].to_double(), 1e-6 * out.x_inst_fixed);
   return out;
 }
 
@@ -437,7 +438,7 @@ TEST(WallObserver, ClampsACapacityOutsideThePhysicalRangeAndFlagsIt) {
 // x, ẋ, P ← Φ P Φᵀ + Q at the sample's end) against the same prediction applied at every sub-step (after_step), in
 // double, over free rocking with impacts and no sensor: the same P to rounding (the parameters' walks, added once
 // per sample, are the only difference, of order walk² = 1e-10 × ẋ). And the fixed-point observer's per-sample P
-// follows the double one's.
+// (single precision) follows the double one's.
 TEST(WallObserver, ThePerSampleCovarianceIsTheStepByStepOne) {
   constexpr int kSub = 5;
   RockingStepper<double> a, b;
@@ -482,12 +483,15 @@ TEST(WallObserver, ThePerSampleCovarianceIsTheStepByStepOne) {
       for (int j = 0; j < 6; ++j) {
         const double scale = std::sqrt(std::fabs(p(i, i) * p(j, j))) + 1e-30;
         worst = std::fmax(worst, std::fabs(p(i, j) - q(i, j)) / scale);
-        worst_fixed = std::fmax(worst_fixed, std::fabs(q(i, j) - r(i, j).to_double()) / scale);
+        worst_fixed = std::fmax(worst_fixed, std::fabs(q(i, j) - static_cast<double>(r(i, j))) / scale);
       }
     }
   }
   CHECK(impacts > 5);
   CHECK(most_var_x > 0.0);  // the wall rocked (it rests at the end)
   CHECK(worst < 1e-6);        // relative to the entries' scale √(P_ii P_jj)
-  CHECK(worst_fixed < 1e-6);
+  // The fixed-point observer's covariance is single precision (core/wall_observer.hpp): Φ P Φᵀ of a covariance whose
+  // x, ẋ block is nearly singular (free rocking without a sensor, P_vv / P_xx up to 1e5) cancels, so P_xx loses up
+  // to 1.6e-4 of itself here (measured 2026-11-27; 1e-6 while it was Q10.53).
+  CHECK(worst_fixed < 1e-3);
 }

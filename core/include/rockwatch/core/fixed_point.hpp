@@ -29,6 +29,46 @@ constexpr std::int32_t saturate(std::int64_t v) {
   return static_cast<std::int32_t>(v > kRawMax ? kRawMax : (v < kRawMin ? kRawMin : v));
 }
 
+// v·2^frac_bits rounded to nearest, ties away from zero, saturated at ±limit; NaN gives 0. From the double's bits
+// (no floating-point operation: the M4 has no double unit, and the soft-double division, product and compares this
+// replaces cost ~300 instructions a conversion): bit for bit the value of the floating-point form it replaces,
+// trunc(v·2^F) rounded on its remainder, saturating when |v·2^F| ≥ limit. frac_bits in [0, 123].
+// Scaling and overflow: the double is m·2^e with m < 2^53; m·2^(e+F) is formed only when it is below 2^63.
+constexpr std::int64_t double_to_raw(double v, int frac_bits, std::int64_t limit) {
+  const auto bits = __builtin_bit_cast(std::uint64_t, v);
+  const bool negative = (bits >> 63) != 0;
+  const int biased = static_cast<int>((bits >> 52) & 0x7FF);
+  const std::uint64_t fraction = bits & ((std::uint64_t{1} << 52) - 1);
+  if (biased == 0x7FF) {  // NaN: 0; ±Inf: saturated
+    if (fraction != 0) return 0;
+    return negative ? -limit : limit;
+  }
+  if (biased == 0) return 0;  // zero or subnormal: below 2^−1022·2^123, rounds to 0
+  const std::uint64_t m = fraction | (std::uint64_t{1} << 52);
+  const int sh = biased - 1075 + frac_bits;  // v·2^F = m·2^sh
+  std::uint64_t magnitude = 0;
+  if (sh >= 11) {
+    magnitude = std::uint64_t(limit);  // ≥ 2^63 ≥ limit
+  } else if (sh >= 0) {
+    magnitude = m << sh;
+  } else if (sh >= -53) {
+    const int n = -sh;
+    magnitude = (m + (std::uint64_t{1} << (n - 1))) >> n;
+  }
+  if (magnitude > std::uint64_t(limit)) magnitude = std::uint64_t(limit);
+  const auto r = static_cast<std::int64_t>(magnitude);
+  return negative ? -r : r;
+}
+
+// raw·2^−frac_bits as a double: the integer converted (rounded to nearest, as double(raw)), then its exponent
+// lowered by frac_bits, exact (|raw| ≥ 1 has an exponent ≥ 0, frac_bits ≤ 123: no underflow). Bit for bit
+// double(raw) · 2^−F, without the soft-double product or division. frac_bits in [0, 123].
+constexpr double raw_to_double(std::int64_t raw, int frac_bits) {
+  if (raw == 0) return 0.0;
+  const auto bits = __builtin_bit_cast(std::uint64_t, static_cast<double>(raw));
+  return __builtin_bit_cast(double, bits - (static_cast<std::uint64_t>(frac_bits) << 52));
+}
+
 // v · 2^−shift rounded to nearest, ties away from zero; shift ≤ 0 multiplies with saturation.
 // Scaling and overflow: |v| < 2^63 on entry; for shift > 0 the magnitude only shrinks; for shift < 0 the
 // result saturates when it would exceed the int32 range (checked before shifting, so no int64 overflow).
@@ -88,7 +128,7 @@ class Fixed {
     return f;
   }
   constexpr std::int32_t raw() const { return raw_; }
-  constexpr double to_double() const { return double(raw_) / double(std::int64_t{1} << FracBits); }
+  constexpr double to_double() const { return fixed_detail::raw_to_double(raw_, FracBits); }
 
   static constexpr Fixed highest() { return from_raw(INT32_MAX); }
   static constexpr Fixed lowest() { return from_raw(-INT32_MAX); }
@@ -143,17 +183,10 @@ class Fixed {
   }
 
   static constexpr std::int32_t from_double_raw(double v) {
-    if (!(v == v)) return 0;
-    const double scaled = v * double(std::int64_t{1} << FracBits);
-    if (scaled >= double(fixed_detail::kRawMax)) return INT32_MAX;
-    if (scaled <= double(fixed_detail::kRawMin)) return -INT32_MAX;
-    // Truncate, then round on the remainder. Adding ½ before truncating would itself round: the largest double
-    // below ½ plus ½ gives 1.0, so values just below a half would round away from zero.
-    const std::int64_t truncated = static_cast<std::int64_t>(scaled);  // |scaled| < 2^31 − 1: fits
-    const double remainder = scaled - double(truncated);                // exact (Sterbenz), |remainder| < 1
-    const std::int64_t rounded = remainder >= 0.5 ? truncated + 1 : (remainder <= -0.5 ? truncated - 1 : truncated);
-    return static_cast<std::int32_t>(rounded);
+    // Rounded to nearest, ties away; saturating at ±(2^31 − 1) (fixed_detail::double_to_raw: from the bits).
+    return static_cast<std::int32_t>(fixed_detail::double_to_raw(v, FracBits, fixed_detail::kRawMax));
   }
+
 
   std::int32_t raw_ = 0;
 };

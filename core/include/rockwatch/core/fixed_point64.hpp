@@ -280,7 +280,7 @@ class Fixed64 {
     return f;
   }
   constexpr std::int64_t raw() const { return raw_; }
-  constexpr double to_double() const { return double(raw_) * scale_down(); }
+  constexpr double to_double() const { return fixed_detail::raw_to_double(raw_, FracBits); }
 
   static constexpr Fixed64 highest() { return from_raw(INT64_MAX); }
   static constexpr Fixed64 lowest() { return from_raw(-INT64_MAX); }
@@ -321,26 +321,16 @@ class Fixed64 {
   friend constexpr bool operator>=(Fixed64 a, Fixed64 b) { return a.raw_ >= b.raw_; }
 
  private:
-  static constexpr double scale_down() {
-    double s = 1.0;
-    for (int i = 0; i < FracBits; ++i) s *= 0.5;
-    for (int i = 0; i > FracBits; --i) s *= 2.0;
-    return s;
-  }
   template <typename Int>
   static constexpr std::int64_t clamp_integer(Int v) {
     if (v > Int(0) && static_cast<std::uint64_t>(v) > std::uint64_t(INT64_MAX)) return INT64_MAX;
     return static_cast<std::int64_t>(v);
   }
   static constexpr std::int64_t from_double_raw(double v) {
-    if (!(v == v)) return 0;
-    const double scaled = v / scale_down();
-    if (scaled >= 9.2233720368547758e18) return INT64_MAX;
-    if (scaled <= -9.2233720368547758e18) return -INT64_MAX;
-    const auto truncated = static_cast<std::int64_t>(scaled);
-    const double remainder = scaled - double(truncated);
-    return remainder >= 0.5 ? truncated + 1 : (remainder <= -0.5 ? truncated - 1 : truncated);
+    // Rounded to nearest, ties away; saturating at ±(2^63 − 1) (fixed_detail::double_to_raw: from the bits).
+    return fixed_detail::double_to_raw(v, FracBits, INT64_MAX);
   }
+
 
   std::int64_t raw_ = 0;
 };

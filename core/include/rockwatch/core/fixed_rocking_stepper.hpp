@@ -179,6 +179,15 @@ class FixedRockingStepper : public RockingSegments<FixedRockingStepper, FixedRoc
     state_.xdd_mps2 = f_prev_[i] - wide_mul<AccelQ7_56>(k_prev_[i], state_.x_m);
   }
 
+  // set_state() at the input the stepper already holds (the end of its last step, or the last set_state/
+  // set_capacity_scales): the same state, without recomputing f and k from it (the observer's corrections).
+  void correct_state(LengthQ1_62 x_m, SpeedQ3_60 xd_mps) {
+    rest_vertical();
+    place(x_m, xd_mps);
+    const int i = side_index(side_);
+    state_.xdd_mps2 = f_prev_[i] - wide_mul<AccelQ7_56>(k_prev_[i], state_.x_m);
+  }
+
   // The step in pieces paid from a meter (core/work_meter.hpp): begin_step(), then continue_step() until it returns
   // true; step_report() is then the step's report. step(ug, vg) is both at once (RockingSegments).
   void begin_step(AccelQ7_56 ug_mps2, AccelQ7_56 vg_mps2) {

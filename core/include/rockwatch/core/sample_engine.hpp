@@ -40,9 +40,9 @@ inline std::int64_t estimator_share_units(double dt_s) {
   return static_cast<std::int64_t>(kEstimatorShareOfSample * dt_s * kM4InstructionsPerSecond);
 }
 // What a call of the engine does beyond the units its meter charged, at most: the seam's conversions, the queue's
-// bookkeeping, the publication of the samples it finishes (their estimates in double) and the cost model's error
-// (measured on the emulated M4: docs/BENCHMARKS.md, "The metered observer").
-inline constexpr std::int32_t kObserverCallOverheadUnits = 12000;
+// bookkeeping, the publication of the samples it finishes (their estimates computed in float, widened to double)
+// and the cost model's error (measured on the emulated M4: docs/BENCHMARKS.md, "The metered observer").
+inline constexpr std::int32_t kObserverCallOverheadUnits = 4000;
 // The work budget of a call with the observer on: the estimator's share less that overhead (at least the least
 // budget). The open loop keeps WallEngineConfig::work_budget_units (kDefaultWorkBudgetUnits: 25 000 at any rate).
 inline std::int32_t observer_work_budget_units(double dt_s) {
@@ -220,16 +220,16 @@ ObserverSample observer_sample(const Observer& observer, const ObserverStepRepor
   o.bias_m = observer.bias_m();
   o.innovation_x_m = observer.last_innovation_x_m();
   o.innovation_a_mps2 = observer.last_innovation_a_mps2();
-  // Each root once (the accessors would recompute σ(x_inst), ω and σ(k); the same values).
+  // The fixed-point observer computes these in single precision (core/wall_observer.hpp: no soft double).
   o.x_inst_estimate_m = observer.x_inst_estimate_m();
   o.sigma_x_inst_m = observer.sigma_x_inst_m();
-  o.x_inst_alarm_m = observer.x_inst_alarm_m(o.x_inst_estimate_m, o.sigma_x_inst_m, Side::positive);
+  o.x_inst_alarm_m = observer.x_inst_alarm_m(Side::positive);
   o.omega_estimate_rps = observer.omega_estimate_rps();
   o.c_estimate_mps2 = observer.c_estimate_mps2();
   o.sigma_c_mps2 = observer.sigma_c_mps2();
   o.k_estimate_ps2 = observer.k_estimate_ps2();
   o.sigma_k_ps2 = observer.sigma_k_ps2();
-  o.sigma_omega_rps = o.omega_estimate_rps > 0.0 ? o.sigma_k_ps2 / (2.0 * o.omega_estimate_rps) : 0.0;
+  o.sigma_omega_rps = observer.sigma_omega_rps();
   return o;
 }
 

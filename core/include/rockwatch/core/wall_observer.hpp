@@ -32,8 +32,10 @@
 // Samples older than max_age are dropped (stale); older than one step are applied but flagged (misaligned).
 //
 // Scalar: the stepper's (ObserverStepperTraits): double for core::RockingStepper<double>, ObserverQ10_53 for the
-// fixed-point stepper. Core rules: header-only, no heap, no exceptions, no I/O; init() is initialisation-time code
-// (double), the rest is bounded work (at most kQueueCapacity updates per step, each a few 4×4 products).
+// fixed-point stepper (the state e, b, κc, κk, the innovations); Cov, the covariance's, gains' and linearisations':
+// double, and single precision for the fixed-point stepper (the M4F's FPU; -ffp-contract=off). Core rules:
+// header-only, no heap, no exceptions, no I/O; init() is initialisation-time code (double), the rest is bounded work
+// (at most kQueueCapacity updates per step, each a few 6 × 6 products).
 #pragma once
 
 #include <cmath>
@@ -52,8 +54,9 @@
 
 namespace rockwatch::core {
 
-// The observer's one fixed-point format (covariances, gains, corrections, e, b): ±1024, resolution 1.1e-16.
-// Scaling: variances of x down to (10 µm)² = 1e-10 m² keep 6 significant digits; gains ẋ/x up to 1024 1/s.
+// The fixed-point observer's state format (corrections, e, b, κc, κk, innovations): ±1024, resolution 1.1e-16. Its
+// covariance is single precision (ObserverStepperTraits<FixedRockingStepper>::Cov); a correction k·y comes back into
+// this format saturating at ±1024.
 using ObserverQ10_53 = Fixed64<10, 53>;
 
 // Settings, SI units. Defaults: a displacement transducer of 0.5 mm noise and an accelerometer of 0.05 m/s².
@@ -235,6 +238,7 @@ struct ObserverStepperTraits;
 template <>
 struct ObserverStepperTraits<RockingStepper<double>> {
   using Scalar = double;
+  using Cov = double;  // the covariance, gains and linearisations
   using Input = double;
   using Report = StepReport<double>;
   static constexpr ObserverWorkCosts kWork{0, 0, 0, 0};  // hosts only: never metered
@@ -255,17 +259,24 @@ struct ObserverStepperTraits<RockingStepper<double>> {
 template <>
 struct ObserverStepperTraits<FixedRockingStepper> {
   using Scalar = ObserverQ10_53;
+  // The covariance, the gains and the linearisations in single precision on the M4F's FPU (as PX4's EKF2 on
+  // Cortex-M4F/M7): a product is one VMUL.F32 instead of a 128-bit product of Fixed64 (~55 instructions), a division
+  // one VDIV.F32. Host and target agree bit for bit: IEEE single, round to nearest, no contraction into fused
+  // multiply-adds (-ffp-contract=off in both builds). The state (x, ẋ, e, b, κc, κk) stays in fixed point.
+  using Cov = float;
   using Input = AccelQ7_56;
   using Report = FixedStepReport;
   // Upper bounds measured on the emulated M4 (docs/BENCHMARKS.md, "The metered observer").
-  static constexpr ObserverWorkCosts kWork{5000, 16000, 9000, 300};
+  static constexpr ObserverWorkCosts kWork{1000, 5000, 2500, 300};
   static Scalar x(const FixedRockingStepper& s) { return wide_convert<Scalar>(s.x_m()); }
   static Scalar xd(const FixedRockingStepper& s) { return wide_convert<Scalar>(s.xd_mps()); }
   static Scalar xdd(const FixedRockingStepper& s) { return wide_convert<Scalar>(s.xdd_mps2()); }
   static Scalar input(Input v) { return wide_convert<Scalar>(v); }
   static Scalar v_before(const Report& r) { return wide_convert<Scalar>(r.first_impact_v_before_mps); }
-  static void set_motion(FixedRockingStepper& s, Scalar x, Scalar xd, Input ug, Input vg) {
-    s.set_state(wide_convert<LengthQ1_62>(x), wide_convert<SpeedQ3_60>(xd), ug, vg);
+  // The observer corrects the state after the step (or set_capacity) whose input is (ug, vg): f and k are the
+  // stepper's already (correct_state: no recomputation, the same state as set_state at that input).
+  static void set_motion(FixedRockingStepper& s, Scalar x, Scalar xd, Input, Input) {
+    s.correct_state(wide_convert<LengthQ1_62>(x), wide_convert<SpeedQ3_60>(xd));
   }
   static void set_sqrt_r(FixedRockingStepper& s, Scalar e) { s.set_sqrt_r(wide_convert<FractionQ1_62>(e)); }
   static void set_capacity(FixedRockingStepper& s, Scalar kc, Scalar kk, Input ug, Input vg) {
@@ -287,9 +298,10 @@ class WallObserver {
   using Scalar = typename Traits::Scalar;
   using Input = typename Traits::Input;
   using Report = typename Traits::Report;
+  using Cov = typename Traits::Cov;
   using StepOutcome = ObserverStepReport;
   static constexpr int kStates = 6;
-  using Mat = Eigen::Matrix<Scalar, kStates, kStates>;
+  using Mat = Eigen::Matrix<Cov, kStates, kStates>;
   using Vec = Eigen::Matrix<Scalar, kStates, 1>;
   // Sensor samples waiting for the ground stream: as many as the engine's queue of input samples holds
   // (StepperAlarmChain::kMaxPendingSamples), so that samples finished at later calls (carry-over) find theirs.
@@ -310,35 +322,36 @@ class WallObserver {
     for (int i = 0; i < 2; ++i) {
       const double s = i == 1 ? 1.0 : -1.0;
       const double k = (c.c4_fp[i] + c.c4_g * setup.g_mps2) / c.c1;  // p4/p1 at ü = 0, G = g [1/s²]
-      k0_[i] = Scalar(k);
-      f0_[i] = Scalar(-s * (c.c6_fp[i] + c.c6_g * setup.g_mps2) / c.c1);  // ẍ at the hinge, ü = 0 [m/s²]
-      x_inst0_[i] = setup.x_inst_m[i];
+      k0_[i] = Cov(k);
+      f0_[i] = Cov(-s * (c.c6_fp[i] + c.c6_g * setup.g_mps2) / c.c1);  // ẍ at the hinge, ü = 0 [m/s²]
+      x_inst0_[i] = Cov(setup.x_inst_m[i]);
     }
-    h_ = Scalar(h);
-    half_h_ = Scalar(h / 2.0);
-    quarter_h2_ = Scalar(h * h / 4.0);
+    h_ = Cov(h);
+    half_h_ = Cov(h / 2.0);
+    quarter_h2_ = Cov(h * h / 4.0);
     const double sa2 = o.process_accel_mps2 * o.process_accel_mps2;
     q_ = Mat::Zero();
-    q_(X, X) = Scalar(sa2 * h * h * h * h / 4.0);
-    q_(X, V) = q_(V, X) = Scalar(sa2 * h * h * h / 2.0);
-    q_(V, V) = Scalar(sa2 * h * h);
-    q_(E, E) = Scalar(o.r_walk * o.r_walk);
-    q_(B, B) = Scalar(o.bias_walk_m * o.bias_walk_m);
-    q_(C, C) = q_(K, K) = Scalar(o.capacity_walk * o.capacity_walk);
-    capacity_sigma0_ = Scalar(o.capacity_sigma0);
-    alarm_capacity_sigmas_ = o.alarm_capacity_sigmas;
-    r_x_ = Scalar(o.x_noise_m * o.x_noise_m);
-    r_a_ = Scalar(o.a_noise_mps2 * o.a_noise_mps2);
-    gate_ = Scalar(o.gate_chi2);
+    q_(X, X) = Cov(sa2 * h * h * h * h / 4.0);
+    q_(X, V) = q_(V, X) = Cov(sa2 * h * h * h / 2.0);
+    q_(V, V) = Cov(sa2 * h * h);
+    q_(E, E) = Cov(o.r_walk * o.r_walk);
+    q_(B, B) = Cov(o.bias_walk_m * o.bias_walk_m);
+    q_(C, C) = q_(K, K) = Cov(o.capacity_walk * o.capacity_walk);
+    capacity_sigma0_ = Cov(o.capacity_sigma0);
+    alarm_capacity_sigmas_ = Cov(o.alarm_capacity_sigmas);
+    r_x_ = Cov(o.x_noise_m * o.x_noise_m);
+    r_a_ = Cov(o.a_noise_mps2 * o.a_noise_mps2);
+    gate_ = Cov(o.gate_chi2);
     g_over_h1_ = Scalar(setup.g_mps2 / wall.h1_m);
     inv_h1_ = Scalar(1.0 / wall.h1_m);
     v_min_ = Scalar(o.v_min_mps);
-    inform_var_ = Scalar(o.inform_sigmas * o.inform_sigmas);
-    inform_peak_var_ = Scalar(o.inform_peak_noises * o.inform_peak_noises);
+    inform_var_ = Cov(o.inform_sigmas * o.inform_sigmas);
+    inform_peak_var_ = Cov(o.inform_peak_noises * o.inform_peak_noises);
+    inform_peak_x2_ = inform_peak_var_ * r_x_;
     x_range_ = o.x_range_m;
     a_range_ = o.a_range_mps2;
     us_to_s_ = Scalar(1e-6);
-    reinit_v_var_ = Scalar(0.05 * 0.05);
+    reinit_v_var_ = Cov(0.05 * 0.05);
     const double threshold = std::fmin(threshold_mps2(c, Side::negative, setup.g_mps2),
                                        threshold_mps2(c, Side::positive, setup.g_mps2));
     quiet_ug_ = Scalar(o.quiet_fraction * threshold);
@@ -347,8 +360,8 @@ class WallObserver {
     reinit_after_ = o.reinit_after;
     stuck_after_ = o.stuck_after;
     e0_ = Scalar(setup.sqrt_r);
-    e_sigma0_ = Scalar(o.r_sigma0);
-    b_sigma0_ = Scalar(o.bias_sigma0_m);
+    e_sigma0_ = Cov(o.r_sigma0);
+    b_sigma0_ = Cov(o.bias_sigma0_m);
     start();
     return ObserverError::ok;
   }
@@ -361,6 +374,7 @@ class WallObserver {
     p_(E, E) = e_sigma0_ * e_sigma0_;
     p_(B, B) = b_sigma0_ * b_sigma0_;
     kc_ = kk_ = Scalar(1);
+    refresh_parameters();
     p_(C, C) = p_(K, K) = capacity_sigma0_ * capacity_sigma0_;
     x_prev_ = Scalar(0);
     reset_transition();
@@ -529,13 +543,18 @@ class WallObserver {
   }
   void end_sample() { flush(); }
 
-  // Estimates (double, for publishing; the filter itself runs in Scalar).
-  double r_estimate() const { return to_d(e_) * to_d(e_); }
+  // Estimates (double, for publishing), computed in the covariance's arithmetic Cov (double for the double observer,
+  // as before; single precision on the M4F's FPU for the fixed-point one: 7 significant digits, what a published
+  // estimate needs, without soft double's divisions and roots), then widened.
+  double r_estimate() const {
+    const Cov e = ec_;
+    return pub(e * e);
+  }
   double sqrt_r_estimate() const { return to_d(e_); }
   double bias_m() const { return to_d(b_); }
   double sigma_x_m() const { return root(p_(X, X)); }
   double sigma_xd_mps() const { return root(p_(V, V)); }
-  double sigma_r() const { return 2.0 * to_d(e_) * root(p_(E, E)); }
+  double sigma_r() const { return pub(Cov(2) * ec_ * root_c(p_(E, E))); }
   double sigma_bias_m() const { return root(p_(B, B)); }
   // The capacity (SPEC §9), side +1 (the negative side's: x_inst_estimate_m(Side::negative)); c [m/s²] and k [1/s²]
   // at ü = v̈ = 0 per unit p1, ω = √k [rad/s], x_inst = c/k [m]; σ by first-order propagation of the covariance.
@@ -543,51 +562,32 @@ class WallObserver {
   double stiffness_scale() const { return to_d(kk_); }
   double sigma_capacity_scale() const { return root(p_(C, C)); }
   double sigma_stiffness_scale() const { return root(p_(K, K)); }
-  double c_estimate_mps2(Side s = Side::positive) const {
-    return to_d(kc_) * std::fabs(to_d(f0_[side_index(s)]));
-  }
-  double sigma_c_mps2(Side s = Side::positive) const {
-    return sigma_capacity_scale() * std::fabs(to_d(f0_[side_index(s)]));
-  }
-  double k_estimate_ps2(Side s = Side::positive) const { return to_d(kk_) * std::fabs(to_d(k0_[side_index(s)])); }
-  double sigma_k_ps2(Side s = Side::positive) const {
-    return sigma_stiffness_scale() * std::fabs(to_d(k0_[side_index(s)]));
-  }
-  double omega_estimate_rps(Side s = Side::positive) const { return published_sqrt(k_estimate_ps2(s)); }
+  double c_estimate_mps2(Side s = Side::positive) const { return pub(kcc_ * abs_cov(f0_[side_index(s)])); }
+  double sigma_c_mps2(Side s = Side::positive) const { return pub(root_c(p_(C, C)) * abs_cov(f0_[side_index(s)])); }
+  double k_estimate_ps2(Side s = Side::positive) const { return pub(k_c(s)); }
+  double sigma_k_ps2(Side s = Side::positive) const { return pub(sigma_k_c(s)); }
+  double omega_estimate_rps(Side s = Side::positive) const { return pub(std::sqrt(k_c(s))); }
   double sigma_omega_rps(Side s = Side::positive) const {
-    const double w = omega_estimate_rps(s);
-    return w > 0.0 ? sigma_k_ps2(s) / (2.0 * w) : 0.0;
+    const Cov w = std::sqrt(k_c(s));
+    return w > Cov(0) ? pub(sigma_k_c(s) / (Cov(2) * w)) : 0.0;
   }
-  double x_inst_estimate_m(Side s = Side::positive) const {
-    return to_d(kc_) / to_d(kk_) * x_inst0_[side_index(s)];
-  }
-  // The variance of κc/κk by first-order propagation, in the filter's arithmetic (Q10.53 in fixed point, so no
-  // soft-float operation but the root).
-  double sigma_x_inst_m(Side s = Side::positive) const {
-    const Scalar ratio = kc_ / kk_;
-    const Scalar var = p_(C, C) - Scalar(2) * ratio * p_(C, K) + ratio * ratio * p_(K, K);
-    return x_inst0_[side_index(s)] / to_d(kk_) * root(var);
-  }
+  double x_inst_estimate_m(Side s = Side::positive) const { return pub(x_inst_c(s)); }
+  // The variance of κc/κk by first-order propagation.
+  double sigma_x_inst_m(Side s = Side::positive) const { return pub(sigma_x_inst_c(s)); }
   // The x_inst the alarm may rely on: x_inst,est − k_σ·σ(x_inst) (ObserverOptions::alarm_capacity_sigmas), at least
   // 0.3 × nominal.
-  double x_inst_alarm_m(Side s = Side::positive) const {
-    return x_inst_alarm_m(x_inst_estimate_m(s), sigma_x_inst_m(s), s);
-  }
-  // The same from the estimate and its σ already computed (observer_sample: each root once).
-  double x_inst_alarm_m(double x_inst_estimate, double sigma_x_inst, Side s) const {
-    return std::fmax(0.3 * x_inst0_[side_index(s)], x_inst_estimate - alarm_capacity_sigmas_ * sigma_x_inst);
-  }
+  double x_inst_alarm_m(Side s = Side::positive) const { return pub(x_inst_alarm_c(s)); }
   // What the alarm's constants are scaled by (StepperAlarmChain::step_observed): x_inst_alarm / x_inst,nominal and κk.
   // False when the observer has nothing of its own (the nominal wall: margin 0 and κ = 1 would give 1, 1 anyway).
   bool alarm_scales(double& q, double& kk) const {
-    q = x_inst_alarm_m(Side::positive) / x_inst0_[1];
+    q = pub(x_inst_alarm_c(Side::positive) / x_inst0_[1]);
     kk = to_d(kk_);
     return q > 0.0 && kk > 0.0;
   }
   // The energy barrier per unit p1, c²/(2k) [m²/s²].
   double barrier_estimate_m2ps2(Side s = Side::positive) const {
-    const double c = c_estimate_mps2(s), k = k_estimate_ps2(s);
-    return k > 0.0 ? c * c / (2.0 * k) : 0.0;
+    const Cov c = kcc_ * abs_cov(f0_[side_index(s)]), k = k_c(s);
+    return k > Cov(0) ? pub(c * c / (Cov(2) * k)) : 0.0;
   }
   double last_innovation_x_m() const { return to_d(last_innovation_x_); }
   double last_innovation_a_mps2() const { return to_d(last_innovation_a_); }
@@ -607,19 +607,12 @@ class WallObserver {
   // The published σ from a variance: in double for the double observer; for the fixed-point one in single
   // precision (the M4F's VSQRT.F32: 7 significant digits, what a published σ needs, for ~100 instructions instead of
   // soft double's square root, ~1 000). Negative variances (rounding) publish 0.
-  static double root(Scalar v) {
-    if constexpr (std::is_same_v<Scalar, double>) {
+  static double root(Cov v) {
+    if constexpr (std::is_same_v<Cov, double>) {
       return std::sqrt(std::fmax(0.0, v));
     } else {
-      if (v.raw() <= 0) return 0.0;
-      return static_cast<double>(std::sqrt(static_cast<float>(v.raw()) * 0x1p-53f));
-    }
-  }
-  static double published_sqrt(double v) {
-    if constexpr (std::is_same_v<Scalar, double>) {
-      return std::sqrt(v);
-    } else {
-      return v > 0.0 ? static_cast<double>(std::sqrt(static_cast<float>(v))) : 0.0;
+      if (!(v > Cov(0))) return 0.0;
+      return static_cast<double>(std::sqrt(v));
     }
   }
   template <typename F>
@@ -627,6 +620,73 @@ class WallObserver {
     return v.to_double();
   }
   static Scalar abs(Scalar v) { return v < Scalar(0) ? -v : v; }
+  static Cov abs_cov(Cov v) { return v < Cov(0) ? -v : v; }
+  static double pub(Cov v) { return static_cast<double>(v); }
+  // The parameters in the covariance's arithmetic, converted once when they change (start, apply).
+  void refresh_parameters() {
+    ec_ = cov(e_);
+    kcc_ = cov(kc_);
+    kkc_ = cov(kk_);
+  }
+  static Cov root_c(Cov v) {
+    if constexpr (std::is_same_v<Cov, double>) {
+      return std::sqrt(std::fmax(0.0, v));
+    } else {
+      return v > Cov(0) ? std::sqrt(v) : Cov(0);
+    }
+  }
+  Cov k_c(Side s) const { return kkc_ * abs_cov(k0_[side_index(s)]); }
+  Cov sigma_k_c(Side s) const { return root_c(p_(K, K)) * abs_cov(k0_[side_index(s)]); }
+  Cov x_inst_c(Side s) const { return kcc_ / kkc_ * x_inst0_[side_index(s)]; }
+  Cov sigma_x_inst_c(Side s) const {
+    const Cov ratio = kcc_ / kkc_;
+    const Cov var = p_(C, C) - Cov(2) * ratio * p_(C, K) + ratio * ratio * p_(K, K);
+    return x_inst0_[side_index(s)] / kkc_ * root_c(var);
+  }
+  Cov x_inst_alarm_c(Side s) const {
+    const Cov lowest = Cov(0.3) * x_inst0_[side_index(s)];
+    const Cov v = x_inst_c(s) - alarm_capacity_sigmas_ * sigma_x_inst_c(s);
+    return v > lowest ? v : lowest;
+  }
+ public:
+  // The state's fixed point to the covariance's single precision and back (the M4's libgcc converts int64 ↔ float
+  // through soft double, ~100 instructions each). To: the high and low words of the raw value's magnitude converted
+  // by the FPU (VCVT.F32.U32: correctly rounded on host and M4 alike), hi·2³² + lo, times 2^−53 (exact), the sign:
+  // within one unit in the last place (2 roundings; correctly rounded below 2^32 units, |v| < 4.8e-7). Back: v·2^53
+  // (exact) truncated towards zero, in integer code, saturating at ±1024 (Q10.53's range), NaN 0. Identities for
+  // the double observer.
+  static Cov cov(Scalar v) {
+    if constexpr (std::is_same_v<Scalar, Cov>) {
+      return v;
+    } else {
+      static_assert(Scalar::kFracBits == 53, "the observer's scalar is Q10.53");
+      const std::int64_t raw = v.raw();
+      const auto u = static_cast<std::uint64_t>(raw);
+      const std::uint64_t m = raw < 0 ? std::uint64_t(0) - u : u;
+      const auto hi = static_cast<std::uint32_t>(m >> 32), lo = static_cast<std::uint32_t>(m & 0xFFFFFFFFu);
+      const float magnitude = (static_cast<float>(hi) * 0x1p32f + static_cast<float>(lo)) * 0x1p-53f;
+      return raw < 0 ? -magnitude : magnitude;
+    }
+  }
+  static Scalar from_cov(Cov v) {
+    if constexpr (std::is_same_v<Scalar, Cov>) {
+      return v;
+    } else {
+      const auto bits = __builtin_bit_cast(std::uint32_t, v);
+      const bool negative = (bits >> 31) != 0;
+      const int biased = static_cast<int>((bits >> 23) & 0xFFu);
+      if (biased == 0xFF && (bits & 0x7FFFFFu) != 0) return Scalar(0);  // NaN
+      const std::uint64_t m = (bits & 0x7FFFFFu) | 0x800000u;
+      const int sh = biased - 97;  // v·2^53 = m·2^(biased − 150 + 53)
+      if (biased == 0 || sh <= -24) return Scalar(0);  // below 2^−53 (zero, subnormal): truncated to 0
+      if (sh >= 40) return negative ? Scalar::lowest() : Scalar::highest();  // |v| ≥ 1024 (or ±Inf)
+      const std::uint64_t magnitude = sh >= 0 ? m << sh : m >> -sh;
+      const auto r = static_cast<std::int64_t>(magnitude);
+      return Scalar::from_raw(negative ? -r : r);
+    }
+  }
+
+ private:
 
   bool a_used_recent(std::int64_t t_us) const {
     return have_a_used_ && time_difference_us(t_us, last_a_used_us_) <= dropout_us_;
@@ -634,8 +694,8 @@ class WallObserver {
 
   void zero_motion_covariance() {
     for (int j = 0; j < kStates; ++j) {
-      p_(X, j) = p_(j, X) = Scalar(0);
-      p_(V, j) = p_(j, V) = Scalar(0);
+      p_(X, j) = p_(j, X) = Cov(0);
+      p_(V, j) = p_(j, V) = Cov(0);
     }
   }
 
@@ -651,7 +711,7 @@ class WallObserver {
     if (!stepper.moving() || report.started) zero_motion_transition();
     if (stepper.moving()) {
       const int i = side_index(stepper.side());
-      Scalar fx[kStates], fv[kStates];
+      Cov fx[kStates], fv[kStates];
       transition(i, x_prev_, Traits::x(stepper), fx, fv);
       compose(fx, fv);
       if (report.impacts_total > 0) {
@@ -662,23 +722,25 @@ class WallObserver {
         const Scalar v = Traits::v_before(report);
         Scalar v_floored = v;
         if (abs(v) < v_min_) v_floored = v < Scalar(0) ? -v_min_ : v_min_;
-        const Scalar a_after = kc_ * f0_[i], a_before = kc_ * f0_[1 - i];
-        Scalar jx[kStates] = {}, jv[kStates] = {};
-        jx[X] = e_;
-        jv[X] = (a_after - e_ * a_before) / v_floored;
-        jv[V] = e_;
+        const Cov kc = kcc_, e = ec_, vc = cov(v);
+        const Cov a_after = kc * f0_[i], a_before = kc * f0_[1 - i];
+        Cov jx[kStates] = {}, jv[kStates] = {};
+        jx[X] = e;
+        jv[X] = (a_after - e * a_before) / cov(v_floored);
+        jv[V] = e;
         // The impact informs e only when it is certain: |ẋ⁻| well above its own uncertainty (inform_sigmas σ).
         // Below, whether the real wall hit the hinge at all is a coin toss decided by the sensor noise (a wall
         // rocking at sub-noise amplitude, or one the corrections push across the hinge): the linearised jump would
         // attribute that noise to e and drag r̂ far from the truth with a confident σ. There the velocity jump
         // (1 − e)·ẋ⁻ is treated as noise instead.
-        const bool certain = v * v >= inform_var_ * current_vv() && abs(v) >= v_min_ &&
-                             peak_x_ * peak_x_ >= inform_peak_var_ * r_x_;
+        const Cov peak = cov(peak_x_);
+        const bool certain = vc * vc >= inform_var_ * current_vv() && abs(v) >= v_min_ &&
+                             peak * peak >= inform_peak_x2_;
         peak_x_ = Scalar(0);
-        if (certain) jv[E] = v;
+        if (certain) jv[E] = vc;
         compose(jx, jv);
         if (!certain) {
-          const Scalar jump = (Scalar(1) - e_) * v;
+          const Cov jump = (Cov(1) - e) * vc;
           qa_[2] = qa_[2] + jump * jump;
           qa_zero_ = false;
         }
@@ -697,10 +759,10 @@ class WallObserver {
 
   // Φ = I, Q = 0: nothing pending.
   void reset_transition() {
-    for (int c = 0; c < kStates; ++c) phi_x_[c] = phi_v_[c] = Scalar(0);
-    phi_x_[X] = phi_v_[V] = Scalar(1);
+    for (int c = 0; c < kStates; ++c) phi_x_[c] = phi_v_[c] = Cov(0);
+    phi_x_[X] = phi_v_[V] = Cov(1);
     phi_identity_ = true;
-    qa_[0] = qa_[1] = qa_[2] = Scalar(0);
+    qa_[0] = qa_[1] = qa_[2] = Cov(0);
     qa_zero_ = true;
     walk_steps_ = 0;
   }
@@ -708,18 +770,18 @@ class WallObserver {
   // The motion known exactly (at rest): rows X and V of Φ and the pending noise zero (P's rows and columns X, V
   // become zero at the flush, as zero_motion_covariance()).
   void zero_motion_transition() {
-    for (int c = 0; c < kStates; ++c) phi_x_[c] = phi_v_[c] = Scalar(0);
+    for (int c = 0; c < kStates; ++c) phi_x_[c] = phi_v_[c] = Cov(0);
     phi_identity_ = false;
-    qa_[0] = qa_[1] = qa_[2] = Scalar(0);
+    qa_[0] = qa_[1] = qa_[2] = Cov(0);
     qa_zero_ = true;
   }
 
   // Φ ← F Φ and Q ← F Q Fᵀ for an F that is the identity but in rows X, V (fx, fv): with Φ = [A B; 0 I] and
   // F = [a b; 0 I] (blocks of rows X, V and of the other four), F Φ = [a A, a B + b; 0 I]. 24 products.
-  void compose(const Scalar* fx, const Scalar* fv) {
+  void compose(const Cov* fx, const Cov* fv) {
     if (!qa_zero_) {  // Q ← a Q aᵀ (a: F's 2 × 2 block of x, ẋ)
-      const Scalar t00 = fx[X] * qa_[0] + fx[V] * qa_[1], t01 = fx[X] * qa_[1] + fx[V] * qa_[2];
-      const Scalar t10 = fv[X] * qa_[0] + fv[V] * qa_[1], t11 = fv[X] * qa_[1] + fv[V] * qa_[2];
+      const Cov t00 = fx[X] * qa_[0] + fx[V] * qa_[1], t01 = fx[X] * qa_[1] + fx[V] * qa_[2];
+      const Cov t10 = fv[X] * qa_[0] + fv[V] * qa_[1], t11 = fv[X] * qa_[1] + fv[V] * qa_[2];
       qa_[0] = t00 * fx[X] + t01 * fx[V];
       qa_[1] = t00 * fv[X] + t01 * fv[V];
       qa_[2] = t10 * fv[X] + t11 * fv[V];
@@ -732,7 +794,7 @@ class WallObserver {
       phi_identity_ = false;
       return;
     }
-    Scalar nx[kStates], nv[kStates];
+    Cov nx[kStates], nv[kStates];
     for (int c = 0; c < kStates; ++c) {
       const bool motion = c == X || c == V;
       nx[c] = fx[X] * phi_x_[c] + fx[V] * phi_v_[c];
@@ -749,11 +811,11 @@ class WallObserver {
   }
 
   // P(V, V) as it stands now: (Φ P Φᵀ)(V, V) + Q(V, V), without applying Φ. 42 products.
-  Scalar current_vv() const {
+  Cov current_vv() const {
     if (phi_identity_) return p_(V, V) + qa_[2];
-    Scalar acc = Scalar(0);
+    Cov acc = Cov(0);
     for (int r = 0; r < kStates; ++r) {
-      Scalar w = Scalar(0);
+      Cov w = Cov(0);
       for (int c = 0; c < kStates; ++c) w = w + p_(r, c) * phi_v_[c];
       acc = acc + phi_v_[r] * w;
     }
@@ -764,9 +826,9 @@ class WallObserver {
   // the other four columns, and R Φᵀ its new 2 × 2 block of x, ẋ. 90 products; nothing when nothing is pending.
   void flush() {
     if (!phi_identity_) {
-      Scalar rx[kStates], rv[kStates];
+      Cov rx[kStates], rv[kStates];
       for (int c = 0; c < kStates; ++c) {
-        Scalar ax = Scalar(0), av = Scalar(0);
+        Cov ax = Cov(0), av = Cov(0);
         for (int j = 0; j < kStates; ++j) {
           ax = ax + phi_x_[j] * p_(j, c);
           av = av + phi_v_[j] * p_(j, c);
@@ -774,7 +836,7 @@ class WallObserver {
         rx[c] = ax;
         rv[c] = av;
       }
-      Scalar xx = Scalar(0), xv = Scalar(0), vv = Scalar(0);
+      Cov xx = Cov(0), xv = Cov(0), vv = Cov(0);
       for (int j = 0; j < kStates; ++j) {
         xx = xx + rx[j] * phi_x_[j];
         xv = xv + rx[j] * phi_v_[j];
@@ -807,78 +869,49 @@ class WallObserver {
   // Rows X, V of the covariance transition of one step on side i from x0 to x1 (the linearised Newmark step with the
   // estimated stiffness, and its derivatives by κc and κk: see the header); the other rows are the identity's.
   // One division (1/D), products otherwise.
-  void transition(int i, Scalar x0, Scalar x1, Scalar* fx, Scalar* fv) const {
-    const Scalar k = kk_ * k0_[i];
-    const Scalar q = quarter_h2_ * k;
-    const Scalar inv_d = Scalar(1) / (Scalar(1) + q);
-    const Scalar f11 = (Scalar(1) - q) * inv_d, f12 = h_ * inv_d;
-    for (int c = 0; c < kStates; ++c) fx[c] = fv[c] = Scalar(0);
+  void transition(int i, Scalar x0, Scalar x1, Cov* fx, Cov* fv) const {
+    const Cov k = kkc_ * k0_[i];
+    const Cov q = quarter_h2_ * k;
+    const Cov inv_d = Cov(1) / (Cov(1) + q);
+    const Cov f11 = (Cov(1) - q) * inv_d, f12 = h_ * inv_d;
+    for (int c = 0; c < kStates; ++c) fx[c] = fv[c] = Cov(0);
     fx[X] = f11;
     fx[V] = f12;
-    fv[X] = -(half_h_ * k) * (Scalar(1) + f11);
-    fv[V] = Scalar(1) - half_h_ * k * f12;
-    const Scalar fc = f0_[i];
-    const Scalar dx_c = (quarter_h2_ * (fc + fc)) * inv_d;
+    fv[X] = -(half_h_ * k) * (Cov(1) + f11);
+    fv[V] = Cov(1) - half_h_ * k * f12;
+    const Cov fc = f0_[i];
+    const Cov dx_c = (quarter_h2_ * (fc + fc)) * inv_d;
     fx[C] = dx_c;
     fv[C] = half_h_ * (fc + fc - k * dx_c);
-    const Scalar sum = x0 + x1;
-    const Scalar dx_k = -(quarter_h2_ * k0_[i] * sum) * inv_d;
+    const Cov sum = cov(x0 + x1);
+    const Cov dx_k = -(quarter_h2_ * k0_[i] * sum) * inv_d;
     fx[K] = dx_k;
     fv[K] = half_h_ * (-(k0_[i] * sum) - k * dx_k);
-  }
-
-  // 1/s for the gains k = P h / s: one division for the whole gain (six products instead of six divisions). In
-  // fixed point a normalised reciprocal: 2^(62 + w) / s with w = bit length(s) − 1, 61 significant bits whatever s's
-  // magnitude (s ≥ r: from 1e-12 m² to ~1e3), so each gain is P h·(2^(62+w)/s) shifted back by 62 + w − 53, within
-  // one unit in the last place of the quotient. Scaling and overflow: the reciprocal is in [2^61, 2^62] (64-bit);
-  // the product is exact in 128 bits; a gain beyond ±1024 saturates (|gain| ≤ 1 for X, B, E, C, K and ≤ 1/h for V).
-  struct Reciprocal {
-    Scalar inv{};       // double
-    std::int64_t raw = 0;  // fixed point
-    int shift = 0;
-  };
-  static Reciprocal reciprocal(Scalar s) {
-    Reciprocal r;
-    if constexpr (std::is_same_v<Scalar, double>) {
-      r.inv = 1.0 / s;
-    } else {
-      const std::int64_t sr = s.raw();  // > 0
-      const int w = 63 - fixed64_detail::clz64(static_cast<std::uint64_t>(sr));  // bit length − 1
-      r.raw = fixed64_detail::div_round(std::int64_t(1) << 62, sr, w);
-      r.shift = 62 + w - Scalar::kFracBits;
-    }
-    return r;
-  }
-  static Scalar times(Scalar v, const Reciprocal& r) {
-    if constexpr (std::is_same_v<Scalar, double>) {
-      return v * r.inv;
-    } else {
-      return Scalar::from_raw(fixed64_detail::mul_round(v.raw(), r.raw, r.shift));
-    }
   }
 
   // One scalar measurement with P h = ph already formed (h sparse: the callers add P's columns), s = hᵀ P h + r,
   // innovation y. Returns false when gated out. Only the upper triangle of P is computed (then mirrored).
   // learn = false: the wall's parameters (e, κc, κk) are considered, not estimated (Schmidt–Kalman: their gain is
   // zero and the covariance follows the Joseph form of that gain, so it stays the covariance of the errors).
-  bool scalar_update(Scalar (&ph)[kStates], Scalar s, Scalar y, Vec& correction, bool learn = true) {
-    if (!(s > Scalar(0))) return false;
+  // 1/s for the gains k = P h / s: one division for the whole gain (six products instead of six divisions).
+  bool scalar_update(Cov (&ph)[kStates], Cov s, Cov y, Vec& correction, bool learn = true) {
+    if (!(s > Cov(0))) return false;
     if (y * y > gate_ * s) return false;
-    const Reciprocal inv_s = reciprocal(s);
-    Scalar k[kStates];
-    for (int a = 0; a < kStates; ++a) k[a] = times(ph[a], inv_s);
+    const Cov inv_s = Cov(1) / s;
+    Cov k[kStates];
+    for (int a = 0; a < kStates; ++a) k[a] = ph[a] * inv_s;
     if (learn) {
       for (int a = 0; a < kStates; ++a) {
-        correction(a) = k[a] * y;
+        correction(a) = from_cov(k[a] * y);
         for (int c = a; c < kStates; ++c) p_(a, c) = p_(a, c) - k[a] * ph[c];
       }
     } else {
-      k[E] = k[C] = k[K] = Scalar(0);
+      k[E] = k[C] = k[K] = Cov(0);
       // (I − k hᵀ) P (I − k hᵀ)ᵀ + r k kᵀ = P − k (Ph)ᵀ − (Ph) kᵀ + s k kᵀ, on the entries a gain touches.
       for (int a = 0; a < kStates; ++a) {
-        correction(a) = k[a] * y;
+        correction(a) = from_cov(k[a] * y);
         for (int c = a; c < kStates; ++c) {
-          if (k[a] == Scalar(0) && k[c] == Scalar(0)) continue;
+          if (k[a] == Cov(0) && k[c] == Cov(0)) continue;
           p_(a, c) = p_(a, c) - k[a] * ph[c] - ph[a] * k[c] + s * k[a] * k[c];
         }
       }
@@ -891,8 +924,8 @@ class WallObserver {
   // at least inform_peak_noises × the transducer's σ. Below, the fused model's motion is mostly the sensor noise
   // (a wall rocking at sub-noise amplitude, or at rest): fitting c, k or r to it biases them with a confident σ.
   bool informative(Scalar x) const {
-    const Scalar a = abs(x) > peak_x_ ? abs(x) : peak_x_;
-    return a * a >= inform_peak_var_ * r_x_;
+    const Cov a = cov(abs(x) > peak_x_ ? abs(x) : peak_x_);
+    return a * a >= inform_peak_x2_;
   }
 
   void symmetrise() {
@@ -900,7 +933,7 @@ class WallObserver {
       for (int c = a + 1; c < kStates; ++c) p_(c, a) = p_(a, c);
     }
     for (int a = 0; a < kStates; ++a) {
-      if (p_(a, a) < Scalar(0)) p_(a, a) = Scalar(0);
+      if (p_(a, a) < Cov(0)) p_(a, a) = Cov(0);
     }
   }
 
@@ -929,6 +962,7 @@ class WallObserver {
       kc_ = Scalar(2) * kk_;
       clamped = true;
     }
+    refresh_parameters();
     if (clamped) {
       ++counters_.clamped;
       pending_flags_ |= observer_flag::estimate_clamped;
@@ -949,15 +983,16 @@ class WallObserver {
       if (crossed) {
         xd_after = e_ * xd;
         // P is up to date here (an update flushed it): the reset's Jacobian composed and applied at once.
-        Scalar jx[kStates] = {}, jv[kStates] = {};
-        jx[X] = Scalar(1);
-        jv[V] = e_;
-        const bool certain = xd * xd >= inform_var_ * p_(V, V) && abs(xd) >= v_min_ && informative(x_before);
-        if (certain) jv[E] = xd;
+        Cov jx[kStates] = {}, jv[kStates] = {};
+        const Cov e = ec_, xdc = cov(xd);
+        jx[X] = Cov(1);
+        jv[V] = e;
+        const bool certain = xdc * xdc >= inform_var_ * p_(V, V) && abs(xd) >= v_min_ && informative(x_before);
+        if (certain) jv[E] = xdc;
         compose(jx, jv);
         flush();
         if (!certain) {
-          const Scalar jump = (Scalar(1) - e_) * xd;
+          const Cov jump = (Cov(1) - e) * xdc;
           p_(V, V) = p_(V, V) + jump * jump;
         }
         peak_x_ = Scalar(0);
@@ -1001,11 +1036,11 @@ class WallObserver {
     // The reading was taken age_s before the step end: carried forward along the estimated velocity.
     const Scalar y = z + xd * age_s - (x + b_);
     // H = [1 0 0 1 0 0]: P h is the sum of P's columns X and B, without a product.
-    Scalar ph[kStates];
+    Cov ph[kStates];
     for (int a = 0; a < kStates; ++a) ph[a] = p_(a, X) + p_(a, B);
     Vec dz = Vec::Zero();
     last_innovation_x_ = y;
-    if (scalar_update(ph, ph[X] + ph[B] + r_x_, y, dz, informative(x))) {
+    if (scalar_update(ph, ph[X] + ph[B] + r_x_, cov(y), dz, informative(x))) {
       apply(stepper, dz, ug, vg);
       ++counters_.x_updates;
       ++out.x_updates;
@@ -1062,12 +1097,12 @@ class WallObserver {
     const Scalar predicted = ug_s + Traits::xdd(stepper) - gravity_over_h1 * x;
     const Scalar y = Scalar(s.a_mid_mps2) - predicted;
     // H non-zero in X, C, K only: P h from three columns.
-    const Scalar hx = -(kk_ * k0_[i] + gravity_over_h1), hc = f0_[i], hk = -(k0_[i] * x);
-    Scalar ph[kStates];
+    const Cov hx = -(kkc_ * k0_[i] + cov(gravity_over_h1)), hc = f0_[i], hk = -(k0_[i] * cov(x));
+    Cov ph[kStates];
     for (int a = 0; a < kStates; ++a) ph[a] = p_(a, X) * hx + p_(a, C) * hc + p_(a, K) * hk;
     Vec dz = Vec::Zero();
     last_innovation_a_ = y;
-    if (!scalar_update(ph, hx * ph[X] + hc * ph[C] + hk * ph[K] + r_a_, y, dz, informative(x))) {
+    if (!scalar_update(ph, hx * ph[X] + hc * ph[C] + hk * ph[K] + r_a_, cov(y), dz, informative(x))) {
       ++counters_.rejected;
       out.flags |= observer_flag::rejected;
       return;
@@ -1081,30 +1116,34 @@ class WallObserver {
   }
 
   // Constants (init).
-  Scalar k0_[2]{};     // the nominal k_s = p4/p1 at ü = 0, G = g per side [1/s²]
-  double x_inst0_[2]{};  // the nominal x_inst per side [m]
-  Scalar h_{}, half_h_{}, quarter_h2_{};  // the step h, h/2, h²/4 [s, s, s²]
-  Scalar capacity_sigma0_{};
-  double alarm_capacity_sigmas_ = 0.5;
+  Cov k0_[2]{};        // the nominal k_s = p4/p1 at ü = 0, G = g per side [1/s²]
+  Cov x_inst0_[2]{};   // the nominal x_inst per side [m]
+  Cov h_{}, half_h_{}, quarter_h2_{};  // the step h, h/2, h²/4 [s, s, s²]
+  Cov capacity_sigma0_{};
+  Cov alarm_capacity_sigmas_ = Cov(0.5);
   Mat q_{};            // process noise per step
-  Scalar f0_[2]{};     // ẍ at the hinge with ü = 0 per side [m/s²]
-  Scalar r_x_{}, r_a_{}, gate_{}, g_over_h1_{}, v_min_{}, us_to_s_{}, reinit_v_var_{}, quiet_ug_{};
+  Cov f0_[2]{};        // ẍ at the hinge with ü = 0 per side [m/s²]
+  Cov r_x_{}, r_a_{}, gate_{}, reinit_v_var_{};
+  Scalar g_over_h1_{}, v_min_{}, us_to_s_{}, quiet_ug_{};
   Scalar inv_h1_{};     // 1/h1 [1/m]
-  Scalar inform_var_{}, inform_peak_var_{};  // inform_sigmas², inform_peak_noises² [-]
-  Scalar e0_{}, e_sigma0_{}, b_sigma0_{};
+  Cov inform_var_{}, inform_peak_var_{};  // inform_sigmas², inform_peak_noises² [-]
+  Cov inform_peak_x2_{};  // inform_peak_noises² × x_noise² [m²]
+  Scalar e0_{};
+  Cov e_sigma0_{}, b_sigma0_{};
   double x_range_ = 0.5, a_range_ = 80.0;
   std::int64_t dropout_us_ = 250000, max_age_us_ = 50000;
   std::int32_t reinit_after_ = 8, stuck_after_ = 40;
   // State.
   Scalar e_{}, b_{};
   Scalar kc_{1}, kk_{1};  // κc, κk [-]
+  Cov ec_{}, kcc_{1}, kkc_{1};  // e, κc, κk in Cov (refresh_parameters)
   Scalar x_prev_{};       // x at the end of the previous step (after its corrections) [m]
   Mat p_{};
   // The prediction pending since the last flush (predict, compose, flush): rows X and V of Φ, Φ = I, the noise of
   // x, ẋ (XX, XV, VV), whether it is zero, and the steps whose parameter walks are still to add.
-  Scalar phi_x_[kStates]{}, phi_v_[kStates]{};
+  Cov phi_x_[kStates]{}, phi_v_[kStates]{};
   bool phi_identity_ = true;
-  Scalar qa_[3]{};
+  Cov qa_[3]{};
   bool qa_zero_ = true;
   int walk_steps_ = 0;
   // The step in progress (begin_step .. end_step): its report, input, end, length, and whether the ground is quiet

@@ -3,7 +3,7 @@
 // instability indicators → alarm state machine). init() does all floating-point work and validation; process() then
 // runs integer arithmetic only, allocates nothing and takes the same work every sample (bounded loops with fixed
 // iteration counts). With the observer enabled (WallEngineConfig::observer_enabled), core::WallObserver over the same
-// fixed-point stepper (scalar ObserverQ10_53) corrects the state between the stepper and the indicators: its work is
+// fixed-point stepper (state ObserverQ10_53, covariance single precision) corrects the state between the stepper and the indicators: its work is
 // metered with the stepper's (its pieces paid from the same budget and carried over with the samples). It is the firmware's SampleEngine: the monitor loop runs it behind that seam; the embedded
 // build (scripts/embedded-build.sh) compiles it for a Cortex-M4.
 #pragma once
