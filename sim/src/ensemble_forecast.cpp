@@ -152,6 +152,7 @@ const char* forecast_settings_error(const ForecastSettings& s) {
   if (!(in(s.growth_min_per_s, -10.0, 0.0) && in(s.growth_max_per_s, 0.0, 2.0))) return "growth";
   if (!in(s.sigma_now_cap, 1.0, 10.0)) return "sigma_now_cap";
   if (!in(s.intensity_log_sigma, 0.0, 2.0)) return "intensity_log_sigma";
+  if (!in(s.intensity_ramp_s, 0.0, 60.0)) return "intensity_ramp_s";
   if (s.match_velocity && !(s.highpass_ratio > 0.0)) return "match_velocity";
   if (!in(s.default_sigma_fraction, 0.0, 0.5)) return "default_sigma_fraction";
   return nullptr;
@@ -264,6 +265,21 @@ EnsembleForecaster::EnsembleForecaster(const core::WallParameters& wall, core::M
                                   core::energy_barrier_jpm(setup_.model, core::Side::positive, wall.g_mps2));
   v_barrier_mps_ = std::sqrt(2.0 * barrier / setup_.model.c1);
   max_ratio_.assign(static_cast<std::size_t>(settings.members), 0.0);
+  for (const core::Side side : {core::Side::negative, core::Side::positive}) {
+    const int i = core::side_index(side);
+    barrier_jpm_[i] = core::energy_barrier_jpm(setup_.model, side, wall.g_mps2);
+    free_[i] = core::evaluate(setup_.model, side, 0.0, wall.g_mps2);
+  }
+}
+
+double EnsembleForecaster::energy_ratio(double x_m, double xd_mps, int side) const {
+  const int i = core::side_index(side > 0 ? core::Side::positive : core::Side::negative);
+  return core::mechanical_energy(free_[i], x_m, xd_mps) / barrier_jpm_[i];
+}
+
+double EnsembleForecaster::x_over_x_inst(double x_m, int side) const {
+  const int i = core::side_index(side > 0 ? core::Side::positive : core::Side::negative);
+  return std::fabs(x_m) / setup_.x_inst_m[i];
 }
 
 ForecastResult EnsembleForecaster::forecast(const ForecastState& st, const double* ug, std::size_t n, double dt_s) {
@@ -306,6 +322,7 @@ ForecastResult EnsembleForecaster::forecast(const ForecastState& st, const Groun
       sigma_now > 0.0 ? std::clamp(st.ug_now_mps2 / sigma_now, -kInitialFilterClamp, kInitialFilterClamp) : 0.0;
   const double kappa_ratio = su.x_collapse_m[1] / su.x_inst_m[1];
 
+  const int ramp_steps = s.intensity_ramp_s > 0.0 ? static_cast<int>(std::ceil(s.intensity_ramp_s / s.step_s - 1e-9)) : 0;
   int collapsed = 0;
   const int N = s.members;
   for (int m = 0; m < N; ++m) {
@@ -322,13 +339,26 @@ ForecastResult EnsembleForecaster::forecast(const ForecastState& st, const Groun
       for (int k = 0; k <= r; ++k) g[r] += f.chol[r][k] * zg[k];
     }
     const double s_i = s.intensity_log_sigma;
-    double env = sigma_now * std::exp(s_i * rs.normal() - 0.5 * s_i * s_i);
+    const double z_i = rs.normal();
+    double env = sigma_now * std::exp(s_i * z_i - 0.5 * s_i * s_i);
+    // With a ramp, the factor grows from 1 to its full spread over ramp_steps steps (the envelope's decay applied
+    // to the base level; the factor multiplied in).
+    double base = sigma_now;
+    if (ramp_steps > 0) env = sigma_now;
     const int side0 = core::side_index(stepper.side());
     double max_ratio = std::fabs(x0) / su.x_inst_m[side0];
     bool fell = std::fabs(x0) >= su.x_collapse_m[side0];
     for (int k = 0; !fell && k < n_steps; ++k) {
       f.step(g, unit_uniform(rs));
       env *= decay;
+      if (k < ramp_steps) {
+        base *= decay;
+        const double r = double(k + 1) / double(ramp_steps);
+        env = base * std::exp(s_i * r * z_i - 0.5 * s_i * s_i * r * r);
+      } else if (k == ramp_steps && ramp_steps > 0) {
+        base *= decay;
+        env = base * std::exp(s_i * z_i - 0.5 * s_i * s_i);
+      }
       const auto report = stepper.step(env * f.output(g), 0.0);
       if (report.collapsed) {
         fell = true;

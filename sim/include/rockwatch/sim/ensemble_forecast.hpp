@@ -50,6 +50,10 @@ struct ForecastSettings {
   // The intensity to come is uncertain: each member's envelope is σ(τ)·exp(s_I z − s_I²/2), z standard normal (mean
   // σ(τ)), s_I = this, in [0, 2].
   double intensity_log_sigma = 1.5;  // (tuned on suite sets 1–3 for calibration, SPEC §10)
+  // The intensity's spread grows with the lead time: the member's log-factor is s_I·r(τ)·z − (s_I r(τ))²/2 with
+  // r(τ) = min(1, τ / this) (the next instants' intensity is the record's own; the later one less known). 0: the
+  // spread is s_I from τ = 0 (r = 1). In [0, 60] s.
+  double intensity_ramp_s = 0.0;
   // The level set so that the model's ground velocity has the record's RMS over the window (velocity_rms_mps) instead
   // of its acceleration's (a rocking wall answers to the low frequencies). Needs highpass_ratio > 0. Off by default:
   // it scored a lower Brier skill on suite sets 1–3 than the acceleration's RMS with intensity_log_sigma 1.5 (SPEC §10).
@@ -112,6 +116,11 @@ class EnsembleForecaster {
   // The same with the ground model fitted to the record's last samples ug[0 .. n) (the last at the forecast time).
   ForecastResult forecast(const ForecastState& state, const double* ug_mps2, std::size_t n, double dt_s);
 
+  // The state features of the recalibration (SPEC §10 "Calibrated P"), for the nominal wall: E/E_barrier in free
+  // motion (SPEC §2) on side `side` (+1 / −1), and |x|/x_inst of that side.
+  double energy_ratio(double x_m, double xd_mps, int side) const;
+  double x_over_x_inst(double x_m, int side) const;
+
   const ForecastSettings& settings() const { return settings_; }
   const core::StepperSetup<double>& setup() const { return setup_; }
   double velocity_scale_mps() const { return v_barrier_mps_; }
@@ -120,6 +129,8 @@ class EnsembleForecaster {
   ForecastSettings settings_;
   core::StepperSetup<double> setup_{};
   double v_barrier_mps_ = 0.0;
+  double barrier_jpm_[2] = {0.0, 0.0};  // E_barrier per side (index core::side_index)
+  core::Coefficients<double> free_[2]{};  // the coefficients of free motion at x = 0 per side
   std::vector<double> max_ratio_;  // per member: max |x|/x_inst
 };
 
