@@ -19,7 +19,7 @@ TEST_GROUP(ForecastCalibration){};
 // likelihood must find its coefficients within a few standard errors (≈ 0.02–0.05 at this size).
 TEST(ForecastCalibration, FitRecoversAKnownLogisticModel) {
   const double truth[4] = {-3.0, 0.8, 1.5, 2.0};
-  synthesis::RandomStream rs(2029);
+  sim::synthesis::RandomStream rs(2029);
   const std::size_t n = 40000, k = sim::kCalibrationFeatures;
   std::vector<double> x(n * k);
   std::vector<std::uint8_t> y(n);

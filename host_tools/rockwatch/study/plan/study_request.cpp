@@ -189,7 +189,8 @@ void add_options(CLI::App& app, RawOptions& raw) {
   app.add_option("--forecast-setting", raw.forecast_setting,
                  "With --forecast: one of the forecaster's settings (SPEC section 10), NAME=VALUE, repeatable, to tune "
                  "or compare its ground and state models: intensity_log_sigma, intensity_ramp_s, highpass_ratio, "
-                 "growth_max_per_s, damping, window_s, default_sigma_fraction, step_s")
+                 "growth_max_per_s, damping, window_s, default_sigma_fraction, step_s, condition_on_record (0|1), "
+                 "record_noise_var")
       ->type_name("NAME=VALUE");
   app.add_option("--units", raw.units, "Acceleration units of --records files: g|mps2|cmps2|mmps2 (overrides the file)")
       ->type_name("U");
@@ -399,12 +400,20 @@ void parse_forecast(const CLI::App& app, const RawOptions& raw, StudyRequest& q)
     else if (name == "window_s") field = &fs.window_s;
     else if (name == "default_sigma_fraction") field = &fs.default_sigma_fraction;
     else if (name == "step_s") field = &fs.step_s;
+    else if (name == "record_noise_var") field = &fs.record_noise_var;
+    double on_off = fs.condition_on_record ? 1.0 : 0.0;
+    if (name == "condition_on_record") field = &on_off;
     if (eq == std::string::npos || field == nullptr) {
       throw UsageError("--forecast-setting takes NAME=VALUE, NAME one of intensity_log_sigma, intensity_ramp_s, "
-                       "highpass_ratio, growth_max_per_s, damping, window_s, default_sigma_fraction, step_s (got " +
+                       "highpass_ratio, growth_max_per_s, damping, window_s, default_sigma_fraction, step_s, condition_on_record, record_noise_var "
+                       "(got " +
                        quoted(text) + ")");
     }
     *field = parse_finite_number("--forecast-setting " + name, text.substr(eq + 1));
+    if (name == "condition_on_record") {
+      if (on_off != 0.0 && on_off != 1.0) throw UsageError("--forecast-setting condition_on_record takes 0 or 1");
+      fs.condition_on_record = on_off == 1.0;
+    }
   }
   if (const char* bad = sim::forecast_settings_error(e.settings)) {
     throw UsageError(std::string("--forecast-setting: the forecaster's setting ") + bad +

@@ -427,7 +427,8 @@ nlohmann::ordered_json forecast_plan_json(const study::ForecastEvaluationPlan& e
           {"growth_min_per_s", s.growth_min_per_s}, {"growth_max_per_s", s.growth_max_per_s},
           {"sigma_now_cap", s.sigma_now_cap},       {"intensity_log_sigma", s.intensity_log_sigma},
           {"match_velocity", s.match_velocity},     {"default_sigma_fraction", s.default_sigma_fraction},
-          {"intensity_ramp_s", s.intensity_ramp_s}};
+          {"intensity_ramp_s", s.intensity_ramp_s}, {"condition_on_record", s.condition_on_record},
+          {"record_noise_var", s.record_noise_var}};
 }
 
 nlohmann::ordered_json forecast_summary_json(const study::ForecastEvaluationPlan& evaluation,
