@@ -145,7 +145,7 @@ void add_options(CLI::App& app, RawOptions& raw) {
       ->type_name("HZ");
   app.add_option("--forecast-calibration", raw.forecast_calibration,
                  "With --forecast: the coefficients c0,c1,c2,c3 of the calibrated P (SPEC section 10 'Calibrated P'; "
-                 "default: the shipped ones, fitted at H = 3 s and applied only at that horizon)")
+                 "default: the shipped ones, fitted at H = 3 s and 5 s and applied only at those horizons)")
       ->type_name("C0,C1,C2,C3");
   app.add_flag("--print-config", raw.print_config,
                "Print the normalised settings and their digest as one JSON object and exit");

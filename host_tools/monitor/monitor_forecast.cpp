@@ -129,14 +129,16 @@ MonitorForecaster::MonitorForecaster(const ForecastConfig& config, const firmwar
       dt_s_(1.0 / settings.sample_rate_hz),
       forecaster_(settings.engine.wall, settings.engine.model, settings.engine.r_energy, settings.engine.kappa,
                   forecaster_settings(config)),
-      calibration_(sim::default_forecast_calibration()),
       energy_(static_cast<std::size_t>(std::ceil(sim::kCalibrationEnergyWindow_s * config.rate_hz)) + 4) {
   if (config.calibration) {
     calibration_.c = *config.calibration;
     calibration_.horizon_s = config.horizon_s;
     calibration_.source = "configured";
+    calibration_applied_ = true;
+  } else if (const auto shipped = sim::default_forecast_calibration(config.horizon_s)) {
+    calibration_ = *shipped;
+    calibration_applied_ = true;
   }
-  calibration_applied_ = config.calibration.has_value() || std::fabs(calibration_.horizon_s - config.horizon_s) < 1e-9;
   const core::Coefficients<double> k =
       core::evaluate(forecaster_.setup().model, core::Side::positive, 0.0, settings.engine.wall.g_mps2);
   c_nominal_mps2_ = std::fabs(k.p6) / k.p1;

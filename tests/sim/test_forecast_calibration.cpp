@@ -91,11 +91,14 @@ TEST(ForecastCalibration, LogitIsClampedAtHalfAMember) {
   cal.c = {-1.0, 0.5, 2.0, -1.0};
   const double z = -1.0 + 0.5 * std::log(0.2 / 0.8) + 2.0 * 0.7 - 1.0 * 0.4;
   DOUBLES_EQUAL(1.0 / (1.0 + std::exp(-z)), sim::calibrated_probability(cal, 0.2, 50, 0.7, 0.4), 1e-12);
-  // The shipped coefficients: P rises with the ensemble's P and with the energy (the state's own signal).
-  const sim::ForecastCalibration d = sim::default_forecast_calibration();
-  CHECK(d.horizon_s > 0.0);
+  // The shipped coefficients (3 s and 5 s, none for 4 s): P rises with the ensemble's P and with |x|/x_inst.
+  CHECK_FALSE(sim::default_forecast_calibration(4.0).has_value());
+  for (const double h : {3.0, 5.0}) {
+  const sim::ForecastCalibration d = *sim::default_forecast_calibration(h);
+  DOUBLES_EQUAL(h, d.horizon_s, 0.0);
   CHECK(sim::calibrated_probability(d, 0.9, 100, 0.5, 0.3) > sim::calibrated_probability(d, 0.1, 100, 0.5, 0.3));
-  CHECK(sim::calibrated_probability(d, 0.5, 100, 1.5, 0.3) > sim::calibrated_probability(d, 0.5, 100, 0.2, 0.3));
+  CHECK(sim::calibrated_probability(d, 0.5, 100, 0.5, 0.8) > sim::calibrated_probability(d, 0.5, 100, 0.5, 0.1));
+  }
 }
 
 TEST(ForecastCalibration, CoefficientsText) {

@@ -30,10 +30,13 @@ ForecastSeries run_forecasts(const SimulateRequest& q, const sim::GroundMotion& 
   const std::vector<sim::HistoryRow>& h = result.history;
   if (h.empty()) return series;
   sim::EnsembleForecaster forecaster(q.wall, q.analysis.model, result.r, q.analysis.kappa, series.settings);
-  series.calibration = q.forecast_calibration ? *q.forecast_calibration : sim::default_forecast_calibration();
-  series.calibration_applied =
-      q.forecast_calibration.has_value() ||
-      std::fabs(series.calibration.horizon_s - series.settings.horizon_s) < 1e-9;
+  const std::optional<sim::ForecastCalibration> shipped = sim::default_forecast_calibration(series.settings.horizon_s);
+  series.calibration_applied = q.forecast_calibration.has_value() || shipped.has_value();
+  if (q.forecast_calibration) {
+    series.calibration = *q.forecast_calibration;
+  } else if (shipped) {
+    series.calibration = *shipped;
+  }
   // E/E_barrier of every history row (the study's feature, forecast_evaluation.cpp).
   std::vector<double> energy(h.size());
   for (std::size_t i = 0; i < h.size(); ++i) energy[i] = forecaster.energy_ratio(h[i].x_m, h[i].xd_mps, h[i].side);
@@ -89,14 +92,22 @@ nlohmann::ordered_json forecast_json(const ForecastSeries& s, bool with_alarm) {
   j["step_s"] = s.settings.step_s;
   j["seed"] = s.settings.seed;
   j["at_rest_skipped"] = s.at_rest;
-  j["calibration"] = {{"coefficients",
-                       {{"const", s.calibration.c[0]},
-                        {"logit_p", s.calibration.c[1]},
-                        {"energy_ratio_max_2s", s.calibration.c[2]},
-                        {"x_over_x_inst", s.calibration.c[3]}}},
-                      {"horizon_s", s.calibration.horizon_s},
-                      {"source", s.calibration.source},
-                      {"applied", s.calibration_applied}};
+  if (s.calibration_applied) {
+    j["calibration"] = {{"coefficients",
+                         {{"const", s.calibration.c[0]},
+                          {"logit_p", s.calibration.c[1]},
+                          {"energy_ratio_max_2s", s.calibration.c[2]},
+                          {"x_over_x_inst", s.calibration.c[3]}}},
+                        {"horizon_s", s.calibration.horizon_s},
+                        {"source", s.calibration.source},
+                        {"applied", true}};
+  } else {
+    j["calibration"] = {{"coefficients", nullptr},
+                        {"horizon_s", nullptr},
+                        {"source", std::string("none shipped for this horizon (") +
+                                       sim::shipped_calibration_horizons() + "): give --forecast-calibration"},
+                        {"applied", false}};
+  }
   nlohmann::ordered_json series = nlohmann::ordered_json::array();
   for (const ForecastEntry& e : s.entries) {
     nlohmann::ordered_json x;
@@ -155,8 +166,8 @@ std::string forecast_text(const ForecastSeries& s) {
       out += buf;
     }
   } else {
-    std::snprintf(buf, sizeof buf, "  calibrated P               not given: the shipped coefficients hold for H = %g s "
-                  "(--forecast-calibration)\n", s.calibration.horizon_s);
+    std::snprintf(buf, sizeof buf, "  calibrated P               not given: coefficients are shipped for H = %s "
+                  "(--forecast-calibration)\n", sim::shipped_calibration_horizons());
     out += buf;
   }
   if (first_half) {

@@ -30,9 +30,12 @@ struct ForecastCalibration {
   std::string source;                             // where they come from (for reports)
 };
 
-// The shipped coefficients (SPEC §10): fitted on every forecast of the default study (`rockwatch study --forecast`,
-// suite sets 1-11, r_ana and r_exp, 0.11-0.30 g; 100 members, H = 3 s).
-ForecastCalibration default_forecast_calibration();
+// The shipped coefficients (SPEC §10) for a horizon: fitted on every forecast of the default study (`rockwatch study
+// --forecast [--forecast-horizon-s 5]`: suite sets 1-11, r_ana and r_exp, 0.11-0.30 g; 100 members) at H = 3 s and
+// H = 5 s; none for another horizon (the coefficients hold for the horizon they were fitted at).
+std::optional<ForecastCalibration> default_forecast_calibration(double horizon_s);
+// The horizons default_forecast_calibration has coefficients for, as text ("3 s and 5 s"), for messages.
+const char* shipped_calibration_horizons();
 
 // "c0,c1,c2,c3" (an option's text) as coefficients for horizon_s; none (and *error set) when it is not four finite
 // numbers separated by commas.

@@ -156,7 +156,16 @@ TEST(StudyForecast, SummaryFiguresAreThoseOfTheForecastsInTheCsv) {
   }
   for (const char* goal : {"calibrated", "skill_above_baseline", "longer_lead_than_imminent_at_no_more_false_alarms"}) {
     CHECK_TEXT(f["goals"][goal].is_boolean(), goal);
+    CHECK_TEXT(f["goals_raw_ensemble"][goal].is_boolean(), goal);
   }
+  // The calibrated P (SPEC §10 "Calibrated P") beside the raw one, judged by `goals`.
+  const nlohmann::json& c = f["calibrated"];
+  CHECK(c["brier"].is_number());
+  CHECK_EQUAL(f["goals"]["calibrated"].get<bool>(), c["calibration"]["calibrated"].get<bool>());
+  CHECK_EQUAL(f["goals"]["skill_above_baseline"].get<bool>(),
+              c["brier_skill"].get<double>() > f["baseline"]["brier_skill"].get<double>());
+  CHECK_EQUAL(f["goals_raw_ensemble"]["calibrated"].get<bool>(), f["calibration"]["calibrated"].get<bool>());
+  LONGS_EQUAL(4, static_cast<long>(c["coefficients_all_records"].size()));
 }
 
 TEST(StudyForecast, RejectsBadOptionsNamingThem) {
@@ -178,6 +187,12 @@ TEST(StudyForecast, RejectsBadOptionsNamingThem) {
   expect_command_rejected("study", {"--suite", kSuite, "--sets", "3", "--vertical", "with", "--forecast", "--out", out},
                           {"--forecast", "--vertical"});
   expect_command_rejected("study", with({"--forecast", "--shard", "1/2"}), {"--shard", "--forecast"});
+  expect_command_rejected("study", with({"--forecast-setting", "damping=0.5"}), {"--forecast-setting", "--forecast"});
+  expect_command_rejected("study", with({"--forecast", "--forecast-setting", "nonsense=1"}), {"--forecast-setting"});
+  expect_command_rejected("study", with({"--forecast", "--forecast-setting", "damping"}), {"--forecast-setting"});
+  expect_command_rejected("study", with({"--forecast", "--forecast-setting", "damping=2"}), {"--forecast-setting"});
+  expect_command_rejected("study", with({"--forecast", "--forecast-setting", "condition_on_record=0.5"}),
+                          {"--forecast-setting"});
 }
 
 // Two records (groups), each with a collapsing and a surviving run; the baseline needs both outcomes in each fold.
