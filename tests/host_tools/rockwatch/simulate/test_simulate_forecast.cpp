@@ -200,7 +200,14 @@ TEST(SimulateForecast, CalibratedProbabilityBesideTheRawOne) {
     const double pc = e["p_collapse_calibrated"].get<double>();
     CHECK_TRUE(pc > 0.0 && pc < 1.0);
   }
-  rockwatch::test::expect_command_rejected("simulate", el_centro("0.3", {"--forecast-members", "20",
-                                           "--forecast-horizon-s", "1", "--forecast-calibration", "1,2"}),
-                                           {"--forecast-calibration"});
+  for (const char* bad : {"1,2", "1,2,3,x"}) {
+    expect_command_rejected("simulate",
+                            {"--record", record_path(kElCentro180), "--scale-pga", "0.3", "--forecast-members", "20",
+                             "--forecast-horizon-s", "1", "--forecast-calibration", bad},
+                            {"--forecast-calibration"});
+  }
+  expect_command_rejected("simulate",
+                          {"--record", record_path(kElCentro180), "--scale-pga", "0.3", "--forecast-calibration",
+                           "0,1,0,0"},
+                          {"--forecast-calibration", "--forecast-members"});
 }
