@@ -47,7 +47,8 @@ const char* const kFooter =
     "            capacity_sigmas}\n"
     "    the wall observer (--observer: enabled with the defaults): fuses wall_sensor_t samples (channel\n"
     "    wall_sensor) with the model, publishes wall_estimate_t (channel wall_estimate) and alarms on the fused state\n"
-    "  forecast {enabled, members, horizon_s, rate_hz, seed, channel}   (--forecast N,H, --forecast-rate; off by\n"
+    "  forecast {enabled, members, horizon_s, rate_hz, seed, channel, calibration [c0, c1, c2, c3]}\n"
+    "    (--forecast N,H, --forecast-rate, --forecast-calibration; off by\n"
     "    default; 200 members, 5 s, 10 Hz, seed 29, ROCKWATCH_WALL_FORECAST): the ensemble forecast of collapse\n"
     "    (SPEC section 10) from the latest (fused, with the observer) state, on a thread of its own, published as\n"
     "    wall_forecast_t (P(collapse within H), its standard error, quantiles of max |x|/x_inst, compute_us,\n"
@@ -142,6 +143,10 @@ void add_options(CLI::App& app, RawOptions& raw) {
                  "With --forecast: forecasts per second, in [0.1, 100] (default 10); when one takes longer than the "
                  "period the ticks it overran are skipped and counted (ticks_skipped)")
       ->type_name("HZ");
+  app.add_option("--forecast-calibration", raw.forecast_calibration,
+                 "With --forecast: the coefficients c0,c1,c2,c3 of the calibrated P (SPEC section 10 'Calibrated P'; "
+                 "default: the shipped ones, fitted at H = 3 s and 5 s and applied only at those horizons)")
+      ->type_name("C0,C1,C2,C3");
   app.add_flag("--print-config", raw.print_config,
                "Print the normalised settings and their digest as one JSON object and exit");
   app.add_flag("--version", raw.version, "Print the version and exit");

@@ -1,5 +1,7 @@
 #include "monitor_config.hpp"
 
+#include "rockwatch/sim/forecast_calibration.hpp"
+
 #include <sys/stat.h>
 
 #include <cerrno>
@@ -145,10 +147,22 @@ void merge_forecast(const CLI::App& app, const RawOptions& raw, const FileValues
   f.enabled = cli || file.forecast_enabled.value_or(false);
   f.origin = cli ? "--forecast" : label;
   if (!f.enabled) {
-    if (options::given(app, "--forecast-rate")) {
-      throw UsageError("--forecast-rate sets the live forecast: give --forecast N,H too (or forecast.enabled)");
+    for (const char* name : {"--forecast-rate", "--forecast-calibration"}) {
+      if (options::given(app, name)) {
+        throw UsageError(std::string(name) + " sets the live forecast: give --forecast N,H too (or forecast.enabled)");
+      }
     }
     return;
+  }
+  if (file.forecast_calibration) f.calibration = *file.forecast_calibration;
+  if (options::given(app, "--forecast-calibration")) {
+    std::string why;
+    const auto cal = sim::parse_forecast_calibration(raw.forecast_calibration, 0.0, &why);
+    if (!cal) {
+      throw UsageError("--forecast-calibration takes " + why + " (got " + options::quoted(raw.forecast_calibration) +
+                       ")");
+    }
+    f.calibration = cal->c;
   }
   if (file.forecast_members) f.members = *file.forecast_members;
   if (file.forecast_horizon_s) f.horizon_s = *file.forecast_horizon_s;

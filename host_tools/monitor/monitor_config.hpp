@@ -23,6 +23,7 @@
 //                channels above suffixed _NAME (the wall named "wall": unsuffixed), its inputs shared unless given
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -69,6 +70,9 @@ struct ForecastConfig {
   std::uint64_t seed = 29;
   std::string channel = kDefaultForecastChannel;
   std::string origin;  // "--forecast", "--config FILE: forecast": for messages
+  // --forecast-calibration / forecast.calibration: the recalibration's coefficients c0..c3 (SPEC §10 "Calibrated P");
+  // none: the shipped ones (sim::default_forecast_calibration), applied only at the horizon they were fitted at.
+  std::optional<std::array<double, 4>> calibration;
 };
 
 // One wall of a `walls` configuration (monitor_walls.hpp).

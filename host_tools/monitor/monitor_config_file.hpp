@@ -5,6 +5,7 @@
 
 #include <sys/stat.h>
 
+#include <array>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -67,6 +68,7 @@ struct FileValues {
   std::optional<double> forecast_horizon_s, forecast_rate_hz;
   std::optional<std::uint64_t> forecast_seed;
   std::optional<std::string> forecast_channel;
+  std::optional<std::array<double, 4>> forecast_calibration;
 };
 
 struct WallField {
@@ -347,10 +349,19 @@ class ConfigReader {
     }
   }
 
-  // forecast {enabled, members, horizon_s, rate_hz, seed, channel}: the ranges of --forecast and --forecast-rate.
+  // forecast {enabled, members, horizon_s, rate_hz, seed, channel, calibration}: the ranges of --forecast and --forecast-rate.
   void read_forecast(const json& f, FileValues& v) const {
     object(f, "forecast");
-    check_keys(f, "forecast.", {"enabled", "members", "horizon_s", "rate_hz", "seed", "channel"});
+    check_keys(f, "forecast.", {"enabled", "members", "horizon_s", "rate_hz", "seed", "channel", "calibration"});
+    if (f.contains("calibration")) {
+      const json& c = f.at("calibration");
+      if (!c.is_array() || c.size() != 4) {
+        fail("forecast.calibration", "expected an array of four numbers [c0, c1, c2, c3], got " + c.dump());
+      }
+      std::array<double, 4> k{};
+      for (std::size_t i = 0; i < 4; ++i) k[i] = number(c.at(i), "forecast.calibration", "");
+      v.forecast_calibration = k;
+    }
     if (f.contains("enabled")) {
       const json& e = f.at("enabled");
       if (!e.is_boolean()) fail("forecast.enabled", "expected true or false, got " + json_type(e));

@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "rockwatch/core/model.hpp"
 #include "rockwatch/alarm_event_t.hpp"
@@ -127,7 +128,17 @@ MonitorForecaster::MonitorForecaster(const ForecastConfig& config, const firmwar
       measure_time_(measure_time),
       dt_s_(1.0 / settings.sample_rate_hz),
       forecaster_(settings.engine.wall, settings.engine.model, settings.engine.r_energy, settings.engine.kappa,
-                  forecaster_settings(config)) {
+                  forecaster_settings(config)),
+      energy_(static_cast<std::size_t>(std::ceil(sim::kCalibrationEnergyWindow_s * config.rate_hz)) + 4) {
+  if (config.calibration) {
+    calibration_.c = *config.calibration;
+    calibration_.horizon_s = config.horizon_s;
+    calibration_.source = "configured";
+    calibration_applied_ = true;
+  } else if (const auto shipped = sim::default_forecast_calibration(config.horizon_s)) {
+    calibration_ = *shipped;
+    calibration_applied_ = true;
+  }
   const core::Coefficients<double> k =
       core::evaluate(forecaster_.setup().model, core::Side::positive, 0.0, settings.engine.wall.g_mps2);
   c_nominal_mps2_ = std::fabs(k.p6) / k.p1;
@@ -182,15 +193,23 @@ const rockwatch::wall_forecast_t& MonitorForecaster::run_once() {
   m.members = 0;
   m.p_collapse = m.p_collapse_se = m.q50_max_x_over_x_inst = m.q90_max_x_over_x_inst = 0.0;
   m.sigma_now_mps2 = m.omega_g_rps = m.growth_per_s = 0.0;
+  m.p_collapse_calibrated = std::numeric_limits<double>::quiet_NaN();
+  m.energy_ratio_max_2s = m.x_over_x_inst = std::numeric_limits<double>::quiet_NaN();
   rockwatch::wall_state_t state;
   const std::size_t state_size = feed_.read_state(buffer_.data());
   const bool have_state =
       state_size > 0 && state.decode(buffer_.data(), 0, static_cast<int>(state_size)) == static_cast<int>(state_size);
-  if (have_state) m.utime = state.utime;
+  if (have_state) {
+    m.utime = state.utime;
+    // ρ_max of the calibration: the wall states read at the forecast ticks (not every sample) over the last 2 s.
+    if (std::isfinite(state.energy_ratio)) energy_.push(double(state.utime) * 1e-6, state.energy_ratio);
+    if (const auto e = energy_.max()) m.energy_ratio_max_2s = *e;
+  }
   if (have_state && state.alarm_level == rockwatch::alarm_event_t::LEVEL_COLLAPSED) {
     // The wall has fallen (the engine stops at κ·x_inst and the alarm latches): certain, nothing to run.
     m.status = rockwatch::wall_forecast_t::STATUS_COLLAPSED;
     m.p_collapse = 1.0;
+    m.p_collapse_calibrated = 1.0;
     ++counters_.collapsed;
   } else if (have_state && ground_count_ >= 2) {
     sim::ForecastState st;
@@ -221,8 +240,10 @@ const rockwatch::wall_forecast_t& MonitorForecaster::run_once() {
     const std::size_t first = (ground_next_ + size - n) % size;
     for (std::size_t i = 0; i < n; ++i) window_[i] = ground_[(first + i) % size];
     const sim::ForecastResult f = forecaster_.forecast(st, window_.data(), n, dt_s_);
+    m.x_over_x_inst = forecaster_.x_over_x_inst(st.x_m, state.side);
     if (f.status == sim::ForecastStatus::wall_at_rest) {
       m.status = rockwatch::wall_forecast_t::STATUS_AT_REST;
+      m.p_collapse_calibrated = 0.0;
       ++counters_.at_rest;
     } else {
       m.status = rockwatch::wall_forecast_t::STATUS_OK;
@@ -234,6 +255,10 @@ const rockwatch::wall_forecast_t& MonitorForecaster::run_once() {
       m.sigma_now_mps2 = f.ground.sigma_now_mps2;
       m.omega_g_rps = f.ground.omega_rps;
       m.growth_per_s = f.ground.growth_per_s;
+      if (calibration_applied_ && std::isfinite(m.energy_ratio_max_2s)) {
+        m.p_collapse_calibrated = sim::calibrated_probability(calibration_, f.p_collapse, f.members,
+                                                              m.energy_ratio_max_2s, m.x_over_x_inst);
+      }
       ++counters_.ok;
     }
   } else {
@@ -341,7 +366,8 @@ nlohmann::json forecast_summary(const ForecastConfig& config, const ForecastCoun
           {"ground_samples", c.ground_samples},
           {"ground_resets", c.ground_resets},
           {"compute_us_max", c.compute_us_max},
-          {"compute_us_mean", runs > 0 ? c.compute_us_sum / double(runs) : 0.0}};
+          {"compute_us_mean", runs > 0 ? c.compute_us_sum / double(runs) : 0.0},
+          {"calibration", config.calibration ? nlohmann::json(*config.calibration) : nlohmann::json("default")}};
 }
 
 }  // namespace rockwatch::monitor

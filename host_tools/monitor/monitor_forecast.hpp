@@ -36,6 +36,7 @@
 #include "monitor_config.hpp"
 #include "rockwatch/firmware/monitor_loop.hpp"
 #include "rockwatch/sim/ensemble_forecast.hpp"
+#include "rockwatch/sim/forecast_calibration.hpp"
 #include "rockwatch/wall_forecast_t.hpp"
 
 namespace rockwatch::monitor {
@@ -150,6 +151,9 @@ class MonitorForecaster {
   bool measure_time_ = true;
   double dt_s_ = 0.0;
   sim::EnsembleForecaster forecaster_;
+  sim::ForecastCalibration calibration_;  // the configured coefficients, or the shipped ones
+  bool calibration_applied_ = false;      // given, or the shipped ones at their own horizon
+  sim::TrailingMax energy_;               // E/E_barrier of the states read at the forecast ticks, over 2 s
   double c_nominal_mps2_ = 0.0, k_nominal_ps2_ = 0.0;  // per unit p1, side +1 (wall_estimate_t's c and k)
   std::vector<double> ground_;     // the last samples of ü, a ring of ground_.size()
   std::vector<double> window_;     // the ring in time order, for the fit

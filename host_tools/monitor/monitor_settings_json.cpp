@@ -103,6 +103,8 @@ json normalised_settings(const MonitorConfig& config) {
     const ForecastConfig& f = config.forecast;
     out["forecast"] = {{"members", f.members}, {"horizon_s", f.horizon_s}, {"rate_hz", f.rate_hz},
                        {"seed", f.seed},       {"channel", f.channel}};
+    // Given coefficients only (the shipped ones leave the digest of a forecast configuration as it was).
+    if (f.calibration) out["forecast"]["calibration"] = *f.calibration;
   }
   // Which sources are accepted changes what the monitor processes; absent when any is (the default digest stays).
   if (!config.accept_from.empty()) {

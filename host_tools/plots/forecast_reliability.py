@@ -31,6 +31,15 @@ def main(argv):
     if thin:
         ax.plot([b["mean_p"] for b in thin], [b["observed"] for b in thin], "o", mfc="none", color="C0",
                 label="bins with fewer")
+    calibrated = forecast.get("calibrated") or {}
+    cbins = calibrated.get("reliability") or []
+    if cbins:
+        cj = [b for b in cbins if b["n"] >= min_n]
+        ax.plot([b["mean_p"] for b in cj], [b["observed"] for b in cj], "s-", color="C1",
+                label="calibrated P, leave one record out")
+        ct = [b for b in cbins if b["n"] < min_n]
+        if ct:
+            ax.plot([b["mean_p"] for b in ct], [b["observed"] for b in ct], "s", mfc="none", color="C1")
     for b in bins:
         ax.annotate(str(b["n"]), (b["mean_p"], b["observed"]), fontsize=7, xytext=(4, -10),
                     textcoords="offset points")
@@ -39,11 +48,18 @@ def main(argv):
     ax.set_ylabel("observed frequency of collapse within %g s" % forecast["settings"]["horizon_s"])
     skill = forecast["brier_skill"]
     base = forecast["baseline"]["brier_skill"]
-    ax.set_title("%s\nBrier %s, skill %s (baseline %s)" % (
+    cskill = calibrated.get("brier_skill")
+    ax.set_title("%s\nBrier %s, skill %s, calibrated %s (baseline %s)" % (
         argv[3], "%.4f" % forecast["brier"] if forecast["brier"] is not None else "-",
-        "%.3f" % skill if skill is not None else "-", "%.3f" % base if base is not None else "-"), fontsize=9)
+        "%.3f" % skill if skill is not None else "-", "%.3f" % cskill if cskill is not None else "-",
+        "%.3f" % base if base is not None else "-"), fontsize=9)
     ax.legend(loc="upper left", fontsize=7)
-    hist.bar([0.5 * (b["lo"] + b["hi"]) for b in bins], [b["n"] for b in bins], width=0.09, color="C0")
+    hist.bar([0.5 * (b["lo"] + b["hi"]) - (0.022 if cbins else 0) for b in bins], [b["n"] for b in bins],
+             width=0.044 if cbins else 0.09, color="C0", label="raw")
+    if cbins:
+        hist.bar([0.5 * (b["lo"] + b["hi"]) + 0.022 for b in cbins], [b["n"] for b in cbins], width=0.044,
+                 color="C1", label="calibrated")
+        hist.legend(fontsize=7)
     hist.set_yscale("log")
     hist.set_xlabel("forecast P(collapse)")
     hist.set_ylabel("forecasts")

@@ -29,6 +29,9 @@ struct GroundFilter {
   double hp_k = 0.0, hp_w2 = 0.0;  // 2ζ ω_f, ω_f² (0: no high-pass)
   bool highpass = false;
   double gain[n] = {};             // E[s | u = 1]
+  int dim = 2;                     // states used (4 with the high-pass)
+  double Am[n][n] = {}, Gm[n] = {}, Cm[n] = {};  // s' = Am s + Gm ξ, u = Cm s
+  double P_stat[n][n] = {};        // stationary covariance of s (with the unit-variance gain c)
   double var_w = 0.0;              // stationary variance of w = ∫u (the ground velocity per unit σ) [s²]
   double chol[n][n] = {};          // Cholesky factor of the covariance of s given u
 
@@ -101,6 +104,22 @@ struct GroundFilter {
     var_w = highpass ? P[3][3] * c2 : 0.0;
     for (int r = 0; r < m; ++r)
       for (int q = 0; q < m; ++q) Q[r][q] = P[r][q] * c2 - gain[r] * gain[q];
+    dim = m;
+    for (int r = 0; r < m; ++r) {
+      Cm[r] = C[r];
+      for (int q = 0; q < m; ++q) P_stat[r][q] = P[r][q] * c2;
+    }
+    {  // A and G of the scaled step (c now set)
+      for (int i = 0; i < m; ++i) {
+        double e[n] = {};
+        e[i] = 1.0;
+        step(e, 0.0);
+        for (int r = 0; r < m; ++r) Am[r][i] = e[r];
+      }
+      double g0[n] = {};
+      step(g0, 1.0);
+      for (int r = 0; r < m; ++r) Gm[r] = g0[r];
+    }
     for (int q = 0; q < m; ++q) {  // Cholesky, columns of a (numerically) zero pivot left at zero
       double d = Q[q][q];
       for (int k = 0; k < q; ++k) d -= chol[q][k] * chol[q][k];
@@ -138,6 +157,79 @@ double quantile(std::vector<double>& v, int n, double q) {
   return v_lo + (pos - double(lo)) * (v_hi - v_lo);
 }
 
+// Lower Cholesky factor of the symmetric m×m matrix S (a numerically zero pivot leaves its column at zero).
+void cholesky(const double S[4][4], int m, double L[4][4]) {
+  for (int r = 0; r < 4; ++r)
+    for (int q = 0; q < 4; ++q) L[r][q] = 0.0;
+  for (int q = 0; q < m; ++q) {
+    double d = S[q][q];
+    for (int k = 0; k < q; ++k) d -= L[q][k] * L[q][k];
+    if (!(d > 1e-12 * std::fabs(S[q][q]) && d > 0.0)) continue;
+    L[q][q] = std::sqrt(d);
+    for (int r = q + 1; r < m; ++r) {
+      double v = S[r][q];
+      for (int k = 0; k < q; ++k) v -= L[r][k] * L[q][k];
+      L[r][q] = v / L[q][q];
+    }
+  }
+}
+
+// The Kalman filter of the ground filter's model over the record's last window (SPEC §10 "The ground's phase"):
+// from the stationary distribution at the window's start, one prediction per members' step h and one scalar
+// observation u_k = ü(t_k)/σ(t_k) (linear interpolation of the record at t_k; clamped to ±6) of variance r.
+void condition_on_record(const GroundFilter& f, const double* ug, std::size_t n, double dt_s, double window_s,
+                         double sigma_now, double beta, double r, GroundModel& g) {
+  const int m = f.dim;
+  const double span = std::min(window_s, dt_s * double(n - 1));
+  const int steps = static_cast<int>(std::floor(span / f.h + 1e-9));
+  double mean[4] = {}, P[4][4] = {};
+  for (int a = 0; a < m; ++a)
+    for (int b = 0; b < m; ++b) P[a][b] = f.P_stat[a][b];
+  const double t_end = dt_s * double(n - 1);  // the forecast time on the record's clock
+  for (int k = steps; k >= 0; --k) {
+    const double t = t_end - double(k) * f.h;
+    if (k != steps) {  // predict: mean ← A mean, P ← A P Aᵀ + G Gᵀ
+      double nm[4] = {}, AP[4][4] = {}, NP[4][4] = {};
+      for (int a = 0; a < m; ++a)
+        for (int b = 0; b < m; ++b) nm[a] += f.Am[a][b] * mean[b];
+      for (int a = 0; a < m; ++a)
+        for (int b = 0; b < m; ++b)
+          for (int c = 0; c < m; ++c) AP[a][b] += f.Am[a][c] * P[c][b];
+      for (int a = 0; a < m; ++a)
+        for (int b = 0; b < m; ++b) {
+          for (int c = 0; c < m; ++c) NP[a][b] += AP[a][c] * f.Am[b][c];
+          NP[a][b] += f.Gm[a] * f.Gm[b];
+        }
+      for (int a = 0; a < m; ++a) {
+        mean[a] = nm[a];
+        for (int b = 0; b < m; ++b) P[a][b] = NP[a][b];
+      }
+    }
+    // observe
+    const double pos = std::clamp(t / dt_s, 0.0, double(n - 1));
+    const auto i0 = static_cast<std::size_t>(std::floor(pos));
+    const std::size_t i1 = std::min(i0 + 1, n - 1);
+    const double ug_t = ug[i0] + (pos - double(i0)) * (ug[i1] - ug[i0]);
+    const double sigma_t = sigma_now * std::exp(beta * (t - t_end));
+    const double obs = std::clamp(ug_t / sigma_t, -6.0, 6.0);
+    double PC[4] = {}, S = r, pred = 0.0;
+    for (int a = 0; a < m; ++a) {
+      for (int b = 0; b < m; ++b) PC[a] += P[a][b] * f.Cm[b];
+      S += f.Cm[a] * PC[a];
+      pred += f.Cm[a] * mean[a];
+    }
+    for (int a = 0; a < m; ++a) mean[a] += PC[a] / S * (obs - pred);
+    for (int a = 0; a < m; ++a)
+      for (int b = 0; b < m; ++b) P[a][b] -= PC[a] * PC[b] / S;
+  }
+  for (int a = 0; a < m; ++a) {  // symmetric, as rounding may not keep it
+    for (int b = 0; b < a; ++b) P[a][b] = P[b][a] = 0.5 * (P[a][b] + P[b][a]);
+  }
+  g.conditioned = true;
+  for (int a = 0; a < 4; ++a) g.filter_mean[a] = a < m ? mean[a] : 0.0;
+  cholesky(P, m, g.filter_chol);
+}
+
 }  // namespace
 
 const char* forecast_settings_error(const ForecastSettings& s) {
@@ -152,6 +244,8 @@ const char* forecast_settings_error(const ForecastSettings& s) {
   if (!(in(s.growth_min_per_s, -10.0, 0.0) && in(s.growth_max_per_s, 0.0, 2.0))) return "growth";
   if (!in(s.sigma_now_cap, 1.0, 10.0)) return "sigma_now_cap";
   if (!in(s.intensity_log_sigma, 0.0, 2.0)) return "intensity_log_sigma";
+  if (!in(s.intensity_ramp_s, 0.0, 60.0)) return "intensity_ramp_s";
+  if (!in(s.record_noise_var, 1e-6, 1.0)) return "record_noise_var";
   if (s.match_velocity && !(s.highpass_ratio > 0.0)) return "match_velocity";
   if (!in(s.default_sigma_fraction, 0.0, 0.5)) return "default_sigma_fraction";
   return nullptr;
@@ -264,10 +358,33 @@ EnsembleForecaster::EnsembleForecaster(const core::WallParameters& wall, core::M
                                   core::energy_barrier_jpm(setup_.model, core::Side::positive, wall.g_mps2));
   v_barrier_mps_ = std::sqrt(2.0 * barrier / setup_.model.c1);
   max_ratio_.assign(static_cast<std::size_t>(settings.members), 0.0);
+  for (const core::Side side : {core::Side::negative, core::Side::positive}) {
+    const int i = core::side_index(side);
+    barrier_jpm_[i] = core::energy_barrier_jpm(setup_.model, side, wall.g_mps2);
+    free_[i] = core::evaluate(setup_.model, side, 0.0, wall.g_mps2);
+  }
+}
+
+double EnsembleForecaster::energy_ratio(double x_m, double xd_mps, int side) const {
+  const int i = core::side_index(side > 0 ? core::Side::positive : core::Side::negative);
+  return core::mechanical_energy(free_[i], x_m, xd_mps) / barrier_jpm_[i];
+}
+
+double EnsembleForecaster::x_over_x_inst(double x_m, int side) const {
+  const int i = core::side_index(side > 0 ? core::Side::positive : core::Side::negative);
+  return std::fabs(x_m) / setup_.x_inst_m[i];
 }
 
 ForecastResult EnsembleForecaster::forecast(const ForecastState& st, const double* ug, std::size_t n, double dt_s) {
-  return forecast(st, fit_ground_model(ug, n, dt_s, settings_));
+  GroundModel g = fit_ground_model(ug, n, dt_s, settings_);
+  if (settings_.condition_on_record && st.moving && g.sigma_now_mps2 > 0.0 && n >= 2 && dt_s > 0.0 &&
+      !settings_.match_velocity) {
+    const double omega_g = g.omega_rps > 0.0 ? g.omega_rps : kOmegaMin_rps;
+    const GroundFilter f(omega_g, settings_.damping, settings_.highpass_ratio * omega_g, settings_.step_s);
+    condition_on_record(f, ug, n, dt_s, settings_.window_s, g.sigma_now_mps2, g.growth_per_s,
+                        settings_.record_noise_var, g);
+  }
+  return forecast(st, g);
 }
 
 ForecastResult EnsembleForecaster::forecast(const ForecastState& st, const GroundModel& ground) {
@@ -306,6 +423,7 @@ ForecastResult EnsembleForecaster::forecast(const ForecastState& st, const Groun
       sigma_now > 0.0 ? std::clamp(st.ug_now_mps2 / sigma_now, -kInitialFilterClamp, kInitialFilterClamp) : 0.0;
   const double kappa_ratio = su.x_collapse_m[1] / su.x_inst_m[1];
 
+  const int ramp_steps = s.intensity_ramp_s > 0.0 ? static_cast<int>(std::ceil(s.intensity_ramp_s / s.step_s - 1e-9)) : 0;
   int collapsed = 0;
   const int N = s.members;
   for (int m = 0; m < N; ++m) {
@@ -317,18 +435,38 @@ ForecastResult EnsembleForecaster::forecast(const ForecastState& st, const Groun
     double g[GroundFilter::n];
     double zg[GroundFilter::n];
     for (double& v : zg) v = rs.normal();
-    for (int r = 0; r < GroundFilter::n; ++r) {
-      g[r] = f.gain[r] * u_start;
-      for (int k = 0; k <= r; ++k) g[r] += f.chol[r][k] * zg[k];
+    if (ground.conditioned) {
+      for (int r = 0; r < GroundFilter::n; ++r) {
+        g[r] = ground.filter_mean[r];
+        for (int k = 0; k <= r; ++k) g[r] += ground.filter_chol[r][k] * zg[k];
+      }
+    } else {
+      for (int r = 0; r < GroundFilter::n; ++r) {
+        g[r] = f.gain[r] * u_start;
+        for (int k = 0; k <= r; ++k) g[r] += f.chol[r][k] * zg[k];
+      }
     }
     const double s_i = s.intensity_log_sigma;
-    double env = sigma_now * std::exp(s_i * rs.normal() - 0.5 * s_i * s_i);
+    const double z_i = rs.normal();
+    double env = sigma_now * std::exp(s_i * z_i - 0.5 * s_i * s_i);
+    // With a ramp, the factor grows from 1 to its full spread over ramp_steps steps (the envelope's decay applied
+    // to the base level; the factor multiplied in).
+    double base = sigma_now;
+    if (ramp_steps > 0) env = sigma_now;
     const int side0 = core::side_index(stepper.side());
     double max_ratio = std::fabs(x0) / su.x_inst_m[side0];
     bool fell = std::fabs(x0) >= su.x_collapse_m[side0];
     for (int k = 0; !fell && k < n_steps; ++k) {
       f.step(g, unit_uniform(rs));
       env *= decay;
+      if (k < ramp_steps) {
+        base *= decay;
+        const double r = double(k + 1) / double(ramp_steps);
+        env = base * std::exp(s_i * r * z_i - 0.5 * s_i * s_i * r * r);
+      } else if (k == ramp_steps && ramp_steps > 0) {
+        base *= decay;
+        env = base * std::exp(s_i * z_i - 0.5 * s_i * s_i);
+      }
       const auto report = stepper.step(env * f.output(g), 0.0);
       if (report.collapsed) {
         fell = true;

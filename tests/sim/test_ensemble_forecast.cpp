@@ -166,8 +166,11 @@ TEST(EnsembleForecast, QuietGroundAndSmallMotionDoNotCollapse) {
   st.xd_mps = 0.05 * f.velocity_scale_mps();
   st.ug_now_mps2 = ug.back();
   const sim::ForecastResult r = f.forecast(st, ug.data(), ug.size(), 0.01);
-  LONGS_EQUAL(0, r.collapsed);
-  DOUBLES_EQUAL(0.0, r.p_collapse, 0.0);
+  // At most one member of 50: the intensity to come has a long tail (s_I = 1.5: one member in 50 draws a factor of
+  // about 10), and with the default state spread (5 %) or the ground's phase one such member falls (P = 0.02);
+  // with the 1 % spread of the first version and no conditioning none did.
+  CHECK(r.collapsed <= 1);
+  CHECK(r.p_collapse <= 0.02);
   CHECK(r.q90_max_x_over_x_inst < 0.2);
   CHECK(r.q50_max_x_over_x_inst > 0.0);
 }
@@ -226,4 +229,35 @@ TEST(EnsembleForecast, SettingsOutOfRangeAreNamed) {
   s.step_s = 0.02;
   CHECK(error_of(s).find("step_s") != std::string::npos);
   CHECK(error_of(sim::ForecastSettings{}).empty());
+}
+
+// The ground's phase (SPEC §10, condition_on_record): the filter's state at the forecast time, conditioned on the
+// record by a Kalman filter, reproduces the record's ü(t)/σ_now and carries the sign of its velocity (∫ü), for
+// both ends of a cycle; without conditioning the ground model carries no state.
+TEST(EnsembleForecast, GroundPhaseIsConditionedOnTheRecord) {
+  sim::ForecastSettings s;
+  s.members = 20;
+  s.horizon_s = 1.0;
+  CHECK(s.condition_on_record);  // the default
+  sim::EnsembleForecaster f = make(s);
+  sim::ForecastState st;
+  st.moving = true;
+  st.x_m = 0.1 * x_inst(f);
+  for (const double t_end : {5.0, 5.5, 5.25, 5.75}) {  // 1 Hz: velocity −cos: t = 5 → v < 0, 5.5 → v > 0
+    const std::vector<double> ug = sine(2.0, 1.0, 0.0, 0.005, t_end);
+    const double phase = 2.0 * kPi * 1.0 * t_end + 0.3;
+    st.ug_now_mps2 = ug.back();
+    const sim::ForecastResult r = f.forecast(st, ug.data(), ug.size(), 0.005);
+    CHECK(r.ground.conditioned);
+    const double omega_f = s.highpass_ratio * r.ground.omega_rps;
+    const double* m = r.ground.filter_mean;
+    const double u = m[0] - 2.0 * s.damping * omega_f * m[3] - omega_f * omega_f * m[2];
+    DOUBLES_EQUAL(ug.back() / r.ground.sigma_now_mps2, u, 0.15);
+    const double velocity = -2.0 / (2.0 * kPi) * std::cos(phase);  // ∫ü of the sine
+    if (std::fabs(velocity) > 0.1) CHECK_TEXT((m[3] > 0.0) == (velocity > 0.0), std::to_string(t_end).c_str());
+  }
+  s.condition_on_record = false;
+  sim::EnsembleForecaster g = make(s);
+  const std::vector<double> ug = sine(2.0, 1.0, 0.0, 0.005, 5.0);
+  CHECK_FALSE(g.forecast(st, ug.data(), ug.size(), 0.005).ground.conditioned);
 }

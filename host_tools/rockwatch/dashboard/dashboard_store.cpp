@@ -111,6 +111,7 @@ json forecast_json(const rockwatch::wall_forecast_t& f) {
               {"members", f.members},
               {"p_collapse", number_or_null(f.p_collapse)},
               {"p_collapse_se", number_or_null(f.p_collapse_se)},
+              {"p_collapse_calibrated", number_or_null(f.p_collapse_calibrated)},
               {"q50_max_x_over_x_inst", number_or_null(f.q50_max_x_over_x_inst)},
               {"q90_max_x_over_x_inst", number_or_null(f.q90_max_x_over_x_inst)},
               {"compute_us", f.compute_us},

@@ -30,6 +30,16 @@ ForecastSeries run_forecasts(const SimulateRequest& q, const sim::GroundMotion& 
   const std::vector<sim::HistoryRow>& h = result.history;
   if (h.empty()) return series;
   sim::EnsembleForecaster forecaster(q.wall, q.analysis.model, result.r, q.analysis.kappa, series.settings);
+  const std::optional<sim::ForecastCalibration> shipped = sim::default_forecast_calibration(series.settings.horizon_s);
+  series.calibration_applied = q.forecast_calibration.has_value() || shipped.has_value();
+  if (q.forecast_calibration) {
+    series.calibration = *q.forecast_calibration;
+  } else if (shipped) {
+    series.calibration = *shipped;
+  }
+  // E/E_barrier of every history row (the study's feature, forecast_evaluation.cpp).
+  std::vector<double> energy(h.size());
+  for (std::size_t i = 0; i < h.size(); ++i) energy[i] = forecaster.energy_ratio(h[i].x_m, h[i].xd_mps, h[i].side);
   // The ground as run: the record's ü to t_end, zero after it (the free motion), to the end of the history.
   const double dt = motion.dt_s;
   const double t_last = h.back().t_s;
@@ -58,6 +68,16 @@ ForecastSeries run_forecasts(const SimulateRequest& q, const sim::GroundMotion& 
     ForecastEntry e;
     e.t_s = t;
     e.result = forecaster.forecast(st, ug.data(), std::max<std::size_t>(n, 2), dt);
+    double e_max = energy[row];
+    for (std::size_t i = row; i-- > 0 && h[i].t_s >= s.t_s - sim::kCalibrationEnergyWindow_s - 1e-9;) {
+      e_max = std::max(e_max, energy[i]);
+    }
+    e.energy_ratio_max = e_max;
+    e.x_over_x_inst = forecaster.x_over_x_inst(s.x_m, s.side);
+    if (series.calibration_applied) {
+      e.p_calibrated = sim::calibrated_probability(series.calibration, e.result.p_collapse, e.result.members,
+                                                   e.energy_ratio_max, e.x_over_x_inst);
+    }
     if (result.alarm.evaluated) e.alarm = alarm_level_at(result.alarm, t);
     series.entries.push_back(e);
   }
@@ -72,6 +92,22 @@ nlohmann::ordered_json forecast_json(const ForecastSeries& s, bool with_alarm) {
   j["step_s"] = s.settings.step_s;
   j["seed"] = s.settings.seed;
   j["at_rest_skipped"] = s.at_rest;
+  if (s.calibration_applied) {
+    j["calibration"] = {{"coefficients",
+                         {{"const", s.calibration.c[0]},
+                          {"logit_p", s.calibration.c[1]},
+                          {"energy_ratio_max_2s", s.calibration.c[2]},
+                          {"x_over_x_inst", s.calibration.c[3]}}},
+                        {"horizon_s", s.calibration.horizon_s},
+                        {"source", s.calibration.source},
+                        {"applied", true}};
+  } else {
+    j["calibration"] = {{"coefficients", nullptr},
+                        {"horizon_s", nullptr},
+                        {"source", std::string("none shipped for this horizon (") +
+                                       sim::shipped_calibration_horizons() + "): give --forecast-calibration"},
+                        {"applied", false}};
+  }
   nlohmann::ordered_json series = nlohmann::ordered_json::array();
   for (const ForecastEntry& e : s.entries) {
     nlohmann::ordered_json x;
@@ -80,6 +116,9 @@ nlohmann::ordered_json forecast_json(const ForecastSeries& s, bool with_alarm) {
     x["p_collapse_se"] = e.result.p_collapse_se;
     x["q50_max_x_over_x_inst"] = e.result.q50_max_x_over_x_inst;
     x["q90_max_x_over_x_inst"] = e.result.q90_max_x_over_x_inst;
+    x["p_collapse_calibrated"] = e.p_calibrated ? nlohmann::ordered_json(*e.p_calibrated) : nlohmann::ordered_json();
+    x["energy_ratio_max_2s"] = e.energy_ratio_max;
+    x["x_over_x_inst"] = e.x_over_x_inst;
     if (with_alarm) {
       if (e.alarm) {
         x["alarm"] = core::alarm_level_name(*e.alarm);
@@ -116,6 +155,21 @@ std::string forecast_text(const ForecastSeries& s) {
   std::snprintf(buf, sizeof buf, "  highest P(collapse)        %.3f +- %.3f at t = %.3f s\n", top->result.p_collapse,
                 top->result.p_collapse_se, top->t_s);
   out += buf;
+  if (s.calibration_applied) {
+    const ForecastEntry* top_c = &s.entries.front();
+    for (const ForecastEntry& e : s.entries) {
+      if (e.p_calibrated && (!top_c->p_calibrated || *e.p_calibrated > *top_c->p_calibrated)) top_c = &e;
+    }
+    if (top_c->p_calibrated) {
+      std::snprintf(buf, sizeof buf, "  highest calibrated P       %.3f at t = %.3f s\n", *top_c->p_calibrated,
+                    top_c->t_s);
+      out += buf;
+    }
+  } else {
+    std::snprintf(buf, sizeof buf, "  calibrated P               not given: coefficients are shipped for H = %s "
+                  "(--forecast-calibration)\n", sim::shipped_calibration_horizons());
+    out += buf;
+  }
   if (first_half) {
     std::snprintf(buf, sizeof buf, "  first P(collapse) >= 0.5   t = %.3f s\n", first_half->t_s);
   } else {

@@ -21,6 +21,9 @@ struct ForecastEntry {
   double t_s = 0.0;
   sim::ForecastResult result;
   std::optional<core::AlarmLevel> alarm;  // the alarm's level at t_s (with --alarms; none past the listed transitions)
+  double energy_ratio_max = 0.0;          // max E/E_barrier over [t − 2 s, t] (the recalibration's feature)
+  double x_over_x_inst = 0.0;             // |x|/x_inst at t
+  std::optional<double> p_calibrated;     // the recalibrated P (none when the calibration is not applied)
 };
 
 struct ForecastSeries {
@@ -28,6 +31,8 @@ struct ForecastSeries {
   double every_s = 0.1;
   std::vector<ForecastEntry> entries;
   std::size_t at_rest = 0;  // forecast times skipped because the wall was at rest
+  sim::ForecastCalibration calibration;
+  bool calibration_applied = false;  // given, or the default at its own horizon
 };
 
 // Needs request.forecast and result.history (keep_history).

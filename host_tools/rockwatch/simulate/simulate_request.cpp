@@ -34,7 +34,7 @@ struct RawOptions {
   std::string r = "exp", model = "linear", kappa, max_step, t_end, out, engine_input_out, x0;
   std::string wall_sensors, sensors_out, sensor_noise, sensor_bias, sensor_quantum, sensor_rate, sensor_accel_noise,
       sensor_seed;
-  std::string forecast_members, forecast_horizon, forecast_every, forecast_seed;
+  std::string forecast_members, forecast_horizon, forecast_every, forecast_seed, forecast_calibration;
   std::vector<std::string> sensor_dropouts;
   bool json = false;
 };
@@ -67,7 +67,9 @@ const char* const kFooter =
     "drawn from filtered noise fitted to the last 4 s of the record: P(collapse within H), its Monte-Carlo standard\n"
     "error and quantiles of max |x|/x_inst. --json adds forecast (members, horizon_s, every_s, step_s, seed,\n"
     "at_rest_skipped, series [t_s, p_collapse, p_collapse_se, q50_max_x_over_x_inst, q90_max_x_over_x_inst, and\n"
-    "with --alarms alarm: the alarm's level at t_s]). With --wall-sensors the forecasts start from the fused state,\n"
+    "with --alarms alarm: the alarm's level at t_s; p_collapse_calibrated, the recalibrated P of SPEC section 10,\n"
+    "with its features energy_ratio_max_2s and x_over_x_inst], calibration [coefficients, horizon_s, applied]).\n"
+    "With --wall-sensors the forecasts start from the fused state,\n"
     "with the open-loop state uncertainty (the observer's covariance is not passed yet).\n"
     "\n"
     "--engine-input-out FILE writes the wall engine's configuration (wall, r, kappa, model, step, alarm settings\n"
@@ -156,6 +158,10 @@ void add_options(CLI::App& app, RawOptions& raw) {
   app.add_option("--forecast-every-s", raw.forecast_every,
                  "Ensemble forecast: one every S seconds while the wall is not at rest, S in [0.01, 60] (default 0.1)")
       ->type_name("S");
+  app.add_option("--forecast-calibration", raw.forecast_calibration,
+                 "Ensemble forecast: the recalibration's coefficients c0,c1,c2,c3 (SPEC section 10 'Calibrated P'; "
+                 "default: the shipped ones, fitted at H = 3 s and 5 s and applied only at those horizons)")
+      ->type_name("C0,C1,C2,C3");
   app.add_option("--forecast-seed", raw.forecast_seed,
                  "Ensemble forecast: seed of the members, 0 to 2^64-1 (default 29)")
       ->type_name("K");
@@ -236,7 +242,7 @@ void parse_sensor_options(const CLI::App& app, const RawOptions& raw, SimulateRe
 void parse_forecast_options(const CLI::App& app, const RawOptions& raw, SimulateRequest& q) {
   const bool members = given(app, "--forecast-members"), horizon = given(app, "--forecast-horizon-s");
   if (!members && !horizon) {
-    for (const char* name : {"--forecast-every-s", "--forecast-seed"}) {
+    for (const char* name : {"--forecast-every-s", "--forecast-seed", "--forecast-calibration"}) {
       if (given(app, name)) {
         throw UsageError(std::string(name) + " sets the ensemble forecast: give --forecast-members and "
                          "--forecast-horizon-s too");
@@ -270,6 +276,13 @@ void parse_forecast_options(const CLI::App& app, const RawOptions& raw, Simulate
                        ")");
     }
     f.seed = *seed;
+  }
+  if (given(app, "--forecast-calibration")) {
+    std::string why;
+    q.forecast_calibration = sim::parse_forecast_calibration(raw.forecast_calibration, f.horizon_s, &why);
+    if (!q.forecast_calibration) {
+      throw UsageError("--forecast-calibration takes " + why + " (got " + quoted(raw.forecast_calibration) + ")");
+    }
   }
   q.forecast = f;
   q.analysis.keep_history = true;  // the forecasts start from the history's states

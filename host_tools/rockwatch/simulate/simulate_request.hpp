@@ -10,6 +10,7 @@
 #include "rockwatch/core/wall.hpp"
 #include "rockwatch/sim/analysis.hpp"
 #include "rockwatch/sim/ensemble_forecast.hpp"
+#include "rockwatch/sim/forecast_calibration.hpp"
 #include "rockwatch/sim/wall_sensor_synthesis.hpp"
 
 namespace rockwatch::cli {
@@ -47,6 +48,9 @@ struct SimulateRequest {
   // collapse (SPEC §10) from the simulated state every S seconds while the wall is not at rest (JSON `forecast`).
   std::optional<sim::ForecastSettings> forecast;
   double forecast_every_s = 0.1;
+  // --forecast-calibration c0,c1,c2,c3: the recalibration's coefficients (SPEC §10 "Calibrated P"); none: the shipped
+  // default (sim::default_forecast_calibration), applied when the horizon is the one it was fitted at.
+  std::optional<sim::ForecastCalibration> forecast_calibration;
 };
 
 // Outcome of reading the command line: either a request to run, or text to print and an exit status

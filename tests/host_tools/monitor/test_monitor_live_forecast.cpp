@@ -100,7 +100,9 @@ TEST(MonitorLiveForecast, PublishesAtTheRateAndTheOddsRiseBeforeTheCollapse) {
   lcm.subscribeFunction(forecast_channel, &Inbox::on_raw, &inbox)->setQueueCapacity(1000);
   lcm.subscribeFunction(c.alarm, &Inbox::on_raw, &inbox)->setQueueCapacity(1000);
   const pid_t pid = rockwatch::test::start_monitor_listening(
-      {"--config", dir.file("forecast.json"), "--lcm-url", url, "--forecast", "50,2"}, dir.file("stdout"),
+      {"--config", dir.file("forecast.json"), "--lcm-url", url, "--forecast", "50,2", "--forecast-calibration",
+       "0,1,0,0"},
+      dir.file("stdout"),
       dir.file("stderr"));
 
   const std::int64_t t0 = rockwatch::monitor::realtime_utime();
@@ -174,6 +176,12 @@ TEST(MonitorLiveForecast, PublishesAtTheRateAndTheOddsRiseBeforeTheCollapse) {
       CHECK_TEXT(m.q90_max_x_over_x_inst <= 2.0 + 1e-12, what.c_str());  // κ = 2: a collapsed member counts κ
       CHECK_TEXT(m.sigma_now_mps2 > 0.0 && m.omega_g_rps > 0.0, what.c_str());
       CHECK_TEXT(m.utime >= t0 && m.utime <= t0 + kSamples * 5000, what.c_str());
+      // --forecast-calibration 0,1,0,0 is Platt's identity: the calibrated P is the raw P clamped at half a member;
+      // the features are there (schema 2).
+      const double clamped = std::min(std::max(m.p_collapse, 0.5 / kMembers), 1.0 - 0.5 / kMembers);
+      DOUBLES_EQUAL(clamped, m.p_collapse_calibrated, 1e-12);
+      CHECK_TEXT(std::isfinite(m.energy_ratio_max_2s) && m.energy_ratio_max_2s >= 0.0, what.c_str());
+      CHECK_TEXT(std::isfinite(m.x_over_x_inst) && m.x_over_x_inst >= 0.0, what.c_str());
     } else {
       LONGS_EQUAL_TEXT(0, m.members, what.c_str());
       const bool collapsed = m.status == rockwatch::wall_forecast_t::STATUS_COLLAPSED;
@@ -228,7 +236,10 @@ TEST(MonitorLiveForecast, BadForecastSettingsAreRefusedNamingThem) {
                {{"--forecast", "100001,5"}, "--forecast"},
                {{"--forecast", "200,5", "--forecast-rate", "0"}, "--forecast-rate"},
                {{"--forecast", "200,5", "--forecast-rate", "101"}, "--forecast-rate"},
-               {{"--forecast-rate", "5"}, "--forecast-rate"}};
+               {{"--forecast-rate", "5"}, "--forecast-rate"},
+               {{"--forecast", "200,5", "--forecast-calibration", "1,2,3"}, "--forecast-calibration"},
+               {{"--forecast", "200,5", "--forecast-calibration", "1,2,3,nan"}, "--forecast-calibration"},
+               {{"--forecast-calibration", "0,1,0,0"}, "--forecast-calibration"}};
   for (const auto& c : cases) {
     const rockwatch::test::ProcessResult r = rockwatch::test::run_monitor(c.args);
     const std::string what = c.args[0] + " " + c.args[1] + ": " + r.err;

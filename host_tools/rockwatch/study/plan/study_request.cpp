@@ -44,6 +44,7 @@ struct RawOptions {
   bool observer_evaluation = false;
   bool forecast = false;
   std::string forecast_members, forecast_horizon, forecast_every, forecast_seed;
+  std::vector<std::string> forecast_setting;
   std::string pga = kDefaultStudyPga, r = "ana,exp", vertical = "without,with";
   std::string model = "linear", kappa, max_step;
   std::string units, dt, channel, vertical_channel, gain;
@@ -185,6 +186,12 @@ void add_options(CLI::App& app, RawOptions& raw) {
       ->type_name("S");
   app.add_option("--forecast-seed", raw.forecast_seed, "With --forecast: seed of the members, 0 to 2^64-1 (default 29)")
       ->type_name("SEED");
+  app.add_option("--forecast-setting", raw.forecast_setting,
+                 "With --forecast: one of the forecaster's settings (SPEC section 10), NAME=VALUE, repeatable, to tune "
+                 "or compare its ground and state models: intensity_log_sigma, intensity_ramp_s, highpass_ratio, "
+                 "growth_max_per_s, damping, window_s, default_sigma_fraction, step_s, condition_on_record (0|1), "
+                 "record_noise_var")
+      ->type_name("NAME=VALUE");
   app.add_option("--units", raw.units, "Acceleration units of --records files: g|mps2|cmps2|mmps2 (overrides the file)")
       ->type_name("U");
   app.add_option("--dt", raw.dt, "Sample interval of one-column plain --records files [s]")->type_name("S");
@@ -339,7 +346,8 @@ void parse_analysis(const CLI::App& app, const RawOptions& raw, StudyRequest& q)
 // (scripts/forecast-evaluation.py, docs/BENCHMARKS.md "Ensemble forecast").
 void parse_forecast(const CLI::App& app, const RawOptions& raw, StudyRequest& q) {
   if (!raw.forecast) {
-    for (const char* name : {"--forecast-members", "--forecast-horizon-s", "--forecast-every-s", "--forecast-seed"}) {
+    for (const char* name : {"--forecast-members", "--forecast-horizon-s", "--forecast-every-s", "--forecast-seed",
+                             "--forecast-setting"}) {
       if (given(app, name)) throw UsageError(std::string(name) + " sets the forecast evaluation: give --forecast too");
     }
     return;
@@ -378,6 +386,38 @@ void parse_forecast(const CLI::App& app, const RawOptions& raw, StudyRequest& q)
                        ")");
     }
     e.settings.seed = *seed;
+  }
+  for (const std::string& text : raw.forecast_setting) {
+    const std::size_t eq = text.find('=');
+    const std::string name = eq == std::string::npos ? text : text.substr(0, eq);
+    double* field = nullptr;
+    sim::ForecastSettings& fs = e.settings;
+    if (name == "intensity_log_sigma") field = &fs.intensity_log_sigma;
+    else if (name == "intensity_ramp_s") field = &fs.intensity_ramp_s;
+    else if (name == "highpass_ratio") field = &fs.highpass_ratio;
+    else if (name == "growth_max_per_s") field = &fs.growth_max_per_s;
+    else if (name == "damping") field = &fs.damping;
+    else if (name == "window_s") field = &fs.window_s;
+    else if (name == "default_sigma_fraction") field = &fs.default_sigma_fraction;
+    else if (name == "step_s") field = &fs.step_s;
+    else if (name == "record_noise_var") field = &fs.record_noise_var;
+    double on_off = fs.condition_on_record ? 1.0 : 0.0;
+    if (name == "condition_on_record") field = &on_off;
+    if (eq == std::string::npos || field == nullptr) {
+      throw UsageError("--forecast-setting takes NAME=VALUE, NAME one of intensity_log_sigma, intensity_ramp_s, "
+                       "highpass_ratio, growth_max_per_s, damping, window_s, default_sigma_fraction, step_s, condition_on_record, record_noise_var "
+                       "(got " +
+                       quoted(text) + ")");
+    }
+    *field = parse_finite_number("--forecast-setting " + name, text.substr(eq + 1));
+    if (name == "condition_on_record") {
+      if (on_off != 0.0 && on_off != 1.0) throw UsageError("--forecast-setting condition_on_record takes 0 or 1");
+      fs.condition_on_record = on_off == 1.0;
+    }
+  }
+  if (const char* bad = sim::forecast_settings_error(e.settings)) {
+    throw UsageError(std::string("--forecast-setting: the forecaster's setting ") + bad +
+                     " is out of range (SPEC section 10)");
   }
   if (std::find(q.vertical.begin(), q.vertical.end(), false) == q.vertical.end()) {
     throw UsageError("--forecast evaluates the horizontal-only runs (the members drive no vertical): --vertical must "

@@ -156,7 +156,7 @@ int run(const StudyRequest& q) {
     std::size_t done = 0;
     for (const study::ForecastRunResult& r : forecast_results) done += r.done ? 1 : 0;
     if (done < runs) return interrupted(q, plan, plan_description, results, interrupt.signal_number());
-    forecasted = forecast_outcome(plan, forecast_results);
+    forecasted = forecast_outcome(plan, forecast_results, q.forecast->settings.members);
   }
 
   const StudyOutcome outcome = summarise_study(plan, results, capacities);

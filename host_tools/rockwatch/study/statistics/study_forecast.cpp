@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "common/process/text_report.hpp"
+#include "rockwatch/sim/forecast_calibration.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "common/process/options_namespace.hpp"
 #include "study/statistics/study_summary.hpp"
@@ -139,9 +140,49 @@ std::string lead_line(const LeadScore& s) {
                 opt3(s.lead_time_s_median_all_collapses).c_str());
 }
 
+// Reliability of the forecasts p[i] (bins of width 0.1, the last closed); returns the judged bins' count and largest
+// error through the arguments.
+std::vector<ReliabilityBin> reliability_of(const std::vector<Flat>& all, const std::vector<double>& p,
+                                           std::size_t& judged, std::optional<double>& max_error) {
+  std::vector<ReliabilityBin> bins;
+  judged = 0;
+  max_error.reset();
+  for (int k = 0; k < 10; ++k) {
+    ReliabilityBin b;
+    b.lo = k / 10.0;
+    b.hi = (k + 1) / 10.0;
+    double sum_p = 0.0, sum_o = 0.0;
+    for (std::size_t i = 0; i < all.size(); ++i) {
+      const int bin = std::min(9, static_cast<int>(std::floor(p[i] * 10.0 + 1e-12)));
+      if (bin != k) continue;
+      ++b.n;
+      sum_p += p[i];
+      sum_o += all[i].point->outcome ? 1.0 : 0.0;
+    }
+    if (b.n == 0) continue;
+    b.mean_p = sum_p / double(b.n);
+    b.observed = sum_o / double(b.n);
+    if (b.n >= kCalibrationMinForecasts) {
+      ++judged;
+      max_error = std::max(max_error.value_or(0.0), std::fabs(b.observed - b.mean_p));
+    }
+    bins.push_back(b);
+  }
+  return bins;
+}
+
+nlohmann::ordered_json bins_json(const std::vector<ReliabilityBin>& bins) {
+  nlohmann::ordered_json j = nlohmann::ordered_json::array();
+  for (const ReliabilityBin& b : bins) {
+    j.push_back({{"lo", b.lo}, {"hi", b.hi}, {"n", b.n}, {"mean_p", b.mean_p}, {"observed", b.observed}});
+  }
+  return j;
+}
+
 }  // namespace
 
-ForecastOutcome forecast_outcome(const study::StudyPlan& plan, const std::vector<study::ForecastRunResult>& results) {
+ForecastOutcome forecast_outcome(const study::StudyPlan& plan, const std::vector<study::ForecastRunResult>& results,
+                                 int members) {
   ForecastOutcome o;
   // Groups: the record's name (a suite's set: X and Y together).
   std::map<std::string, std::size_t> group_of_name;
@@ -183,28 +224,10 @@ ForecastOutcome forecast_outcome(const study::StudyPlan& plan, const std::vector
   if (*o.brier_base_rate > 0.0) o.brier_skill = 1.0 - *o.brier / *o.brier_base_rate;
 
   // Reliability.
-  for (int k = 0; k < 10; ++k) {
-    ReliabilityBin b;
-    b.lo = k / 10.0;
-    b.hi = (k + 1) / 10.0;
-    double sum_p = 0.0, sum_o = 0.0;
-    for (const Flat& f : all) {
-      const double p = f.point->p_collapse;
-      const int bin = std::min(9, static_cast<int>(std::floor(p * 10.0 + 1e-12)));
-      if (bin != k) continue;
-      ++b.n;
-      sum_p += p;
-      sum_o += f.point->outcome ? 1.0 : 0.0;
-    }
-    if (b.n == 0) continue;
-    b.mean_p = sum_p / double(b.n);
-    b.observed = sum_o / double(b.n);
-    if (b.n >= kCalibrationMinForecasts) {
-      ++o.bins_judged;
-      const double e = std::fabs(b.observed - b.mean_p);
-      o.calibration_max_error = std::max(o.calibration_max_error.value_or(0.0), e);
-    }
-    o.bins.push_back(b);
+  {
+    std::vector<double> raw(all.size());
+    for (std::size_t i = 0; i < all.size(); ++i) raw[i] = all[i].point->p_collapse;
+    o.bins = reliability_of(all, raw, o.bins_judged, o.calibration_max_error);
   }
   o.calibrated = o.bins_judged > 0 && *o.calibration_max_error <= kCalibrationTolerance;
 
@@ -230,12 +253,65 @@ ForecastOutcome forecast_outcome(const study::StudyPlan& plan, const std::vector
     if (*o.baseline_brier > 0.0) o.skill_vs_baseline = 1.0 - *o.brier / *o.baseline_brier;
   }
 
-  // Per run: the largest P (ensemble, baseline) over its forecasts; the first time each reaches a threshold is found
-  // below from the forecasts in order.
-  std::vector<double> run_max_p(results.size(), 0.0), run_max_b(results.size(), 0.0);
+  // The recalibrated P (SPEC §10): its coefficients on every record (in sample, what would ship) and per fold on the
+  // other records only (the forecasts of the record left out are never among the rows that fit its fold).
+  CalibratedForecast& cal = o.calibrated_forecast;
+  {
+    const std::size_t k = sim::kCalibrationFeatures;
+    std::vector<double> x(all.size() * k);
+    std::vector<std::uint8_t> y(all.size());
+    for (std::size_t i = 0; i < all.size(); ++i) {
+      const study::ForecastPoint& p = *all[i].point;
+      const auto f = sim::calibration_features(p.p_collapse, members, p.energy_ratio_max, p.x_over_x_inst);
+      for (std::size_t a = 0; a < k; ++a) x[i * k + a] = f[a];
+      y[i] = p.outcome ? 1 : 0;
+    }
+    const auto apply = [&](const std::vector<double>& w, std::size_t i) {
+      double z = 0.0;
+      for (std::size_t a = 0; a < k; ++a) z += w[a] * x[i * k + a];
+      return 1.0 / (1.0 + std::exp(-std::clamp(z, -50.0, 50.0)));
+    };
+    cal.coefficients_all_records = sim::fit_logistic_regression(x, k, y);
+    if (o.brier_base_rate && *o.brier_base_rate > 0.0) {
+      std::vector<double> in(all.size());
+      for (std::size_t i = 0; i < all.size(); ++i) in[i] = apply(cal.coefficients_all_records, i);
+      cal.brier_skill_in_sample = 1.0 - brier_of(all, in) / *o.brier_base_rate;
+    }
+    if (o.groups >= 2) {
+      cal.fitted = true;
+      cal.p.assign(all.size(), 0.0);
+      std::vector<std::uint8_t> use(all.size());
+      for (std::size_t g = 0; g < o.groups; ++g) {
+        bool any = false;
+        for (std::size_t i = 0; i < all.size(); ++i) {
+          use[i] = all[i].group != g ? 1 : 0;
+          any = any || all[i].group == g;
+        }
+        if (!any) continue;
+        ++cal.folds;
+        const std::vector<double> w = sim::fit_logistic_regression(x, k, y, use);
+        for (std::size_t i = 0; i < all.size(); ++i) {
+          if (all[i].group != g) continue;
+          cal.p[i] = apply(w, i);
+          ++cal.fold_rows_checked;
+        }
+      }
+      cal.brier = brier_of(all, cal.p);
+      if (o.brier_base_rate && *o.brier_base_rate > 0.0) cal.brier_skill = 1.0 - *cal.brier / *o.brier_base_rate;
+      if (o.baseline_brier && *o.baseline_brier > 0.0) cal.skill_vs_baseline = 1.0 - *cal.brier / *o.baseline_brier;
+      cal.bins = reliability_of(all, cal.p, cal.bins_judged, cal.calibration_max_error);
+      cal.calibrated = cal.bins_judged > 0 && *cal.calibration_max_error <= kCalibrationTolerance;
+    }
+  }
+
+  // Per run: the largest P (ensemble, baseline, calibrated) over its forecasts; the first time each reaches a
+  // threshold is found below from the forecasts in order.
+  std::vector<double> run_max_p(results.size(), 0.0), run_max_b(results.size(), 0.0),
+      run_max_c(results.size(), 0.0);
   for (std::size_t i = 0; i < all.size(); ++i) {
     run_max_p[all[i].run] = std::max(run_max_p[all[i].run], all[i].point->p_collapse);
     if (!o.baseline_p.empty()) run_max_b[all[i].run] = std::max(run_max_b[all[i].run], o.baseline_p[i]);
+    if (!cal.p.empty()) run_max_c[all[i].run] = std::max(run_max_c[all[i].run], cal.p[i]);
   }
   std::vector<std::size_t> scored;  // runs with results
   for (std::size_t i = 0; i < results.size(); ++i) {
@@ -275,8 +351,10 @@ ForecastOutcome forecast_outcome(const study::StudyPlan& plan, const std::vector
     if (count[all[i].run]++ == 0) first[all[i].run] = i;
   }
   // A rule "key ≥ p*" chosen per fold on the other groups' survivors, applied to the fold's runs.
-  auto score_rule = [&](LeadScore& s, bool baseline, bool at_imminent_rate) {
-    const std::vector<double>& run_max = baseline ? run_max_b : run_max_p;
+  enum class Rule { ensemble, baseline, calibrated };
+  auto score_rule = [&](LeadScore& s, Rule rule, bool at_imminent_rate) {
+    const std::vector<double>& run_max =
+        rule == Rule::baseline ? run_max_b : (rule == Rule::calibrated ? run_max_c : run_max_p);
     std::vector<double> thresholds;
     for (std::size_t g = 0; g < o.groups; ++g) {
       std::vector<double> maxima;
@@ -307,7 +385,9 @@ ForecastOutcome forecast_outcome(const study::StudyPlan& plan, const std::vector
         std::optional<double> t_first;
         if (p_star) {
           for (std::size_t k = first[i]; k < first[i] + count[i]; ++k) {
-            const double key = baseline ? o.baseline_p[k] : all[k].point->p_collapse;
+            const double key = rule == Rule::baseline     ? o.baseline_p[k]
+                               : rule == Rule::calibrated ? cal.p[k]
+                                                          : all[k].point->p_collapse;
             if (key >= *p_star - 1e-12) {
               t_first = all[k].point->t_s;
               break;
@@ -328,10 +408,12 @@ ForecastOutcome forecast_outcome(const study::StudyPlan& plan, const std::vector
     }
     finish(s, thresholds);
   };
-  score_rule(o.ensemble_5, false, false);
-  score_rule(o.baseline_5, true, false);
-  score_rule(o.ensemble_at_imminent, false, true);
-  score_rule(o.baseline_at_imminent, true, true);
+  score_rule(o.ensemble_5, Rule::ensemble, false);
+  score_rule(o.baseline_5, Rule::baseline, false);
+  score_rule(o.ensemble_at_imminent, Rule::ensemble, true);
+  score_rule(o.baseline_at_imminent, Rule::baseline, true);
+  score_rule(cal.at_5, Rule::calibrated, false);
+  score_rule(cal.at_imminent, Rule::calibrated, true);
   return o;
 }
 
@@ -344,15 +426,17 @@ nlohmann::ordered_json forecast_plan_json(const study::ForecastEvaluationPlan& e
           {"damping", s.damping},       {"highpass_ratio", s.highpass_ratio},
           {"growth_min_per_s", s.growth_min_per_s}, {"growth_max_per_s", s.growth_max_per_s},
           {"sigma_now_cap", s.sigma_now_cap},       {"intensity_log_sigma", s.intensity_log_sigma},
-          {"match_velocity", s.match_velocity},     {"default_sigma_fraction", s.default_sigma_fraction}};
+          {"match_velocity", s.match_velocity},     {"default_sigma_fraction", s.default_sigma_fraction},
+          {"intensity_ramp_s", s.intensity_ramp_s}, {"condition_on_record", s.condition_on_record},
+          {"record_noise_var", s.record_noise_var}};
 }
 
 nlohmann::ordered_json forecast_summary_json(const study::ForecastEvaluationPlan& evaluation,
                                              const ForecastOutcome& o) {
   nlohmann::ordered_json j;
   j["settings"] = forecast_plan_json(evaluation);
-  j["held_out"] = "leave one record out: the baseline's weights and every threshold p* are fitted on the other "
-                  "records' forecasts and runs (a record is its name: a suite set's X and Y are left out together); "
+  j["held_out"] = "leave one record out: the baseline's weights, the recalibration's coefficients and every "
+                  "threshold p* are fitted on the other records' forecasts and runs (a record is its name: a suite set's X and Y are left out together); "
                   "the ensemble fits nothing to these records (its defaults were chosen on sets 1-3 of the shipped "
                   "suite, SPEC section 10)";
   j["runs"] = o.runs;
@@ -366,11 +450,7 @@ nlohmann::ordered_json forecast_summary_json(const study::ForecastEvaluationPlan
   j["brier"] = number_or_null(o.brier);
   j["brier_base_rate"] = number_or_null(o.brier_base_rate);
   j["brier_skill"] = number_or_null(o.brier_skill);
-  nlohmann::ordered_json bins = nlohmann::ordered_json::array();
-  for (const ReliabilityBin& b : o.bins) {
-    bins.push_back({{"lo", b.lo}, {"hi", b.hi}, {"n", b.n}, {"mean_p", b.mean_p}, {"observed", b.observed}});
-  }
-  j["reliability"] = bins;
+  j["reliability"] = bins_json(o.bins);
   j["calibration"] = {{"calibrated", o.calibrated},
                       {"bins_judged", o.bins_judged},
                       {"max_abs_error", number_or_null(o.calibration_max_error)},
@@ -396,19 +476,53 @@ nlohmann::ordered_json forecast_summary_json(const study::ForecastEvaluationPlan
                {"ensemble_at_imminent_false_alarms", fitted(o.ensemble_at_imminent)},
                {"baseline_at_imminent_false_alarms", fitted(o.baseline_at_imminent)},
                {"p_star_5_percent_all_records", number_or_null(o.p_star_all_5)}};
-  // The goals, judged on the figures above; the lead on every collapse (a miss as 0 s), so that a threshold
-  // that flags a few collapses cannot win by its median over those few.
-  const LeadScore& e = o.ensemble_at_imminent;
-  const bool fewer = e.survivors_flagged <= o.imminent.survivors_flagged;
-  std::optional<double> gain;
-  if (e.lead_time_s_median_all_collapses && o.imminent.lead_time_s_median_all_collapses) {
-    gain = *e.lead_time_s_median_all_collapses - *o.imminent.lead_time_s_median_all_collapses;
+  const CalibratedForecast& c = o.calibrated_forecast;
+  {
+    nlohmann::ordered_json cj;
+    cj["model"] = "P_cal = 1/(1 + exp(-(c0 + c1 logit(clamp(P, 0.5/N, 1 - 0.5/N)) + c2 energy_ratio_max_2s + c3 "
+                  "x_over_x_inst))), maximum likelihood; leave one record out (the baseline's folds)";
+    nlohmann::ordered_json coef = nullptr;
+    if (c.coefficients_all_records.size() == std::size_t(sim::kCalibrationFeatures)) {
+      coef = {{"const", c.coefficients_all_records[0]},
+              {"logit_p", c.coefficients_all_records[1]},
+              {"energy_ratio_max_2s", c.coefficients_all_records[2]},
+              {"x_over_x_inst", c.coefficients_all_records[3]}};
+    }
+    cj["coefficients_all_records"] = coef;
+    cj["folds"] = c.folds;
+    cj["brier"] = number_or_null(c.brier);
+    cj["brier_skill"] = number_or_null(c.brier_skill);
+    cj["brier_skill_in_sample"] = number_or_null(c.brier_skill_in_sample);
+    cj["brier_skill_vs_baseline"] = number_or_null(c.skill_vs_baseline);
+    cj["reliability"] = bins_json(c.bins);
+    cj["calibration"] = {{"calibrated", c.calibrated},
+                         {"bins_judged", c.bins_judged},
+                         {"max_abs_error", number_or_null(c.calibration_max_error)}};
+    const auto fitted_c = [&c](const LeadScore& l) {
+      return c.fitted ? lead_json(l, true) : nlohmann::ordered_json(nullptr);
+    };
+    cj["lead"] = {{"calibrated_5_percent", fitted_c(c.at_5)},
+                  {"calibrated_at_imminent_false_alarms", fitted_c(c.at_imminent)}};
+    j["calibrated"] = cj;
   }
-  j["goals"] = {
-      {"calibrated", o.calibrated},
-      {"skill_above_baseline", o.brier_skill && o.baseline_skill && *o.brier_skill > *o.baseline_skill},
-      {"longer_lead_than_imminent_at_no_more_false_alarms", fewer && gain && *gain > 0.0},
-      {"median_lead_gain_over_imminent_s", number_or_null(gain)}};
+  // The goals, judged on the figures above; the lead on every collapse (a miss as 0 s), so that a threshold
+  // that flags a few collapses cannot win by its median over those few. `goals` judges the calibrated P (what the
+  // monitor publishes as p_collapse_calibrated); `goals_raw_ensemble` the raw one, beside it.
+  const auto goals = [&o](bool calibrated, std::optional<double> skill, const LeadScore& e) {
+    const bool fewer = e.survivors_flagged <= o.imminent.survivors_flagged;
+    std::optional<double> gain;
+    if (e.lead_time_s_median_all_collapses && o.imminent.lead_time_s_median_all_collapses) {
+      gain = *e.lead_time_s_median_all_collapses - *o.imminent.lead_time_s_median_all_collapses;
+    }
+    return nlohmann::ordered_json{
+        {"calibrated", calibrated},
+        {"skill_above_baseline", skill && o.baseline_skill && *skill > *o.baseline_skill},
+        {"longer_lead_than_imminent_at_no_more_false_alarms", fewer && gain && *gain > 0.0},
+        {"median_lead_gain_over_imminent_s", number_or_null(gain)}};
+  };
+  j["goals"] = goals(c.calibrated, c.brier_skill, c.at_imminent);
+  j["goals"]["judged"] = "the calibrated P (calibrated), leave one record out";
+  j["goals_raw_ensemble"] = goals(o.calibrated, o.brier_skill, o.ensemble_at_imminent);
   j["definitions"] = {
       {"forecast", "P(collapse within horizon_s) from the run's own state at t_s (sim::EnsembleForecaster, SPEC "
                    "section 10), one every every_s while the wall moves, up to its collapse"},
@@ -425,9 +539,13 @@ nlohmann::ordered_json forecast_summary_json(const study::ForecastEvaluationPlan
       {"lead_time", "t_collapse - the first forecast time the rule is reached, over collapses reached before "
                     "t_collapse (forecasts every every_s: lead times are multiples of it); "
                     "lead_time_s_median_all_collapses: over every collapse, a missed one counting 0 s"},
-      {"goals", "calibrated: as calibration; skill_above_baseline: brier_skill > baseline.brier_skill (both out of "
-                "sample); longer_lead...: ensemble_at_imminent_false_alarms flags no more survivors than IMMINENT and "
+      {"goals", "judged on the calibrated P (calibrated.*; goals_raw_ensemble: the same on the raw ensemble's P): "
+                "calibrated: as calibration; skill_above_baseline: brier_skill > baseline.brier_skill (both out of "
+                "sample); longer_lead...: the rule at IMMINENT's false alarms flags no more survivors than IMMINENT and "
                 "its lead_time_s_median_all_collapses is longer than IMMINENT's (median_lead_gain_over_imminent_s)"},
+      {"calibrated", "the ensemble's P recalibrated with the state (SPEC section 10 'Calibrated P'): a logistic "
+                     "regression on (1, logit of P clamped to [0.5/N, 1 - 0.5/N], max E/E_barrier over 2 s, "
+                     "|x|/x_inst), fitted leave one record out on the same folds as the baseline"},
       {"imminent", "the alarm's first IMMINENT (checked every integration step), no fitted parameter"}};
   return j;
 }
@@ -435,7 +553,7 @@ nlohmann::ordered_json forecast_summary_json(const study::ForecastEvaluationPlan
 void write_forecast_csv(std::ostream& out, const study::StudyPlan& plan,
                         const std::vector<study::ForecastRunResult>& results, const ForecastOutcome& outcome) {
   out << "run,record,component,r,pga_g,t_s,p_collapse,p_collapse_se,q50_max_x_over_x_inst,q90_max_x_over_x_inst,"
-         "energy_ratio_max_2s,x_over_x_inst,imminent,outcome,baseline_p,collapsed,t_collapse_s\n";
+         "energy_ratio_max_2s,x_over_x_inst,imminent,outcome,baseline_p,collapsed,t_collapse_s,p_calibrated\n";
   std::size_t k = 0;  // index of the forecast in outcome.baseline_p (the order of forecast_outcome)
   for (std::size_t i = 0; i < results.size(); ++i) {
     const study::ForecastRunResult& r = results[i];
@@ -446,13 +564,15 @@ void write_forecast_csv(std::ostream& out, const study::StudyPlan& plan,
                                plan.restitutions[key.restitution_index].label + ',' +
                                number_text(plan.pga_g[key.pga_index]) + ',';
     const std::string suffix =
-        std::string(r.collapsed ? "true" : "false") + ',' + (r.t_collapse_s ? number_text(*r.t_collapse_s) : "") + '\n';
+        std::string(r.collapsed ? "true" : "false") + ',' + (r.t_collapse_s ? number_text(*r.t_collapse_s) : "") + ',';
     for (const study::ForecastPoint& p : r.points) {
       out << prefix << number_text(p.t_s) << ',' << number_text(p.p_collapse) << ',' << number_text(p.p_collapse_se)
           << ',' << number_text(p.q50_max_x_over_x_inst) << ',' << number_text(p.q90_max_x_over_x_inst) << ','
           << number_text(p.energy_ratio_max) << ',' << number_text(p.x_over_x_inst) << ','
           << (p.imminent ? "true" : "false") << ',' << (p.outcome ? 1 : 0) << ','
-          << (outcome.baseline_p.empty() ? std::string() : number_text(outcome.baseline_p[k])) << ',' << suffix;
+          << (outcome.baseline_p.empty() ? std::string() : number_text(outcome.baseline_p[k])) << ',' << suffix
+          << (outcome.calibrated_forecast.p.empty() ? std::string() : number_text(outcome.calibrated_forecast.p[k]))
+          << '\n';
       ++k;
     }
   }
@@ -476,7 +596,16 @@ std::string forecast_summary_text(const study::ForecastEvaluationPlan& e, const 
     line(out, "baseline (5 %)", lead_line(o.baseline_5));
   }
   line(out, "IMMINENT", lead_line(o.imminent));
-  if (o.groups >= 2) line(out, "P at IMMINENT's FA", lead_line(o.ensemble_at_imminent));
+  if (o.groups >= 2) {
+    line(out, "P at IMMINENT's FA", lead_line(o.ensemble_at_imminent));
+    const CalibratedForecast& c = o.calibrated_forecast;
+    line(out, "calibrated P", format("Brier %s, skill %s (raw %s, baseline %s); %s: max |observed - mean P| %s",
+                                     opt3(c.brier).c_str(), opt3(c.brier_skill).c_str(), opt3(o.brier_skill).c_str(),
+                                     opt3(o.baseline_skill).c_str(), c.calibrated ? "calibrated" : "NOT calibrated",
+                                     opt3(c.calibration_max_error).c_str()));
+    line(out, "calibrated (5 %)", lead_line(c.at_5));
+    line(out, "calibrated at FA", lead_line(c.at_imminent));
+  }
   return out;
 }
 

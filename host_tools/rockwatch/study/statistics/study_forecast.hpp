@@ -53,6 +53,25 @@ struct LeadScore {
   std::size_t folds_without_threshold = 0;           // folds where no p* ≤ 1 met the limit: nothing flagged
 };
 
+// The ensemble's P recalibrated (SPEC §10 "Calibrated P", sim::ForecastCalibration): a logistic regression on
+// (1, logit of the clamped P, max E/E_barrier over 2 s, |x|/x_inst), fitted leave one record out (the folds of the
+// baseline), scored as the raw P is.
+struct CalibratedForecast {
+  bool fitted = false;                               // two or more record groups
+  std::vector<double> p;                             // per forecast, in the order of forecast.csv
+  std::optional<double> brier, brier_skill, skill_vs_baseline;
+  std::vector<ReliabilityBin> bins;
+  std::size_t bins_judged = 0;
+  std::optional<double> calibration_max_error;
+  bool calibrated = false;
+  LeadScore at_5, at_imminent;
+  // Fitted on every record (in sample): what `rockwatch-monitor` and `simulate` would ship for this horizon.
+  std::vector<double> coefficients_all_records;      // c0, c_logit_p, c_energy_ratio_max_2s, c_x_over_x_inst
+  std::optional<double> brier_skill_in_sample;
+  // Per fold: the records whose forecasts fitted its coefficients never include the record it is applied to.
+  std::size_t folds = 0, fold_rows_checked = 0;
+};
+
 struct ForecastOutcome {
   std::size_t runs = 0, runs_with_error = 0, collapsing_runs = 0, surviving_runs = 0;
   std::size_t forecasts = 0, at_rest_skipped = 0, groups = 0;
@@ -68,10 +87,12 @@ struct ForecastOutcome {
   std::optional<double> skill_vs_baseline;           // 1 − Brier / Brier(baseline)
   LeadScore ensemble_5, baseline_5, imminent, ensemble_at_imminent, baseline_at_imminent;
   std::optional<double> p_star_all_5;                // p* chosen on every record (what an operator would set)
+  CalibratedForecast calibrated_forecast;
 };
 
+// members: the ensemble's N (the clamp of logit P in the recalibration).
 ForecastOutcome forecast_outcome(const sim::study::StudyPlan& plan,
-                                 const std::vector<sim::study::ForecastRunResult>& results);
+                                 const std::vector<sim::study::ForecastRunResult>& results, int members = 100);
 
 // summary.json's "forecast": definitions, settings, held_out, counts, brier, reliability, calibration, baseline,
 // lead {ensemble_5_percent, baseline_5_percent, imminent, ensemble_at_imminent_false_alarms,
@@ -84,7 +105,7 @@ nlohmann::ordered_json forecast_plan_json(const sim::study::ForecastEvaluationPl
 
 // forecast.csv: one row per forecast: run, record, component, r, pga_g, t_s, p_collapse, p_collapse_se,
 // q50_max_x_over_x_inst, q90_max_x_over_x_inst, energy_ratio_max_2s, x_over_x_inst, imminent, outcome, baseline_p
-// (leave one record out; empty without), collapsed, t_collapse_s.
+// (leave one record out; empty without), collapsed, t_collapse_s, p_calibrated (leave one record out; empty without).
 void write_forecast_csv(std::ostream& out, const sim::study::StudyPlan& plan,
                         const std::vector<sim::study::ForecastRunResult>& results, const ForecastOutcome& outcome);
 

@@ -50,13 +50,25 @@ struct ForecastSettings {
   // The intensity to come is uncertain: each member's envelope is σ(τ)·exp(s_I z − s_I²/2), z standard normal (mean
   // σ(τ)), s_I = this, in [0, 2].
   double intensity_log_sigma = 1.5;  // (tuned on suite sets 1–3 for calibration, SPEC §10)
+  // The intensity's spread grows with the lead time: the member's log-factor is s_I·r(τ)·z − (s_I r(τ))²/2 with
+  // r(τ) = min(1, τ / this) (the next instants' intensity is the record's own; the later one less known). 0: the
+  // spread is s_I from τ = 0 (r = 1). In [0, 60] s.
+  double intensity_ramp_s = 0.0;
+  // The ground's phase: the ground filter's state at the forecast time conditioned on the record's last window_s
+  // (a Kalman filter of the filter's own model over the record, resampled at the members' step, each sample
+  // ü/σ(τ) observed with a variance of record_noise_var), instead of on ü(t) alone. The slow states (the ground
+  // velocity and displacement of the high-pass stage) then carry the record's phase: a pulse under way reverses.
+  // (On by default: chosen on suite sets 1–3, SPEC §10; it applies when the record is given, forecast(state, ug...).)
+  bool condition_on_record = true;
+  double record_noise_var = 0.01;  // in [1e-6, 1]
   // The level set so that the model's ground velocity has the record's RMS over the window (velocity_rms_mps) instead
   // of its acceleration's (a rocking wall answers to the low frequencies). Needs highpass_ratio > 0. Off by default:
   // it scored a lower Brier skill on suite sets 1–3 than the acceleration's RMS with intensity_log_sigma 1.5 (SPEC §10).
   bool match_velocity = false;
   // State uncertainty when the caller has none (open loop): σ_x = this × x_inst, σ_ẋ = this × v_b, where
   // v_b = √(2 E_barrier / p1) is the speed that carries the wall from x = 0 over the barrier.
-  double default_sigma_fraction = 0.01;
+  // 0.05 chosen on suite sets 1–3 (SPEC §10; 0.01 before issue 29's recalibration: P = 1.0 for survivors).
+  double default_sigma_fraction = 0.05;
   std::uint64_t seed = 29;
 };
 
@@ -69,6 +81,11 @@ struct GroundModel {
   double window_used_s = 0.0;        // length of record the model was fitted to [s]
   double accel_rms_mps2 = 0.0;       // RMS of ü over the window [m/s²]
   double velocity_rms_mps = 0.0;     // RMS of the ground velocity ∫ü over the window, its mean removed [m/s]
+  // condition_on_record: the ground filter's state (y, ẏ, z, ż per unit σ) at the forecast time given the record:
+  // its mean and the Cholesky factor of its covariance (lower triangle); conditioned = false: from ü(t) alone.
+  bool conditioned = false;
+  double filter_mean[4] = {0.0, 0.0, 0.0, 0.0};
+  double filter_chol[4][4] = {};
 };
 
 // The record's samples ug[0 .. n) (the last one at the forecast time), sampled every dt_s: the ground model over the
@@ -112,6 +129,11 @@ class EnsembleForecaster {
   // The same with the ground model fitted to the record's last samples ug[0 .. n) (the last at the forecast time).
   ForecastResult forecast(const ForecastState& state, const double* ug_mps2, std::size_t n, double dt_s);
 
+  // The state features of the recalibration (SPEC §10 "Calibrated P"), for the nominal wall: E/E_barrier in free
+  // motion (SPEC §2) on side `side` (+1 / −1), and |x|/x_inst of that side.
+  double energy_ratio(double x_m, double xd_mps, int side) const;
+  double x_over_x_inst(double x_m, int side) const;
+
   const ForecastSettings& settings() const { return settings_; }
   const core::StepperSetup<double>& setup() const { return setup_; }
   double velocity_scale_mps() const { return v_barrier_mps_; }
@@ -120,6 +142,8 @@ class EnsembleForecaster {
   ForecastSettings settings_;
   core::StepperSetup<double> setup_{};
   double v_barrier_mps_ = 0.0;
+  double barrier_jpm_[2] = {0.0, 0.0};  // E_barrier per side (index core::side_index)
+  core::Coefficients<double> free_[2]{};  // the coefficients of free motion at x = 0 per side
   std::vector<double> max_ratio_;  // per member: max |x|/x_inst
 };
 

@@ -2,6 +2,7 @@
 // `forecast` object and its series (one entry every S s while the wall moves, the alarm's level beside each with
 // --alarms), an entry equal to sim::EnsembleForecaster run in-process on sim::analyse's state, the same output on a
 // second run, a wall at rest, and out-of-range options refused naming the option.
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <string>
@@ -64,8 +65,8 @@ TEST(SimulateForecast, SeriesWhileTheWallMovesWithTheAlarmBeside) {
   const nlohmann::json& f = j["forecast"];
   std::vector<std::string> keys;
   for (auto it = f.begin(); it != f.end(); ++it) keys.push_back(it.key());
-  const std::vector<std::string> expected{"at_rest_skipped", "every_s", "horizon_s", "members", "seed", "series",
-                                          "step_s"};
+  const std::vector<std::string> expected{"at_rest_skipped", "calibration", "every_s", "horizon_s", "members", "seed",
+                                          "series", "step_s"};
   CHECK_TRUE(keys == expected);  // nlohmann::json sorts its keys
   LONGS_EQUAL(20, f["members"].get<int>());
   DOUBLES_EQUAL(1.0, f["horizon_s"].get<double>(), 0.0);
@@ -88,6 +89,9 @@ TEST(SimulateForecast, SeriesWhileTheWallMovesWithTheAlarmBeside) {
     CHECK_TRUE(e["q90_max_x_over_x_inst"].get<double>() <= 2.0);
     CHECK_TRUE(e["alarm"].is_string());
   }
+  // No coefficients are shipped for H = 1 s: no calibrated P (SPEC §10 "Calibrated P").
+  CHECK_FALSE(f["calibration"]["applied"].get<bool>());
+  CHECK_TRUE(series[0]["p_collapse_calibrated"].is_null());
   // Just before the collapse the wall is past x_inst moving out: every member falls.
   DOUBLES_EQUAL(1.0, series.back()["p_collapse"].get<double>(), 0.0);
   // The same command gives the same bytes.
@@ -167,4 +171,43 @@ TEST(SimulateForecast, OptionsOutOfRangeAreRefusedNamingTheOption) {
          "--forecast-every-s");
   reject({"--forecast-members", "10"}, "--forecast-horizon-s");
   reject({"--forecast-every-s", "0.5"}, "--forecast-every-s");
+}
+
+// The calibrated P beside the raw one (SPEC §10 "Calibrated P"): with given coefficients, the logistic of
+// c0 + c1 logit(clamped P) + c2 energy_ratio_max_2s + c3 x_over_x_inst of each entry; at H = 3 s the shipped ones.
+TEST(SimulateForecast, CalibratedProbabilityBesideTheRawOne) {
+  std::vector<std::string> args = kForecast;
+  args.insert(args.end(), {"--json", "--forecast-calibration", "-1,0.5,0.25,2"});
+  const ProcessResult r = run_rockwatch(el_centro("0.3", args));
+  check_ok(r);
+  const nlohmann::json f = nlohmann::json::parse(r.out)["forecast"];
+  CHECK_TRUE(f["calibration"]["applied"].get<bool>());
+  for (const nlohmann::json& e : f["series"]) {
+    const double p = std::min(std::max(e["p_collapse"].get<double>(), 0.5 / 20.0), 1.0 - 0.5 / 20.0);
+    const double z = -1.0 + 0.5 * std::log(p / (1.0 - p)) + 0.25 * e["energy_ratio_max_2s"].get<double>() +
+                     2.0 * e["x_over_x_inst"].get<double>();
+    DOUBLES_EQUAL(1.0 / (1.0 + std::exp(-z)), e["p_collapse_calibrated"].get<double>(), 1e-12);
+    CHECK_TRUE(e["energy_ratio_max_2s"].get<double>() >= 0.0);
+  }
+  std::vector<std::string> three{"--forecast-members", "20", "--forecast-horizon-s", "3", "--forecast-every-s", "0.5",
+                                 "--json"};
+  const ProcessResult s3 = run_rockwatch(el_centro("0.3", three));
+  check_ok(s3);
+  const nlohmann::json g = nlohmann::json::parse(s3.out)["forecast"];
+  CHECK_TRUE(g["calibration"]["applied"].get<bool>());
+  DOUBLES_EQUAL(3.0, g["calibration"]["horizon_s"].get<double>(), 0.0);
+  for (const nlohmann::json& e : g["series"]) {
+    const double pc = e["p_collapse_calibrated"].get<double>();
+    CHECK_TRUE(pc > 0.0 && pc < 1.0);
+  }
+  for (const char* bad : {"1,2", "1,2,3,x"}) {
+    expect_command_rejected("simulate",
+                            {"--record", record_path(kElCentro180), "--scale-pga", "0.3", "--forecast-members", "20",
+                             "--forecast-horizon-s", "1", "--forecast-calibration", bad},
+                            {"--forecast-calibration"});
+  }
+  expect_command_rejected("simulate",
+                          {"--record", record_path(kElCentro180), "--scale-pga", "0.3", "--forecast-calibration",
+                           "0,1,0,0"},
+                          {"--forecast-calibration", "--forecast-members"});
 }

@@ -15,6 +15,7 @@
 #include "cli_process.hpp"
 #include "cli_test_files.hpp"
 #include "rockwatch/sim/study/batch_study.hpp"
+#include "rockwatch/sim/forecast_calibration.hpp"
 #include "rockwatch/sim/study/forecast_evaluation.hpp"
 #include "study/statistics/study_forecast.hpp"
 
@@ -155,7 +156,16 @@ TEST(StudyForecast, SummaryFiguresAreThoseOfTheForecastsInTheCsv) {
   }
   for (const char* goal : {"calibrated", "skill_above_baseline", "longer_lead_than_imminent_at_no_more_false_alarms"}) {
     CHECK_TEXT(f["goals"][goal].is_boolean(), goal);
+    CHECK_TEXT(f["goals_raw_ensemble"][goal].is_boolean(), goal);
   }
+  // The calibrated P (SPEC §10 "Calibrated P") beside the raw one, judged by `goals`.
+  const nlohmann::json& c = f["calibrated"];
+  CHECK(c["brier"].is_number());
+  CHECK_EQUAL(f["goals"]["calibrated"].get<bool>(), c["calibration"]["calibrated"].get<bool>());
+  CHECK_EQUAL(f["goals"]["skill_above_baseline"].get<bool>(),
+              c["brier_skill"].get<double>() > f["baseline"]["brier_skill"].get<double>());
+  CHECK_EQUAL(f["goals_raw_ensemble"]["calibrated"].get<bool>(), f["calibration"]["calibrated"].get<bool>());
+  LONGS_EQUAL(4, static_cast<long>(c["coefficients_all_records"].size()));
 }
 
 TEST(StudyForecast, RejectsBadOptionsNamingThem) {
@@ -177,6 +187,12 @@ TEST(StudyForecast, RejectsBadOptionsNamingThem) {
   expect_command_rejected("study", {"--suite", kSuite, "--sets", "3", "--vertical", "with", "--forecast", "--out", out},
                           {"--forecast", "--vertical"});
   expect_command_rejected("study", with({"--forecast", "--shard", "1/2"}), {"--shard", "--forecast"});
+  expect_command_rejected("study", with({"--forecast-setting", "damping=0.5"}), {"--forecast-setting", "--forecast"});
+  expect_command_rejected("study", with({"--forecast", "--forecast-setting", "nonsense=1"}), {"--forecast-setting"});
+  expect_command_rejected("study", with({"--forecast", "--forecast-setting", "damping"}), {"--forecast-setting"});
+  expect_command_rejected("study", with({"--forecast", "--forecast-setting", "damping=2"}), {"--forecast-setting"});
+  expect_command_rejected("study", with({"--forecast", "--forecast-setting", "condition_on_record=0.5"}),
+                          {"--forecast-setting"});
 }
 
 // Two records (groups), each with a collapsing and a surviving run; the baseline needs both outcomes in each fold.
@@ -256,4 +272,76 @@ TEST(StudyForecast, OneRecordHasNothingToLeaveOut) {
   const auto rows = read_csv(out + "/forecast.csv");
   CHECK(!rows.empty());
   for (const auto& row : rows) CHECK(row.at("baseline_p").empty());
+}
+
+// The recalibrated P (SPEC §10 "Calibrated P") is fitted leave one record out: the calibrated P of a record's
+// forecasts does not change, to the bit, when that record's outcomes are changed (its forecasts are not among the
+// rows that fit its fold), while the other records' do; and each fold's P is the fit on the other records alone.
+TEST(StudyForecast, CalibrationNeverSeesTheRecordScored) {
+  study::StudyPlan plan;
+  plan.records.resize(3);
+  plan.records[0].name = "a";
+  plan.records[1].name = "b";
+  plan.records[2].name = "c";
+  plan.pga_g = {0.1, 0.2};
+  plan.restitutions.resize(1);
+  plan.vertical = {false};
+  // Run order: record, level: runs 0-1 record a, 2-3 b, 4-5 c. Forecasts on a grid with mixed outcomes.
+  auto make_runs = [](bool flip_a) {
+    std::vector<study::ForecastRunResult> runs(6);
+    for (std::size_t r = 0; r < runs.size(); ++r) {
+      runs[r].done = true;
+      for (int k = 0; k < 40; ++k) {
+        const double p = double((k * 7 + int(r) * 3) % 20) / 20.0;
+        const double e = double((k * 3 + int(r)) % 11) / 5.0;
+        const double xr = double((k * 5 + int(r) * 2) % 9) / 9.0;
+        bool outcome = (k * 13 + int(r) * 5) % 7 < int(1 + 5 * p);
+        if (flip_a && r < 2) outcome = !outcome;
+        runs[r].points.push_back(point(0.1 * k, p, outcome, e, xr));
+      }
+    }
+    return runs;
+  };
+  const std::vector<study::ForecastRunResult> runs = make_runs(false), flipped = make_runs(true);
+  const cli::ForecastOutcome o = cli::forecast_outcome(plan, runs, 100);
+  const cli::ForecastOutcome f = cli::forecast_outcome(plan, flipped, 100);
+  const cli::CalibratedForecast& c = o.calibrated_forecast;
+  CHECK(c.fitted);
+  LONGS_EQUAL(3, static_cast<long>(c.folds));
+  LONGS_EQUAL(240, static_cast<long>(c.p.size()));
+  LONGS_EQUAL(240, static_cast<long>(c.fold_rows_checked));
+  // Record a's forecasts are the first 80 (forecast.csv order).
+  for (std::size_t i = 0; i < 80; ++i) DOUBLES_EQUAL(c.p[i], f.calibrated_forecast.p[i], 0.0);
+  std::size_t changed = 0;
+  for (std::size_t i = 80; i < 240; ++i) changed += c.p[i] != f.calibrated_forecast.p[i] ? 1 : 0;
+  CHECK(changed > 100);
+  // Fold of record b: the fit on a's and c's forecasts only.
+  std::vector<double> x;
+  std::vector<std::uint8_t> y;
+  for (std::size_t r : {0u, 1u, 4u, 5u}) {
+    for (const study::ForecastPoint& p : runs[r].points) {
+      const auto feat = rockwatch::sim::calibration_features(p.p_collapse, 100, p.energy_ratio_max, p.x_over_x_inst);
+      x.insert(x.end(), feat.begin(), feat.end());
+      y.push_back(p.outcome ? 1 : 0);
+    }
+  }
+  const std::vector<double> w = rockwatch::sim::fit_logistic_regression(x, 4, y);
+  const study::ForecastPoint& q = runs[2].points[7];
+  rockwatch::sim::ForecastCalibration cal;
+  for (std::size_t a = 0; a < 4; ++a) cal.c[a] = w[a];
+  DOUBLES_EQUAL(rockwatch::sim::calibrated_probability(cal, q.p_collapse, 100, q.energy_ratio_max, q.x_over_x_inst),
+                c.p[80 + 7], 1e-12);
+  // Scored as the raw P is: Brier, skill, reliability over every forecast.
+  double brier = 0.0;
+  for (std::size_t r = 0, i = 0; r < runs.size(); ++r) {
+    for (const study::ForecastPoint& p : runs[r].points) {
+      const double d = c.p[i++] - (p.outcome ? 1.0 : 0.0);
+      brier += d * d;
+    }
+  }
+  DOUBLES_EQUAL(brier / 240.0, *c.brier, 1e-12);
+  std::size_t binned = 0;
+  for (const cli::ReliabilityBin& b : c.bins) binned += b.n;
+  LONGS_EQUAL(240, static_cast<long>(binned));
+  LONGS_EQUAL(4, static_cast<long>(c.coefficients_all_records.size()));
 }
