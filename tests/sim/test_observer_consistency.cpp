@@ -1,6 +1,7 @@
 // Consistency of the wall observer (core/wall_observer.hpp): Monte-Carlo over sensor-noise seeds, walls, records
-// and sensor sets. A true wall (its own r, b, overburden) is simulated by sim::analyse (keep_history) and its sensors
-// synthesised (sim::synthesize_wall_sensors); the nominal wall (paper wall, r_exp) is run fused with them exactly as
+// and sensor sets. A true wall (its own r, b, overburden) is simulated by sim::analyse (keep_history) — or, for the
+// NEES bands, drawn from the filter's own model (its prior on κc, κk, √r and the offset, its process noise: the
+// nominal stepper with the drawn scales, model_truth) — and its sensors synthesised (sim::synthesize_wall_sensors); the nominal wall (paper wall, r_exp) is run fused with them exactly as
 // sim::analyse runs it (sub-steps of 1 ms, samples pushed when due, the observer after every sub-step), and the
 // estimation errors are compared with the observer's covariance:
 //   - the normalised estimation error squared (NEES) of x, ẋ, r and x_inst, averaged over N runs, lies in the 95 %
@@ -23,6 +24,7 @@
 #include "rockwatch/records/record.hpp"
 #include "rockwatch/records/suite_format.hpp"
 #include "rockwatch/sim/analysis.hpp"
+#include "rockwatch/sim/synthesis/random_stream.hpp"
 #include "rockwatch/sim/wall_sensor_synthesis.hpp"
 
 #include <CppUTest/TestHarness.h>
@@ -77,7 +79,64 @@ struct Scenario {
   sim::GroundMotion motion;
   sim::SensorModel sensors;
   core::ObserverOptions observer{};
+  // A truth inside the filter's model class (the textbook condition of a NEES test): the nominal wall's stepper with
+  // the capacity scales κc, κk (SPEC §9) and √r of the truth (true_wall is then the nominal wall, for the sensors).
+  bool in_model = false;
+  double kappa_c = 1.0, kappa_k = 1.0;
+  // … and the filter's own model error: a white acceleration of this σ, one draw per sub-step while the wall rocks
+  // (the filter's process noise: q = σ²·[h⁴/4 h³/2; h³/2 h²]) [m/s²].
+  double truth_process_mps2 = 0.0;
+  std::uint64_t truth_seed = 1;
 };
+
+// The nominal wall's stepper setup (paper wall, r_exp): the filter's model, and the in-model truth's.
+core::StepperSetup<double> nominal_setup(double dt_s) {
+  const core::WallParameters nominal = core::paper_wall();
+  const int n = core::substeps_per_sample(dt_s, kMaxStep);
+  core::StepperOptions so;
+  so.dt_s = dt_s / double(n);
+  return core::make_stepper_setup(nominal, core::ModelKind::linear,
+                                  core::restitution_energy_ratio(nominal, core::Restitution{}), so);
+}
+
+// The in-model truth: the nominal stepper with the scenario's κc, κk and √r, stepped as sim::analyse steps it (rows
+// at t = 0 and after every sub-step), its history kept for the sensor synthesis.
+sim::AnalysisResult model_truth(const Scenario& sc) {
+  sim::AnalysisResult res;
+  const std::vector<double>& ug = sc.motion.ug_mps2;
+  const int n = core::substeps_per_sample(sc.motion.dt_s, kMaxStep);
+  const double h = sc.motion.dt_s / double(n);
+  core::RockingStepper<double> stepper;
+  stepper.init(nominal_setup(sc.motion.dt_s));
+  stepper.set_sqrt_r(std::sqrt(sc.true_r));
+  stepper.set_capacity_scales(sc.kappa_c, sc.kappa_k);
+  stepper.reset(ug[0], 0.0);
+  auto row = [&](double t, double u) {
+    const core::MotionState<double>& m = stepper.state();
+    res.history.push_back(sim::HistoryRow{t, u, 0.0, m.x_m, m.xd_mps, m.xdd_mps2, -m.x_m / sc.true_wall.h1_m,
+                                          m.x_m / sc.true_wall.h2_m, stepper.side() == core::Side::positive ? 1 : -1});
+    res.max_abs_x_m = std::fmax(res.max_abs_x_m, std::fabs(m.x_m));
+  };
+  row(0.0, ug[0]);
+  sim::synthesis::RandomStream noise(sc.truth_seed);
+  for (std::size_t k = 0; k + 1 < ug.size() && !stepper.collapsed(); ++k) {
+    for (int j = 1; j <= n && !stepper.collapsed(); ++j) {
+      const double u = j == n ? ug[k + 1] : ug[k] + (ug[k + 1] - ug[k]) * double(j) / double(n);
+      const core::StepReport<double> rep = stepper.step(u, 0.0);
+      res.n_impacts += rep.impacts_counted;
+      if (sc.truth_process_mps2 > 0.0 && stepper.moving() && !stepper.collapsed() && rep.impacts_total == 0) {
+        const double w = sc.truth_process_mps2 * noise.normal();
+        const core::MotionState<double> m = stepper.state();
+        const double x1 = m.x_m + 0.5 * h * h * w;
+        // Never across the hinge (an impact the stepper would not see).
+        if ((x1 > 0.0) == (m.x_m > 0.0) && x1 != 0.0) stepper.set_state(x1, m.xd_mps + h * w, u, 0.0);
+      }
+      row(double(k * std::size_t(n) + std::size_t(j)) * h, u);
+    }
+  }
+  res.collapsed = stepper.collapsed();
+  return res;
+}
 
 // What one fused run gives: the errors and variances at a checkpoint and at the end.
 struct RunOutcome {
@@ -97,18 +156,14 @@ RunOutcome fused_run(const Scenario& sc) {
   to.restitution = restitution_value(sc.true_r);
   to.keep_history = true;
   to.max_step_s = kMaxStep;
-  const sim::AnalysisResult truth = sim::analyse(sc.true_wall, sc.motion, to);
+  const sim::AnalysisResult truth = sc.in_model ? model_truth(sc) : sim::analyse(sc.true_wall, sc.motion, to);
   out.truth_collapsed = truth.verdict_collapse();
   const std::vector<core::WallSensorSample> samples =
       sim::synthesize_wall_sensors(sc.true_wall, truth, sc.motion.dt_s, sc.sensors);
   // The nominal wall, fused: the loop of sim::analyse.
   const core::WallParameters nominal = core::paper_wall();
   const int n = core::substeps_per_sample(sc.motion.dt_s, kMaxStep);
-  const double h = sc.motion.dt_s / double(n);
-  core::StepperOptions so;
-  so.dt_s = h;
-  const core::StepperSetup<double> setup =
-      core::make_stepper_setup(nominal, core::ModelKind::linear, core::restitution_energy_ratio(nominal, core::Restitution{}), so);
+  const core::StepperSetup<double> setup = nominal_setup(sc.motion.dt_s);
   core::RockingStepper<double> stepper;
   stepper.init(setup);
   core::WallObserver<core::RockingStepper<double>> observer;
@@ -149,7 +204,8 @@ RunOutcome fused_run(const Scenario& sc) {
   out.x_inst_hat = observer.x_inst_estimate_m();
   out.sigma_x_inst = observer.sigma_x_inst_m();
   out.x_inst_true = core::x_inst_m(core::model_constants(sc.true_wall, core::ModelKind::linear), core::Side::positive,
-                                   sc.true_wall.g_mps2);
+                                   sc.true_wall.g_mps2) *
+                    (sc.in_model ? sc.kappa_c / sc.kappa_k : 1.0);
   const double ei = out.x_inst_hat - out.x_inst_true;
   out.nees_x_inst = ei * ei / (out.sigma_x_inst * out.sigma_x_inst);
   return out;
@@ -214,6 +270,52 @@ Tally monte_carlo(bool with_accelerometer, int seeds) {
   return t;
 }
 
+// The truth drawn from the filter's own prior (Bar-Shalom's condition for a NEES test): per run κc, κk ~ 1 ± σ0
+// (capacity_sigma0), √r ~ √r_exp ± r_sigma0 (drawn again when above 0.995: the filter holds √r ≤ 1, and its prior
+// mass beyond is clamped), the transducer's offset ~ 0 ± bias_sigma0; the ground a 3 s window of one of the
+// suite's 11 sets (either component, starting 0.5–3 s in) at a PGA 0.2–0.35 g; the sensor noise of the seed.
+Tally monte_carlo_prior(bool with_accelerometer, int seeds, const core::ObserverOptions& options = {},
+                        double truth_process_mps2 = -1.0, int first_seed = 1) {
+  Tally t;
+  const double e0 = std::sqrt(core::restitution_energy_ratio(core::paper_wall(), core::Restitution{}));
+  for (int seed = first_seed; seed < first_seed + seeds; ++seed) {
+    sim::synthesis::RandomStream rng(std::uint64_t(7919 * seed + (with_accelerometer ? 1 : 0)));
+    Scenario sc;
+    sc.true_wall = core::paper_wall();
+    sc.in_model = true;
+    sc.observer = options;
+    sc.kappa_c = 1.0 + options.capacity_sigma0 * rng.normal();
+    sc.kappa_k = 1.0 + options.capacity_sigma0 * rng.normal();
+    double e = 2.0;
+    while (e > 0.995) e = e0 + options.r_sigma0 * rng.normal();
+    sc.true_r = e * e;
+    sc.sensors.x_bias_m = options.bias_sigma0_m * rng.normal();
+    const int set = 1 + int(rng.uniform() * 11.0);
+    const int component = rng.uniform() < 0.5 ? 0 : 1;
+    const double t0 = rng.uniform(0.5, 3.0), pga = rng.uniform(0.2, 0.35);
+    sc.motion = suite_window(set, component, t0, 3.0, pga);
+    sc.sensors.rate_hz = 200.0;
+    sc.sensors.x_noise_m = options.x_noise_m;
+    if (with_accelerometer) sc.sensors.a_noise_mps2 = options.a_noise_mps2;
+    sc.sensors.seed = std::uint64_t(1000 + seed);
+    sc.truth_process_mps2 = truth_process_mps2 >= 0.0 ? truth_process_mps2 : options.process_accel_mps2;
+    sc.truth_seed = std::uint64_t(5000 + seed);
+    const RunOutcome o = fused_run(sc);
+    ++t.n;
+    t.r += o.nees_r;
+    t.x_inst += o.nees_x_inst;
+    if (o.have_checkpoint) {
+      ++t.n_state;
+      t.x += o.nees_x;
+      t.v += o.nees_v;
+    }
+    const double sigmas = std::fabs(o.r_hat - o.r_true) / o.sigma_r;
+    t.worst_r_sigmas = std::fmax(t.worst_r_sigmas, sigmas);
+    if (sigmas > 3.0) ++t.r_outside_3sigma;
+  }
+  return t;
+}
+
 void print_tally(const Tally& t, const char* what) {
   double lo = 0.0, hi = 0.0, lo_s = 0.0, hi_s = 0.0;
   chi2_band(t.n, lo, hi);
@@ -230,8 +332,8 @@ void check_tally(const Tally& t, const char* what) {
   chi2_band(t.n, lo, hi);
   chi2_band(t.n_state, lo_s, hi_s);
   const double r = t.r / t.n, xi = t.x_inst / t.n, x = t.x / t.n_state, v = t.v / t.n_state;
-  CHECK(t.n >= 25);
-  CHECK(t.n_state >= 20);
+  CHECK(t.n >= 50);
+  CHECK(t.n_state >= 50);
   CHECK(r >= lo && r <= hi);
   CHECK(xi >= lo && xi <= hi);
   CHECK(x >= lo_s && x <= hi_s);
@@ -254,25 +356,29 @@ TEST(ObserverConsistency, RestitutionWithinThreeSigmaInEveryRun) {
   LONGS_EQUAL(0, a.r_outside_3sigma);
 }
 
-// The NEES bands: NOT YET MET with the default settings, hence ignored (run with -ri to measure). 64 runs each (4 walls
-// × 16 seeds, as above); the 95 % band of the mean of 64 χ²(1) is [0.68, 1.38]; mean NEES at the end (r, x_inst)
-// and at a checkpoint 2/3 into the true wall's motion with both walls rocking (x, ẋ):
-//                                   process 0.2 m/s² (default)         process 0.05 m/s²
-//   displacement only               r 0.56  x_inst 0.26  x 0.90  ẋ 0.53   r 0.70  x_inst 0.70  x 1.07  ẋ 0.89
-//   displacement + accelerometer    r 0.58  x_inst 0.86  x 0.75  ẋ 0.38   r 0.83  x_inst 0.89  x 1.63  ẋ 0.67
-// Before this fixes (impacts informing r only when certain and from informative motion, impacts implied by a
-// correction across the hinge) single runs dominated the means (NEES x 216, ẋ 460; r̂ 0.33 on a 0.80 wall). What is
-// left is underconfidence (the default process noise is large for 1 ms steps; with 0.05 the transducer-alone case is
-// inside the band but r sits at its edge, 0.61 with 96 runs) and, with the accelerometer, x overconfident at 0.05.
-IGNORE_TEST(ObserverConsistency, DisplacementTransducerAloneIsConsistent) {
-  check_tally(monte_carlo(false, 16), "displacement");
+// The NEES bands, on the textbook condition (Bar-Shalom): the truth drawn from the filter's own stochastic model —
+// κc, κk, √r and the offset from its prior, its process noise (the default 0.2 m/s²) in the true motion
+// (monte_carlo_prior) — 64 runs per sensor set; the 95 % band of the mean of 64 χ²(1) is [0.68, 1.38]. Mean NEES at
+// the end (r, x_inst) and at a checkpoint 2/3 into the true wall's motion with both walls rocking (x, ẋ), measured
+// (seeds 1–64):
+//   displacement only               r 0.87  x_inst 1.10  x 1.01  ẋ 0.91   (worst r 2.3 σ)
+//   displacement + accelerometer    r 0.88  x_inst 0.84  x 0.92  ẋ 1.09   (worst r 2.2 σ)
+// With five more blocks of 64 seeds (MeasureSeedBlocks, -ri), of 12 block × sensor pairs x_inst is in the band in 12,
+// r in 12 (one at its edge), x in 10 and ẋ in 9 (the checkpoint is one χ²(1) draw per run: heavy-tailed), and 4 of
+// 768 runs end with r̂ beyond 3 σ (at most 3.4 σ; a Gaussian error gives 2). The fixed walls of
+// RestitutionWithinThreeSigmaInEveryRun carry no model error while the filter assumes 0.2 m/s²: there it is
+// under-confident (NEES x_inst 0.26 transducer alone), as it should be. With the truth's process noise equal to the
+// filter's (MeasureProcessNoise, -ri) 0.1 m/s² is in the band too; at 0.05 and 0.02 r is under-confident with the
+// transducer alone (0.56, 0.61): the default 0.2 is kept. Learning from half-cycles of 5 σ_x instead of 10 (inform_peak_noises)
+// passes at 0.2 m/s² but one run diverges at 0.1 (r̂ 9.6 σ from the truth, mean NEES ẋ 10.9) and two at 0.02 with the
+// accelerometer (6.4 σ): not adopted (docs/BENCHMARKS.md, "Consistency").
+TEST(ObserverConsistency, DisplacementTransducerAloneIsConsistent) {
+  check_tally(monte_carlo_prior(false, 64), "prior-drawn truth, displacement");
 }
 
-IGNORE_TEST(ObserverConsistency, DisplacementAndAccelerometerAreConsistent) {
-  check_tally(monte_carlo(true, 16), "displacement + accelerometer");
+TEST(ObserverConsistency, DisplacementAndAccelerometerAreConsistent) {
+  check_tally(monte_carlo_prior(true, 64), "prior-drawn truth, displacement + accelerometer");
 }
-
-
 
 TEST(ObserverConsistency, ReportedRBiasIsGone) {
   // The reported case: true r = 0.80, nominal r_exp (0.894), 16833_H1.cor.acc at 0.2 g (the wall rocks at
@@ -292,6 +398,31 @@ TEST(ObserverConsistency, ReportedRBiasIsGone) {
         const RunOutcome o = fused_run(sc);
         CHECK(std::fabs(o.r_hat - o.r_true) <= 3.0 * o.sigma_r);
       }
+    }
+  }
+}
+
+// Measurement (run with -ri): the prior-drawn Monte-Carlo at several process noises.
+IGNORE_TEST(ObserverConsistency, MeasureSeedBlocks) {
+  for (int block = 0; block < 6; ++block) {
+    char what[96];
+    std::snprintf(what, sizeof what, "prior, seeds %d.., displacement", 1 + 64 * block);
+    print_tally(monte_carlo_prior(false, 64, {}, -1.0, 1 + 64 * block), what);
+    std::snprintf(what, sizeof what, "prior, seeds %d.., + accelerometer", 1 + 64 * block);
+    print_tally(monte_carlo_prior(true, 64, {}, -1.0, 1 + 64 * block), what);
+  }
+}
+
+IGNORE_TEST(ObserverConsistency, MeasureProcessNoise) {
+  for (const double q : {0.2, 0.1, 0.05, 0.02}) {
+    for (const double tq : {q, 0.0}) {
+      core::ObserverOptions o;
+      o.process_accel_mps2 = q;
+      char what[96];
+      std::snprintf(what, sizeof what, "prior, q %.2f, truth %.2f, displacement", q, tq);
+      print_tally(monte_carlo_prior(false, 64, o, tq), what);
+      std::snprintf(what, sizeof what, "prior, q %.2f, truth %.2f, + accelerometer", q, tq);
+      print_tally(monte_carlo_prior(true, 64, o, tq), what);
     }
   }
 }
