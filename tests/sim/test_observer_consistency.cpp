@@ -238,6 +238,21 @@ struct Tally {
   double x = 0.0, v = 0.0, r = 0.0, x_inst = 0.0;
   int r_outside_3sigma = 0;
   double worst_r_sigmas = 0.0;
+
+  // One run's NEES (x, ẋ only when it reached the checkpoint) and its final |r̂ − r| in σ.
+  void add(const RunOutcome& o) {
+    ++n;
+    r += o.nees_r;
+    x_inst += o.nees_x_inst;
+    if (o.have_checkpoint) {
+      ++n_state;
+      x += o.nees_x;
+      v += o.nees_v;
+    }
+    const double sigmas = std::fabs(o.r_hat - o.r_true) / o.sigma_r;
+    worst_r_sigmas = std::fmax(worst_r_sigmas, sigmas);
+    if (sigmas > 3.0) ++r_outside_3sigma;
+  }
 };
 
 Tally monte_carlo(bool with_accelerometer, int seeds) {
@@ -253,18 +268,7 @@ Tally monte_carlo(bool with_accelerometer, int seeds) {
       sc.sensors.x_bias_m = 1e-3 * double(seed % 3);
       if (with_accelerometer) sc.sensors.a_noise_mps2 = 0.05;
       sc.sensors.seed = std::uint64_t(100 * wall + seed);
-      const RunOutcome o = fused_run(sc);
-      ++t.n;
-      t.r += o.nees_r;
-      t.x_inst += o.nees_x_inst;
-      if (o.have_checkpoint) {
-        ++t.n_state;
-        t.x += o.nees_x;
-        t.v += o.nees_v;
-      }
-      const double sigmas = std::fabs(o.r_hat - o.r_true) / o.sigma_r;
-      t.worst_r_sigmas = std::fmax(t.worst_r_sigmas, sigmas);
-      if (sigmas > 3.0) ++t.r_outside_3sigma;
+      t.add(fused_run(sc));
     }
   }
   return t;
@@ -300,18 +304,7 @@ Tally monte_carlo_prior(bool with_accelerometer, int seeds, const core::Observer
     sc.sensors.seed = std::uint64_t(1000 + seed);
     sc.truth_process_mps2 = truth_process_mps2 >= 0.0 ? truth_process_mps2 : options.process_accel_mps2;
     sc.truth_seed = std::uint64_t(5000 + seed);
-    const RunOutcome o = fused_run(sc);
-    ++t.n;
-    t.r += o.nees_r;
-    t.x_inst += o.nees_x_inst;
-    if (o.have_checkpoint) {
-      ++t.n_state;
-      t.x += o.nees_x;
-      t.v += o.nees_v;
-    }
-    const double sigmas = std::fabs(o.r_hat - o.r_true) / o.sigma_r;
-    t.worst_r_sigmas = std::fmax(t.worst_r_sigmas, sigmas);
-    if (sigmas > 3.0) ++t.r_outside_3sigma;
+    t.add(fused_run(sc));
   }
   return t;
 }
