@@ -40,7 +40,7 @@ struct RawOptions {
 };
 
 // The options that set the plant besides --wall-file and the --sensor-* ones: they need --wall-file.
-const char* const kPlantOptionNames[] = {"--wall", "--b", "--h1",    "--h2",    "--rho",      "--fp",      "--a",
+const char* const kPlantOptionNames[] = {"--b",     "--h1", "--h2", "--rho",   "--fp",    "--a",
                                          "--a-prime", "--g", "--r", "--model", "--kappa", "--max-step"};
 
 const char* const kFooter =
@@ -122,12 +122,23 @@ void add_options(CLI::App& app, RawOptions& raw) {
   app.add_option("--wall-sensor-channel", raw.wall_sensor_channel,
                  "Channel of the wall's sensors (default ROCKWATCH_WALL_SENSOR)")
       ->type_name("NAME");
+  // The plant: simulate's wall and engine options, whose help says they need --wall-file.
   add_wall_options(app, raw.wall);
   add_restitution_option(app, raw.r);
-  app.add_option("--model", raw.model, "With --wall-file: equation of motion: linear (default, the paper's) | full")
+  app.add_option("--model", raw.model, "Equation of motion: linear (default, the paper's) | full")
       ->type_name("linear|full");
   add_kappa_option(app, raw.kappa);
   add_max_step_option(app, raw.max_step);
+  app.get_option("--wall-file")
+      ->description(
+          "Simulate the wall of a wall file (JSON; rockwatch identify --wall-out) under the record, with its r unless "
+          "--r, and send its sensors as wall_sensor_t: the wall under test as a plant");
+  for (const char* name : kPlantOptionNames) {
+    CLI::Option* option = app.get_option(name);
+    option->description("With --wall-file: " + option->get_description());
+  }
+  // The plant is a wall file's wall: --wall (paper, the only built-in one) is refused with a message, not listed.
+  app.get_option("--wall")->group("");
   add_sensor_model_options(app, raw.plant_sensors, "With --wall-file, as simulate --sensors-out: ");
   app.add_flag("--json", raw.json, "Print the summary as one JSON object on stdout");
   app.footer(kFooter);
@@ -187,6 +198,7 @@ void parse_sensor(const CLI::App& app, const RawOptions& raw, SensorModel& s) {
 // --wall-file (where any of them is refused: it would be silently ignored).
 std::optional<ReplayPlant> parse_plant(const CLI::App& app, const RawOptions& raw) {
   if (!given(app, "--wall-file")) {
+    if (given(app, "--wall")) throw UsageError("--wall sets the wall simulated as a plant: give --wall-file too");
     for (const char* name : kPlantOptionNames) {
       if (given(app, name)) {
         throw UsageError(std::string(name) + " sets the wall simulated as a plant: give --wall-file too");
