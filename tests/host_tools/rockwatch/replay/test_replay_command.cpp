@@ -640,10 +640,12 @@ TEST(ReplayPlant, VerdictIsSimulates) {
     const ProcessResult sim = run_rockwatch(concat(concat({"simulate", "--wall-file", wall}, record), {"--json"}));
     CHECK_EQUAL_TEXT(0, sim.exit_status, describe(sim).c_str());
     const nlohmann::json expected = nlohmann::json::parse(sim.out);
-    const nlohmann::json j = run_json(concat(record, {"--wall-file", wall, "--log", dir.file("plant.lcmlog")}));
+    const nlohmann::json j = run_json(concat(
+        record, {"--wall-file", wall, "--wall-sensor-channel", "RIG_WALL", "--log", dir.file("plant.lcmlog")}));
     const nlohmann::json& plant = j.at("plant");
     const std::string what = plant.dump(1) + "\nsimulate:\n" + sim.out.substr(0, 2000);
     STRCMP_EQUAL_TEXT(wall.c_str(), plant.at("wall_file").get<std::string>().c_str(), what.c_str());
+    STRCMP_EQUAL_TEXT("RIG_WALL", plant.at("channel").get<std::string>().c_str(), what.c_str());
     for (const char* key : {"collapsed", "collapse_after_end", "t_collapse_s", "t_exceed_s", "max_abs_x_m",
                             "t_max_abs_x_s", "x_inst_m", "r", "n_impacts", "kappa", "model"}) {
       CHECK_TEXT(expected.at(key) == plant.at(key), (std::string(key) + "\n" + what).c_str());
@@ -675,6 +677,8 @@ TEST(ReplayPlant, WrongCombinationsAndWallFilesAreRefused) {
     expect_command_rejected("replay", concat(rec, {option, "0.2"}), {option, "--wall-file"});
   }
   expect_command_rejected("replay", concat(rec, {"--wall", "paper"}), {"--wall", "--wall-file"});
+  expect_command_rejected("replay", concat(rec, {"--wall-file", wall, "--wall-sensor-channel", "ROCKWATCH_ACCEL"}),
+                          {"--wall-sensor-channel", "ground channel"});
   // The plant's options are checked as simulate checks them.
   expect_command_rejected("replay", concat(rec, {"--wall-file", wall, "--sensor-noise-m", "2"}),
                           {"--sensor-noise-m", "[0, 1]"});
