@@ -70,6 +70,15 @@ double parse_positive_number(const std::string& option, const std::string& text,
   return value;
 }
 
+double parse_number_in(const std::string& option, const std::string& text, double low, double high, const char* unit) {
+  const double value = parse_finite_number(option, text);
+  if (!(value >= low && value <= high)) {
+    throw UsageError(option + " must be in [" + number_text(low) + ", " + number_text(high) + "]" + unit + " (got " +
+                     number_text(value) + ")");
+  }
+  return value;
+}
+
 core::Restitution parse_restitution(const std::string& option, const std::string& text) {
   core::Restitution r;
   if (text == "ana") {

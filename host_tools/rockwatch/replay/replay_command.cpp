@@ -1,13 +1,16 @@
 // `rockwatch replay`: a record (as `rockwatch simulate` reads it), resampled to --rate, through the sensor model,
-// sent as LCM messages paced on absolute deadlines (or written to an LCM log), with the lateness measured. This file
-// wires the parts together and maps every failure to a message and an exit status.
+// sent as LCM messages paced on absolute deadlines (or written to an LCM log), with the lateness measured; with
+// --wall-file also the sensors of the wall simulated under the record (the plant). This file wires the parts together
+// and maps every failure to a message and an exit status.
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <lcm/lcm-cpp.hpp>
 
@@ -25,6 +28,9 @@
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
 #include "common/process/options_namespace.hpp"
+#include "rockwatch/core/stepper_alarm_chain.hpp"
+#include "rockwatch/sim/analysis.hpp"
+#include "rockwatch/sim/wall_sensor_synthesis.hpp"
 
 namespace rockwatch::cli {
 
@@ -59,6 +65,48 @@ InputMotion read_input(const ReplayRequest& q) {
   return prepare_input(InputRequest{q.record, q.scale_pga_g, q.g_mps2});
 }
 
+// Bounds on the plant's work, those of `rockwatch simulate --sensors-out` (which keeps the history too): a typo such
+// as --max-step 1e-9 should be an error message, not hours of computing or an exhausted machine.
+constexpr double kMaxPlantHistoryRows = 2e7;
+
+void check_plant_work(const ReplayPlant& plant, const sim::GroundMotion& motion) {
+  const double dt_s = motion.dt_s;
+  const int substeps = core::substeps_per_sample(dt_s, plant.analysis.max_step_s);
+  if (substeps == 0) {
+    throw UsageError("--max-step " + number_text(plant.analysis.max_step_s) + " s would need more than " +
+                     std::to_string(core::kMaxSubsteps) + " sub-steps per record sample (the record's dt is " +
+                     number_text(dt_s) + " s): give --max-step >= dt / " + std::to_string(core::kMaxSubsteps));
+  }
+  const double span_s = motion.duration_s() + plant.analysis.free_motion_limit_s;
+  const double worst_steps = span_s / (dt_s / std::fmax(1.0, double(substeps)));
+  if (worst_steps > kMaxPlantHistoryRows) {
+    throw UsageError("the plant's integration step over the record (plus up to " +
+                     number_text(plant.analysis.free_motion_limit_s) + " s of free rocking) means up to " +
+                     number_text(std::round(worst_steps)) + " steps, more than the " +
+                     number_text(kMaxPlantHistoryRows) + " a run with --wall-file may take: raise --max-step");
+  }
+  const double rate_hz = plant.sensor_model.rate_hz > 0.0 ? plant.sensor_model.rate_hz : 1.0 / dt_s;
+  if (rate_hz * span_s > kMaxPlantHistoryRows) {
+    throw UsageError("--sensor-rate-hz " + number_text(rate_hz) + " over the record (plus up to " +
+                     number_text(plant.analysis.free_motion_limit_s) + " s of free rocking) means up to " +
+                     number_text(std::round(rate_hz * span_s)) + " sensor samples, more than the " +
+                     number_text(kMaxPlantHistoryRows) + " a run with --wall-file may make: lower the rate");
+  }
+}
+
+// The plant: the wall of --wall-file under the record as read and scaled (input.motion, the true ground, before the
+// resampling and the ground sensor's model), through sim::analyse and sim::synthesize_wall_sensors exactly as
+// `rockwatch simulate --wall-file --sensors-out` runs them, so the samples equal that file's, bit for bit.
+PlantRun run_plant(const ReplayPlant& plant, const InputMotion& input) {
+  check_plant_work(plant, input.motion);
+  PlantRun run;
+  run.result = sim::analyse(plant.wall, input.motion, plant.analysis);
+  run.sensor_samples = sim::synthesize_wall_sensors(plant.wall, run.result, input.motion.dt_s, plant.sensor_model);
+  run.result.history.clear();  // only the samples were needed from it
+  run.result.history.shrink_to_fit();
+  return run;
+}
+
 void check_writable(const RunOutput& out) {
   if (out.path().empty()) return;
   errno = 0;
@@ -84,9 +132,19 @@ int run(const ReplayRequest& q) {
               << (1.0 / stream.source_dt_s > q.rate_hz ? ", without an anti-alias filter" : "") << '\n';
   }
 
-  // The wall's sensors, read (and checked: exit 2 naming file and line) before anything is opened or sent.
+  // The wall's sensors, read (and checked: exit 2 naming file and line) or simulated before anything is opened or
+  // sent.
   std::vector<core::WallSensorSample> wall_sensors;
   if (q.wall_sensors_path) wall_sensors = read_wall_sensor_samples(*q.wall_sensors_path);
+  std::optional<PlantRun> plant;
+  if (q.plant) {
+    plant = run_plant(*q.plant, input);
+    if (plant->result.free_motion_undecided) {
+      std::cerr << "note: the plant's free rocking after the record neither settled nor collapsed within "
+                << number_text(q.plant->analysis.free_motion_limit_s)
+                << " s; collapse_after_end is false but undecided\n";
+    }
+  }
 
   RunOutput samples_out("--samples-out", q.samples_out_path);
   RunOutput log_out("--log", q.log_path);
@@ -116,6 +174,9 @@ int run(const ReplayRequest& q) {
   if (q.wall_sensors_path) {
     plan.wall_sensors = &wall_sensors;
     plan.wall_sensor_channel = q.wall_sensor_channel;
+  } else if (plant) {
+    plan.wall_sensors = &plant->sensor_samples;
+    plan.wall_sensor_channel = q.wall_sensor_channel;
   }
   ReplayOutcome outcome;
   {
@@ -141,7 +202,7 @@ int run(const ReplayRequest& q) {
     samples_out.keep();
   }
 
-  const ReplayReport report{q, input, stream, outcome};
+  const ReplayReport report{q, input, stream, outcome, plant ? &*plant : nullptr};
   if (q.json) {
     std::cout << replay_summary_json(report).dump(2) << '\n';
   } else {

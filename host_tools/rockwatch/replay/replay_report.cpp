@@ -1,6 +1,7 @@
 #include "replay/replay_report.hpp"
 
 #include <cstdio>
+#include <optional>
 #include <string>
 
 #include "common/replay_out/lcm_multicast.hpp"
@@ -44,6 +45,69 @@ std::string vertical_text(const InputMotion& in) {
   return {};
 }
 
+nlohmann::ordered_json number_or_null(const std::optional<double>& value) {
+  return value ? nlohmann::ordered_json(*value) : nlohmann::ordered_json(nullptr);
+}
+
+// What the engine concluded about the plant, in the words of `rockwatch simulate`'s summary.
+std::string plant_verdict_text(const sim::AnalysisResult& a) {
+  const std::string peak = "max |x| " + six_digits(a.max_abs_x_m) + " m = " +
+                           decimals(a.max_abs_x_m / a.x_inst_m, 3) + " x_inst";
+  if (a.collapsed) return "collapsed at t = " + decimals(*a.t_collapse_s, 3) + " s";
+  if (a.collapse_after_end) {
+    return "collapsed in the free rocking after the record, at t = " + decimals(*a.t_collapse_s, 3) + " s (" + peak +
+           " before)";
+  }
+  return "survived, " + peak;
+}
+
+std::string plant_text(const ReplayRequest& q, const PlantRun& p, std::size_t sent) {
+  const ReplayPlant& plant = *q.plant;
+  std::string t = "  plant: " + plant.wall_file_path;
+  for (const std::string& option : plant.wall_options_given) t += " " + option;
+  t += " (r " + six_digits(p.result.r) + ", x_inst " + six_digits(p.result.x_inst_m) + " m): " +
+       plant_verdict_text(p.result) + "\n";
+  t += "  plant sensors: " + std::to_string(sent) + " of " + std::to_string(p.sensor_samples.size()) +
+       " wall_sensor_t on " + q.wall_sensor_channel +
+       (sent < p.sensor_samples.size() ? " (none after the record's last sample)" : "") + "\n";
+  return t;
+}
+
+nlohmann::ordered_json plant_json(const ReplayRequest& q, const PlantRun& p, std::size_t sent) {
+  using nlohmann::ordered_json;
+  const ReplayPlant& plant = *q.plant;
+  const sim::AnalysisResult& a = p.result;
+  ordered_json j;
+  j["wall_file"] = plant.wall_file_path;
+  j["wall_options"] = plant.wall_options_given;
+  j["r"] = a.r;
+  j["model"] = model_name(plant.analysis.model);
+  j["kappa"] = plant.analysis.kappa;
+  j["collapsed"] = a.collapsed;
+  j["collapse_after_end"] = a.collapse_after_end;
+  j["t_collapse_s"] = number_or_null(a.t_collapse_s);
+  j["t_exceed_s"] = number_or_null(a.t_exceed_s);
+  j["max_abs_x_m"] = a.max_abs_x_m;
+  j["t_max_abs_x_s"] = a.max_abs_x_m > 0.0 ? ordered_json(a.t_max_abs_x_s) : ordered_json(nullptr);
+  j["x_inst_m"] = a.x_inst_m;
+  j["n_impacts"] = a.n_impacts;
+  j["t_final_s"] = a.t_final_s;
+  const sim::SensorModel& m = plant.sensor_model;
+  ordered_json dropouts = ordered_json::array();
+  for (const sim::SensorDropout& d : m.dropouts) dropouts.push_back({d.from_s, d.to_s});
+  j["sensor"] = {{"x_noise_m", m.x_noise_m},
+                 {"x_bias_m", m.x_bias_m},
+                 {"x_quantum_m", m.x_quantum_m},
+                 {"rate_hz", m.rate_hz > 0.0 ? m.rate_hz : 1.0 / a.sample_dt_s},
+                 {"a_noise_mps2", number_or_null(m.a_noise_mps2)},
+                 {"dropouts", dropouts},
+                 {"seed", m.seed}};
+  j["sensor_samples"] = p.sensor_samples.size();
+  j["sensor_samples_sent"] = sent;
+  j["channel"] = q.wall_sensor_channel;
+  return j;
+}
+
 }  // namespace
 
 const char* message_type_name(int batch) { return batch > 0 ? "ground_accel_batch_t" : "ground_accel_t"; }
@@ -84,6 +148,7 @@ std::string replay_summary_text(const ReplayReport& r) {
       t += "  pacing: none (--speed 0, as fast as possible); " + decimals(o.elapsed_s, 3) + " s\n";
     }
   }
+  if (r.plant) t += plant_text(q, *r.plant, o.wall_sensor_samples_sent);
   if (q.log_path) {
     t += "  log: " + *q.log_path + ": " + (q.publish ? "the same " : "") + what +
          ", stamped with the sample times (lcm-logplayer plays it)\n";
@@ -129,6 +194,7 @@ nlohmann::ordered_json replay_summary_json(const ReplayReport& r) {
                          {"channel", q.wall_sensor_channel},
                          {"samples_sent", o.wall_sensor_samples_sent}};
   }
+  if (r.plant) j["plant"] = plant_json(q, *r.plant, o.wall_sensor_samples_sent);
   j["message_type"] = message_type_name(q.batch);
   j["channel"] = q.channel;
   j["lcm_url"] = q.publish ? ordered_json(q.lcm_url) : ordered_json(nullptr);

@@ -13,8 +13,11 @@
 #include "common/replay_out/lcm_multicast.hpp"
 #include "common/process/output_file.hpp"
 #include "rockwatch/options/command_line.hpp"
+#include "rockwatch/options/engine_options.hpp"
 #include "rockwatch/options/option_values.hpp"
+#include "rockwatch/options/sensor_model_options.hpp"
 #include "rockwatch/options/usage_error.hpp"
+#include "rockwatch/options/wall_options.hpp"
 #include "common/process/options_namespace.hpp"
 
 namespace rockwatch::cli {
@@ -29,8 +32,16 @@ struct RawOptions {
   std::string scale_pga, rate, speed, lcm_url, channel, batch;
   std::string noise, seed, bias, quantum, dropout, log, samples_out;
   std::string wall_sensors, wall_sensor_channel;
+  // The plant (--wall-file): simulate's wall, engine and sensor-model options.
+  WallOptionTexts wall;
+  std::string r = "exp", model = "linear", kappa, max_step;
+  SensorModelOptionTexts plant_sensors;
   bool json = false;
 };
+
+// The options that set the plant besides --wall-file and the --sensor-* ones: they need --wall-file.
+const char* const kPlantOptionNames[] = {"--b",     "--h1", "--h2", "--rho",   "--fp",    "--a",
+                                         "--a-prime", "--g", "--r", "--model", "--kappa", "--max-step"};
 
 const char* const kFooter =
     "The record is read as `rockwatch simulate` reads it (same options, same messages), scaled by --scale-pga, then\n"
@@ -58,6 +69,17 @@ const char* const kFooter =
     "--samples-out FILE writes the samples as sent (t_s, ug_mps2, vg_mps2; one row per seq; a dropped sample's row\n"
     "holds the previous values, as the monitor bridges a short gap, and ends in '# dropped'), a plain record that\n"
     "`rockwatch simulate --arith fixed --record FILE` reads with dt = 1/rate.\n"
+    "\n"
+    "The wall as a plant (--wall-file W.json), for a hardware-in-the-loop rig: the wall under test is simulated\n"
+    "under the record as read and scaled (--scale-pga, --vertical; the true ground: not the accelerometer messages,\n"
+    "whose --noise-mps2, --bias-mps2, --quantum-mps2 and --dropout model the ground sensor, nor the --rate\n"
+    "resampling), exactly as `rockwatch simulate --wall-file W.json` with the same record options runs it (the double\n"
+    "engine; --b ... --g, --r, --model, --kappa, --max-step as in simulate; g is the wall's, also for records in g\n"
+    "and --scale-pga). Its sensors (--sensor-* options: the names and defaults of simulate's) are sent as\n"
+    "wall_sensor_t beside the ground messages, exactly as `simulate --wall-file W.json --sensors-out S.csv` followed\n"
+    "by `replay --wall-sensors S.csv` sends them: each sample just before the ground message that reaches its time;\n"
+    "none after the record's last sample (the free rocking after it and its verdict are in the summary only).\n"
+    "The plant does not react to anything sent, so it is computed before the first message.\n"
     "\n"
     "Exit status: 0 the record was sent, 2 invalid options or input or LCM unusable (multicast not routed: the\n"
     "message says what to do), 1 some messages could not be sent or an internal error, 130 interrupted (Ctrl-C).\n"
@@ -100,6 +122,24 @@ void add_options(CLI::App& app, RawOptions& raw) {
   app.add_option("--wall-sensor-channel", raw.wall_sensor_channel,
                  "Channel of the wall's sensors (default ROCKWATCH_WALL_SENSOR)")
       ->type_name("NAME");
+  // The plant: simulate's wall and engine options, whose help says they need --wall-file.
+  add_wall_options(app, raw.wall);
+  add_restitution_option(app, raw.r);
+  app.add_option("--model", raw.model, "Equation of motion: linear (default, the paper's) | full")
+      ->type_name("linear|full");
+  add_kappa_option(app, raw.kappa);
+  add_max_step_option(app, raw.max_step);
+  app.get_option("--wall-file")
+      ->description(
+          "Simulate the wall of a wall file (JSON; rockwatch identify --wall-out) under the record, with its r unless "
+          "--r, and send its sensors as wall_sensor_t: the wall under test as a plant");
+  for (const char* name : kPlantOptionNames) {
+    CLI::Option* option = app.get_option(name);
+    option->description("With --wall-file: " + option->get_description());
+  }
+  // The plant is a wall file's wall: --wall (paper, the only built-in one) is refused with a message, not listed.
+  app.get_option("--wall")->group("");
+  add_sensor_model_options(app, raw.plant_sensors, "With --wall-file, as simulate --sensors-out: ");
   app.add_flag("--json", raw.json, "Print the summary as one JSON object on stdout");
   app.footer(kFooter);
 }
@@ -154,6 +194,40 @@ void parse_sensor(const CLI::App& app, const RawOptions& raw, SensorModel& s) {
   }
 }
 
+// --wall-file and the options that shape the plant, checked as `rockwatch simulate` checks them; nothing without
+// --wall-file (where any of them is refused: it would be silently ignored).
+std::optional<ReplayPlant> parse_plant(const CLI::App& app, const RawOptions& raw) {
+  if (!given(app, "--wall-file")) {
+    if (given(app, "--wall")) throw UsageError("--wall sets the wall simulated as a plant: give --wall-file too");
+    for (const char* name : kPlantOptionNames) {
+      if (given(app, name)) {
+        throw UsageError(std::string(name) + " sets the wall simulated as a plant: give --wall-file too");
+      }
+    }
+    if (const char* name = first_sensor_model_option_given(app)) {
+      throw UsageError(std::string(name) + " sets the sensors of the wall simulated as a plant: give --wall-file too");
+    }
+    return std::nullopt;
+  }
+  if (given(app, "--wall-sensors")) {
+    throw UsageError(
+        "--wall-file and --wall-sensors both give the wall's sensors (the simulated plant's, or a file's): give one");
+  }
+  const WallChoice wall = parse_wall_options(app, raw.wall);  // names the file and field of a bad wall file
+  ReplayPlant plant;
+  plant.wall_file_path = *wall.wall_file_path;
+  plant.wall = wall.wall;
+  plant.wall_options_given = wall.options_given;
+  plant.analysis.restitution = restitution_of(app, wall, raw.r);
+  plant.analysis.model = parse_model("--model", raw.model);
+  check_computable(plant.wall, plant.analysis);
+  if (given(app, "--kappa")) plant.analysis.kappa = parse_kappa("--kappa", raw.kappa);
+  if (given(app, "--max-step")) plant.analysis.max_step_s = parse_positive_number("--max-step", raw.max_step, " s");
+  plant.analysis.keep_history = true;  // the sensor samples are taken from the history
+  plant.sensor_model = parse_sensor_model_options(app, raw.plant_sensors);
+  return plant;
+}
+
 }  // namespace
 
 ReplayParse parse_replay_arguments(int argc, const char* const* argv) {
@@ -168,6 +242,9 @@ ReplayParse parse_replay_arguments(int argc, const char* const* argv) {
   }
 
   ReplayRequest q;
+  q.plant = parse_plant(app, raw);
+  // The plant's g reads the record, as simulate's wall's does, so both routes run the same ground.
+  if (q.plant) q.g_mps2 = q.plant->wall.g_mps2;
   q.record = parse_record_selection(app, raw.record, q.g_mps2);
   if (given(app, "--scale-pga"))
     q.scale_pga_g = parse_positive_number("--scale-pga", raw.scale_pga, " (a multiple of g)");
@@ -230,7 +307,9 @@ ReplayParse parse_replay_arguments(int argc, const char* const* argv) {
     q.wall_sensors_path = raw.wall_sensors;
   }
   if (given(app, "--wall-sensor-channel")) {
-    if (!q.wall_sensors_path) throw UsageError("--wall-sensor-channel needs --wall-sensors");
+    if (!q.wall_sensors_path && !q.plant) {
+      throw UsageError("--wall-sensor-channel needs --wall-sensors or --wall-file");
+    }
     if (raw.wall_sensor_channel.empty() || raw.wall_sensor_channel.size() > 63) {
       throw UsageError("--wall-sensor-channel needs a channel name of 1 to 63 characters (got " +
                        options::quoted(raw.wall_sensor_channel) + ")");

@@ -15,6 +15,7 @@
 #include "rockwatch/options/engine_options.hpp"
 #include "rockwatch/options/observer_options.hpp"
 #include "rockwatch/options/option_values.hpp"
+#include "rockwatch/options/sensor_model_options.hpp"
 #include "rockwatch/options/usage_error.hpp"
 #include "rockwatch/options/wall_options.hpp"
 #include "common/process/options_namespace.hpp"
@@ -32,17 +33,11 @@ struct RawOptions {
   std::string scale_pga;
   ObserverOptionTexts observer;
   std::string r = "exp", model = "linear", kappa, max_step, t_end, out, engine_input_out, x0;
-  std::string wall_sensors, sensors_out, sensor_noise, sensor_bias, sensor_quantum, sensor_rate, sensor_accel_noise,
-      sensor_seed;
+  std::string wall_sensors, sensors_out;
+  SensorModelOptionTexts sensor_model;
   std::string forecast_members, forecast_horizon, forecast_every, forecast_seed, forecast_calibration;
-  std::vector<std::string> sensor_dropouts;
   bool json = false;
 };
-
-// The options that set the sensor model of --sensors-out.
-const char* const kSensorModelOptions[] = {"--sensor-noise-m",          "--sensor-bias-m", "--sensor-quantum-m",
-                                           "--sensor-rate-hz",          "--sensor-dropout",
-                                           "--sensor-accel-noise-mps2", "--sensor-seed"};
 
 const char* const kFooter =
     "Conventions (SPEC sections 1-4): per metre of wall; x is the horizontal displacement of the mid-height hinge;\n"
@@ -119,31 +114,10 @@ void add_options(CLI::App& app, RawOptions& raw) {
                  "Fuse the wall's sensor samples (CSV: t_s,x_mid_m[,a_mid_mps2]) with the model: the wall observer")
       ->type_name("FILE.csv");
   add_observer_options(app, raw.observer, "With --wall-sensors: ");
-  const sim::SensorModel d{};
   app.add_option("--sensors-out", raw.sensors_out,
                  "Write sensor samples of the simulated wall (CSV for --wall-sensors): the truth for testing")
       ->type_name("FILE.csv");
-  app.add_option("--sensor-noise-m", raw.sensor_noise,
-                 "With --sensors-out: Gaussian noise of the displacement [m] (default " + number_text(d.x_noise_m) + ")")
-      ->type_name("S");
-  app.add_option("--sensor-bias-m", raw.sensor_bias,
-                 "With --sensors-out: zero offset of the displacement [m] (default " + number_text(d.x_bias_m) + ")")
-      ->type_name("B");
-  app.add_option("--sensor-quantum-m", raw.sensor_quantum,
-                 "With --sensors-out: resolution, readings rounded to multiples of Q [m] (default 0: none)")
-      ->type_name("Q");
-  app.add_option("--sensor-rate-hz", raw.sensor_rate,
-                 "With --sensors-out: samples per second (default: the record's rate)")
-      ->type_name("F");
-  app.add_option("--sensor-dropout", raw.sensor_dropouts,
-                 "With --sensors-out: no samples from T0 to T1 [s] (repeatable)")
-      ->type_name("T0:T1");
-  app.add_option("--sensor-accel-noise-mps2", raw.sensor_accel_noise,
-                 "With --sensors-out: also write a_mid_mps2 with this Gaussian noise [m/s2] (default: no column)")
-      ->type_name("A");
-  app.add_option("--sensor-seed", raw.sensor_seed,
-                 "With --sensors-out: seed of the noise, 0 to 2^64-1 (default " + std::to_string(d.seed) + ")")
-      ->type_name("N");
+  add_sensor_model_options(app, raw.sensor_model, "With --sensors-out: ");
   app.add_option("--engine-input-out", raw.engine_input_out,
                  "Write the engine's configuration and its input of every step (binary) for the Cortex-M4 replay "
                  "(scripts/m4-replay.sh)")
@@ -169,30 +143,6 @@ void add_options(CLI::App& app, RawOptions& raw) {
   app.footer(kFooter);
 }
 
-// T0:T1 with finite T0 < T1 [s].
-sim::SensorDropout parse_dropout(const std::string& text) {
-  const std::vector<std::string> fields = split_fields(text, ':');
-  if (fields.size() != 2) {
-    throw UsageError("--sensor-dropout must be T0:T1 in seconds (got " + quoted(text) + ")");
-  }
-  sim::SensorDropout d;
-  d.from_s = parse_finite_number("--sensor-dropout", fields[0]);
-  d.to_s = parse_finite_number("--sensor-dropout", fields[1]);
-  if (!(d.from_s < d.to_s)) {
-    throw UsageError("--sensor-dropout T0:T1 needs T0 < T1 (got " + quoted(text) + ")");
-  }
-  return d;
-}
-
-double parse_in(const char* option, const std::string& text, double low, double high, const char* unit) {
-  const double value = parse_finite_number(option, text);
-  if (!(value >= low && value <= high)) {
-    throw UsageError(std::string(option) + " must be in [" + number_text(low) + ", " + number_text(high) + "]" + unit +
-                     " (got " + number_text(value) + ")");
-  }
-  return value;
-}
-
 void parse_sensor_options(const CLI::App& app, const RawOptions& raw, SimulateRequest& q) {
   if (given(app, "--wall-sensors")) {
     if (raw.wall_sensors.empty()) throw UsageError("--wall-sensors needs a file name");
@@ -205,8 +155,8 @@ void parse_sensor_options(const CLI::App& app, const RawOptions& raw, SimulateRe
     }
   }
   if (!given(app, "--sensors-out")) {
-    for (const char* name : kSensorModelOptions) {
-      if (given(app, name)) throw UsageError(std::string(name) + " sets the sensors written by --sensors-out: give it too");
+    if (const char* name = first_sensor_model_option_given(app)) {
+      throw UsageError(std::string(name) + " sets the sensors written by --sensors-out: give it too");
     }
     return;
   }
@@ -217,25 +167,7 @@ void parse_sensor_options(const CLI::App& app, const RawOptions& raw, SimulateRe
   }
   check_output_file("--sensors-out", raw.sensors_out);
   q.sensors_out_path = raw.sensors_out;
-  sim::SensorModel& m = q.sensor_model;
-  if (given(app, "--sensor-noise-m")) m.x_noise_m = parse_in("--sensor-noise-m", raw.sensor_noise, 0.0, 1.0, " m");
-  if (given(app, "--sensor-bias-m")) m.x_bias_m = parse_in("--sensor-bias-m", raw.sensor_bias, -1.0, 1.0, " m");
-  if (given(app, "--sensor-quantum-m")) {
-    m.x_quantum_m = parse_in("--sensor-quantum-m", raw.sensor_quantum, 0.0, 1.0, " m");
-  }
-  if (given(app, "--sensor-rate-hz")) {
-    m.rate_hz = parse_in("--sensor-rate-hz", raw.sensor_rate, 0.0, 1e5, " Hz");
-    if (!(m.rate_hz > 0.0)) throw UsageError("--sensor-rate-hz must be > 0 Hz (got 0)");
-  }
-  for (const std::string& text : raw.sensor_dropouts) m.dropouts.push_back(parse_dropout(text));
-  if (given(app, "--sensor-accel-noise-mps2")) {
-    m.a_noise_mps2 = parse_in("--sensor-accel-noise-mps2", raw.sensor_accel_noise, 0.0, 1000.0, " m/s2");
-  }
-  if (given(app, "--sensor-seed")) {
-    const std::optional<std::uint64_t> seed = whole_number(raw.sensor_seed, 0, UINT64_MAX);
-    if (!seed) throw UsageError("--sensor-seed must be a whole number from 0 to 2^64-1 (got " + quoted(raw.sensor_seed) + ")");
-    m.seed = *seed;
-  }
+  q.sensor_model = parse_sensor_model_options(app, raw.sensor_model);
   q.analysis.keep_history = true;  // the samples are taken from the history
 }
 
@@ -267,7 +199,7 @@ void parse_forecast_options(const CLI::App& app, const RawOptions& raw, Simulate
                      "] s (got " + number_text(f.horizon_s) + ")");
   }
   if (given(app, "--forecast-every-s")) {
-    q.forecast_every_s = parse_in("--forecast-every-s", raw.forecast_every, 0.01, 60.0, " s");
+    q.forecast_every_s = parse_number_in("--forecast-every-s", raw.forecast_every, 0.01, 60.0, " s");
   }
   if (given(app, "--forecast-seed")) {
     const std::optional<std::uint64_t> seed = whole_number(raw.forecast_seed, 0, UINT64_MAX);

@@ -3,7 +3,9 @@
 // --samples-out); --batch packs consecutive samples; --dropout leaves seq gaps that --samples-out marks; --speed 0
 // is not paced; the --samples-out file is a plain record that `rockwatch simulate --arith fixed` reads sample for
 // sample; and over real UDP multicast on this machine (ttl=0) a receiver in this process gets every sample at 1 kHz
-// (skipped, with a note, when multicast does not work here: the probe of `rockwatch demo`).
+// (skipped, with a note, when multicast does not work here: the probe of `rockwatch demo`). With --wall-file (the wall
+// as a plant): the same messages as `simulate --wall-file --sensors-out` then `replay --wall-sensors`, the plant's
+// verdict that of `simulate --wall-file --json`, and the option combinations it refuses.
 #include <sys/types.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -14,6 +16,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <map>
 #include <optional>
@@ -30,6 +33,7 @@
 #include "common/replay_out/lcm_multicast.hpp"
 #include "rockwatch/ground_accel_batch_t.hpp"
 #include "rockwatch/ground_accel_t.hpp"
+#include "rockwatch/wall_sensor_t.hpp"
 
 #include "cli_expect.hpp"  // brings in CppUTest, after every standard header
 
@@ -176,7 +180,7 @@ TEST(ReplayRejections, BadValuesNameTheOption) {
   expect_command_rejected("replay", concat(rec, {"--lcm-channel", std::string(64, 'C')}), {"--lcm-channel", "63"});
   expect_command_rejected("replay", concat(rec, {"--scale-pga", "-0.2"}), {"--scale-pga"});
   expect_command_rejected("replay", {"--rate", "200"}, {"no record"});
-  expect_command_rejected("replay", concat(rec, {"--b", "0.2"}), {"unknown option", "--b"});
+  expect_command_rejected("replay", concat(rec, {"--no-such-option", "0.2"}), {"unknown option", "--no-such-option"});
   expect_command_rejected("replay", concat(rec, {"--lcm-url", "nosuch://x"}), {"--lcm-url", "nosuch"});
 }
 
@@ -473,4 +477,231 @@ TEST(ReplayInterrupt, SigintStopsAndReports) {
   CHECK(done > 0 && done < j["samples"].get<std::size_t>());
   CHECK_EQUAL(done, j["samples_sent"].get<std::size_t>());
   CHECK_EQUAL(done, read_samples(csv_path).ug.size());
+}
+
+TEST_GROUP(ReplayPlant){};
+
+namespace {
+
+// A wall file as `rockwatch identify --wall-out` writes it (the fields every reader requires): 5 % thinner than the
+// paper's wall, r = 0.85. On set 3 of the shipped suite at 0.25 g it survives component X and collapses under Y.
+std::string write_wall_file(const TempDir& dir) {
+  const std::string path = dir.file("wall.json");
+  rockwatch::test::write_text(path,
+                              "{\"format\": \"rockwatch-wall\", \"version\": 1, \"b_m\": 0.095, \"h1_m\": 1.75, "
+                              "\"h2_m\": 1.75, \"rho_kgpm3\": 1800, \"fp_npm\": 0, \"a\": 0, \"a_prime\": 0, "
+                              "\"g_mps2\": 9.81, \"r\": 0.85, \"comment\": \"replay plant test\"}");
+  return path;
+}
+
+// One event of an LCM log, decoded, its times relative to the replay's start (start_utime of its --json), so the
+// logs of two runs compare field by field.
+struct DecodedEvent {
+  std::string channel;
+  std::int64_t timestamp_us = 0;  // the event's stamp - start
+  std::int64_t utime_us = 0;      // the message's utime - start
+  std::int64_t seq = 0;
+  std::int32_t schema_version = 0, valid = 0, sensor_status = 0;
+  double first = 0.0, second = 0.0;  // ug_mps2, vg_mps2 | x_mid_m, a_mid_mps2
+};
+
+std::vector<DecodedEvent> read_events(const std::string& path, std::int64_t start_utime) {
+  std::vector<DecodedEvent> events;
+  lcm::LogFile file(path, "r");
+  CHECK_TEXT(file.good(), path.c_str());
+  for (const lcm::LogEvent* e = file.readNextEvent(); e != nullptr; e = file.readNextEvent()) {
+    DecodedEvent d;
+    d.channel = e->channel;
+    d.timestamp_us = e->timestamp - start_utime;
+    if (e->channel == "ROCKWATCH_ACCEL") {
+      rockwatch::ground_accel_t m;
+      CHECK_EQUAL(e->datalen, m.decode(e->data, 0, e->datalen));
+      d.utime_us = m.utime - start_utime;
+      d.seq = m.seq;
+      d.schema_version = m.schema_version;
+      d.sensor_status = m.sensor_status;
+      d.first = m.ug_mps2;
+      d.second = m.vg_mps2;
+    } else {
+      STRCMP_EQUAL("ROCKWATCH_WALL_SENSOR", e->channel.c_str());
+      rockwatch::wall_sensor_t m;
+      CHECK_EQUAL(e->datalen, m.decode(e->data, 0, e->datalen));
+      d.utime_us = m.utime - start_utime;
+      d.seq = m.seq;
+      d.schema_version = m.schema_version;
+      d.valid = m.valid;
+      d.sensor_status = m.sensor_status;
+      d.first = m.x_mid_m;
+      d.second = m.a_mid_mps2;
+    }
+    events.push_back(d);
+  }
+  return events;
+}
+
+std::string event_text(const DecodedEvent& e) {
+  char text[256];
+  std::snprintf(text, sizeof text, "%s t %lld utime %lld seq %lld schema %d valid %d status %d values %.17g %.17g",
+                e.channel.c_str(), static_cast<long long>(e.timestamp_us), static_cast<long long>(e.utime_us),
+                static_cast<long long>(e.seq), e.schema_version, e.valid, e.sensor_status, e.first, e.second);
+  return text;
+}
+
+// Empty when the two logs hold the same messages in the same order, field by field (values bit for bit); else the
+// first difference.
+std::string first_difference(const std::vector<DecodedEvent>& a, const std::vector<DecodedEvent>& b) {
+  for (std::size_t i = 0; i < a.size() && i < b.size(); ++i) {
+    const DecodedEvent& x = a[i];
+    const DecodedEvent& y = b[i];
+    const bool same = x.channel == y.channel && x.timestamp_us == y.timestamp_us && x.utime_us == y.utime_us &&
+                      x.seq == y.seq && x.schema_version == y.schema_version && x.valid == y.valid &&
+                      x.sensor_status == y.sensor_status && std::memcmp(&x.first, &y.first, sizeof x.first) == 0 &&
+                      std::memcmp(&x.second, &y.second, sizeof x.second) == 0;
+    if (!same) return "event " + std::to_string(i) + ":\n  " + event_text(x) + "\n  " + event_text(y);
+  }
+  if (a.size() != b.size()) return std::to_string(a.size()) + " events against " + std::to_string(b.size());
+  return {};
+}
+
+// The record both routes run: resampled to 1 kHz with a noisy, biased ground sensor that drops samples (the replay's
+// model of the ground accelerometer, which the plant must not see), a vertical, and a plant that survives it.
+std::vector<std::string> plant_record() {
+  return concat(suite_record("3", "X"), {"--vertical-from-suite", "--scale-pga", "0.25"});
+}
+const std::vector<std::string> kGroundSensor{"--rate",      "1000", "--noise-mps2", "0.05", "--bias-mps2",
+                                             "0.02",        "--seed", "5",          "--dropout", "0.01"};
+// The wall's sensors: noise, offset, quantum, their own rate, a gap and the accelerometer column.
+std::vector<std::string> plant_sensors(const char* seed) {
+  return {"--sensor-noise-m",  "0.001", "--sensor-bias-m",           "0.002", "--sensor-quantum-m", "0.0001",
+          "--sensor-rate-hz",  "250",   "--sensor-dropout",          "2:2.5", "--sensor-accel-noise-mps2", "0.05",
+          "--sensor-seed",     seed};
+}
+
+std::vector<DecodedEvent> replay_events(const std::vector<std::string>& args, const std::string& log_path) {
+  const nlohmann::json j = run_json(concat(args, {"--log", log_path}));
+  return read_events(log_path, j["start_utime"].get<std::int64_t>());
+}
+
+}  // namespace
+
+// The wall as a plant sends what the two-step route sends: `simulate --wall-file --sensors-out` then
+// `replay --wall-sensors`, message for message. A different --sensor-seed on one route must show (the comparison
+// can fail).
+TEST(ReplayPlant, SendsWhatSimulateSensorsOutThenReplayWallSensorsSends) {
+  const TempDir dir;
+  const std::string wall = write_wall_file(dir);
+  const auto two_step = [&](const char* seed) {
+    const std::string sensors = dir.file(std::string("sensors_") + seed + ".csv");
+    const ProcessResult sim = run_rockwatch(
+        concat(concat({"simulate", "--wall-file", wall}, plant_record()), concat({"--sensors-out", sensors},
+                                                                                 plant_sensors(seed))));
+    CHECK_EQUAL_TEXT(0, sim.exit_status, describe(sim).c_str());
+    return replay_events(concat(concat(plant_record(), kGroundSensor), {"--wall-sensors", sensors}),
+                         dir.file(std::string("two_step_") + seed + ".lcmlog"));
+  };
+  const std::vector<DecodedEvent> plant = replay_events(
+      concat(concat(plant_record(), kGroundSensor), concat({"--wall-file", wall}, plant_sensors("11"))),
+      dir.file("plant.lcmlog"));
+  const std::vector<DecodedEvent> route = two_step("11");
+
+  const std::string difference = first_difference(route, plant);
+  CHECK_TEXT(difference.empty(), difference.c_str());
+  // The log holds what the comparison is about: both kinds of message, the accelerometer column, the sensors' gap.
+  std::size_t ground = 0, wall_sensors = 0, with_accel = 0, in_gap = 0;
+  for (const DecodedEvent& e : plant) {
+    if (e.channel == "ROCKWATCH_ACCEL") {
+      ++ground;
+      continue;
+    }
+    ++wall_sensors;
+    if (e.valid == (rockwatch::wall_sensor_t::VALID_X | rockwatch::wall_sensor_t::VALID_A)) ++with_accel;
+    if (e.utime_us >= 2000000 && e.utime_us < 2500000) ++in_gap;
+  }
+  CHECK(ground > 19000 && ground < 20001);  // 20 s at 1 kHz, about 1 % dropped
+  // 20 s at 250 Hz minus the 0.5 s gap (none after the last ground message sent, which may be a little early).
+  CHECK(wall_sensors <= 5001u - 125u && wall_sensors > 5001u - 125u - 10u);
+  CHECK_EQUAL(wall_sensors, with_accel);
+  CHECK_EQUAL(0u, in_gap);
+
+  const std::string other = first_difference(two_step("12"), plant);
+  CHECK_TEXT(!other.empty(), "another --sensor-seed gave the same messages: the comparison cannot fail");
+}
+
+// The plant's verdict in --json is the engine's: that of `simulate --wall-file --json` on the same record, for a wall
+// that collapses (with the vertical, which delays it) and one that survives.
+TEST(ReplayPlant, VerdictIsSimulates) {
+  const TempDir dir;
+  const std::string wall = write_wall_file(dir);
+  const std::vector<std::vector<std::string>> records{
+      concat(suite_record("3", "Y"), {"--vertical-from-suite", "--scale-pga", "0.25"}),
+      concat(suite_record("3", "X"), {"--scale-pga", "0.25"})};
+  bool collapsed_seen = false, survived_seen = false;
+  for (const std::vector<std::string>& record : records) {
+    const ProcessResult sim = run_rockwatch(concat(concat({"simulate", "--wall-file", wall}, record), {"--json"}));
+    CHECK_EQUAL_TEXT(0, sim.exit_status, describe(sim).c_str());
+    const nlohmann::json expected = nlohmann::json::parse(sim.out);
+    const nlohmann::json j = run_json(concat(
+        record, {"--wall-file", wall, "--wall-sensor-channel", "RIG_WALL", "--log", dir.file("plant.lcmlog")}));
+    const nlohmann::json& plant = j.at("plant");
+    const std::string what = plant.dump(1) + "\nsimulate:\n" + sim.out.substr(0, 2000);
+    STRCMP_EQUAL_TEXT(wall.c_str(), plant.at("wall_file").get<std::string>().c_str(), what.c_str());
+    STRCMP_EQUAL_TEXT("RIG_WALL", plant.at("channel").get<std::string>().c_str(), what.c_str());
+    for (const char* key : {"collapsed", "collapse_after_end", "t_collapse_s", "t_exceed_s", "max_abs_x_m",
+                            "t_max_abs_x_s", "x_inst_m", "r", "n_impacts", "kappa", "model"}) {
+      CHECK_TEXT(expected.at(key) == plant.at(key), (std::string(key) + "\n" + what).c_str());
+    }
+    // The samples up to the collapse are all sent; a surviving wall may rock on after the record, unsent.
+    const auto made = plant.at("sensor_samples").get<std::size_t>();
+    const auto sent = plant.at("sensor_samples_sent").get<std::size_t>();
+    CHECK_TEXT(expected.at("collapsed").get<bool>() ? sent == made : sent > 3000 && sent <= made, what.c_str());
+    (expected.at("collapsed").get<bool>() ? collapsed_seen : survived_seen) = true;
+  }
+  CHECK(collapsed_seen);
+  CHECK(survived_seen);
+}
+
+TEST(ReplayPlant, WrongCombinationsAndWallFilesAreRefused) {
+  const TempDir dir;
+  const std::string wall = write_wall_file(dir), log = dir.file("x.lcmlog");
+  const std::vector<std::string> rec = concat(suite_record("1", "X"), {"--log", log});
+  const std::string sensors = dir.file("sensors.csv");
+  std::ofstream(sensors) << "t_s,x_mid_m\n0,0.001\n";
+  expect_command_rejected("replay", concat(rec, {"--wall-file", wall, "--wall-sensors", sensors}),
+                          {"--wall-file", "--wall-sensors"});
+  for (const char* option : {"--sensor-noise-m", "--sensor-bias-m", "--sensor-quantum-m", "--sensor-rate-hz",
+                             "--sensor-accel-noise-mps2", "--sensor-seed"}) {
+    expect_command_rejected("replay", concat(rec, {option, "1"}), {option, "--wall-file"});
+  }
+  expect_command_rejected("replay", concat(rec, {"--sensor-dropout", "1:2"}), {"--sensor-dropout", "--wall-file"});
+  for (const char* option : {"--b", "--r", "--kappa", "--max-step", "--g"}) {
+    expect_command_rejected("replay", concat(rec, {option, "0.2"}), {option, "--wall-file"});
+  }
+  expect_command_rejected("replay", concat(rec, {"--wall", "paper"}), {"--wall", "--wall-file"});
+  expect_command_rejected("replay", concat(rec, {"--wall-file", wall, "--wall-sensor-channel", "ROCKWATCH_ACCEL"}),
+                          {"--wall-sensor-channel", "ground channel"});
+  // The plant's options are checked as simulate checks them.
+  expect_command_rejected("replay", concat(rec, {"--wall-file", wall, "--sensor-noise-m", "2"}),
+                          {"--sensor-noise-m", "[0, 1]"});
+  expect_command_rejected("replay", concat(rec, {"--wall-file", wall, "--sensor-dropout", "3:1"}),
+                          {"--sensor-dropout", "T0 < T1"});
+  expect_command_rejected("replay", concat(rec, {"--wall-file", wall, "--kappa", "0.5"}), {"--kappa"});
+  expect_command_rejected("replay", concat(rec, {"--wall-file", wall, "--max-step", "1e-9"}), {"--max-step"});
+  // A bad wall file: the file and the field.
+  const std::string good = slurp(wall);
+  const auto with = [&](const std::string& from, const std::string& to) {
+    std::string text = good;
+    text.replace(text.find(from), from.size(), to);
+    const std::string path = dir.file("bad.json");
+    rockwatch::test::write_text(path, text);
+    return path;
+  };
+  expect_command_rejected("replay", concat(rec, {"--wall-file", with("\"h1_m\": 1.75, ", "")}),
+                          {"--wall-file", "bad.json", "'h1_m'", "missing"});
+  expect_command_rejected("replay", concat(rec, {"--wall-file", with("\"r\": 0.85", "\"r\": 1.5")}),
+                          {"bad.json", "'r'", "[0, 1]"});
+  expect_command_rejected("replay", concat(rec, {"--wall-file", with("\"r\": 0.85", "\"r\": 0.85, \"thick\": 1")}),
+                          {"bad.json", "unknown field", "'thick'"});
+  expect_command_rejected("replay", concat(rec, {"--wall-file", dir.file("missing.json")}), {"missing.json"});
+  // Refused before anything is written.
+  CHECK_FALSE(std::ifstream(log).good());
 }

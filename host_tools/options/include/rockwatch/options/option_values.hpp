@@ -19,6 +19,9 @@ double parse_finite_number(const std::string& option, const std::string& text);
 // A finite number > 0; the message says "OPTION must be > 0UNIT (got VALUE)", e.g. unit " s".
 double parse_positive_number(const std::string& option, const std::string& text, const char* unit);
 
+// A finite number in [low, high]; the message says "OPTION must be in [LOW, HIGH]UNIT (got VALUE)", e.g. unit " m".
+double parse_number_in(const std::string& option, const std::string& text, double low, double high, const char* unit);
+
 // A plain decimal whole number in [min, max], so "1.5", "1e2" and "+3" are refused rather than read as something
 // else; nullopt otherwise (the caller's message says what the option takes).
 std::optional<std::uint64_t> whole_number(const std::string& text, std::uint64_t min, std::uint64_t max);
