@@ -3,9 +3,12 @@
 // writes the ground and wall-sensor messages as a monitor would receive them; `rockwatch-monitor --observer` runs
 // the log offline; and `rockwatch simulate --arith fixed --alarms --wall-sensors` runs the same observer offline.
 // The two must agree bit for bit: the same alarm transitions at the same samples with the same state, the same r̂
-// and offset estimate.
+// and offset estimate. Then the plant route of a hardware-in-the-loop rig: `rockwatch replay --wall-file` simulates a
+// wall 10 % thinner than the drawings and sends its sensors; the monitor, told only the nominal wall, learns the
+// plant's capacity and r and reaches the plant's verdict.
 #include <cmath>
 #include <cstdint>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -96,4 +99,42 @@ TEST(MonitorObserverReplay, MonitorEqualsSimulateWallSensorsBitForBit) {
   const ProcessResult open = rockwatch_with({"simulate"}, {"--arith", "fixed", "--alarms", "--json"});
   CHECK_EQUAL_TEXT(0, open.exit_status, describe(open).c_str());
   CHECK(!json::parse(open.out).at("collapsed").get<bool>());
+}
+
+// A wall file as `rockwatch identify --wall-out` writes it (the reduced block is optional): the paper wall 10 %
+// thinner, r 0.85. Its x_inst (SPEC §9: c/k) is 0.0902 m against the nominal 0.1003 m.
+TEST(MonitorObserverReplay, MonitorLearnsThePlantOfReplayWallFile) {
+  const TempDir dir;
+  const std::string wall = dir.file("thin_wall.json"), in_log = dir.file("in.lcmlog"), out_log = dir.file("out.lcmlog");
+  {
+    std::ofstream f(wall);
+    f << "{\"format\": \"rockwatch-wall\", \"version\": 1, \"b_m\": 0.09, \"h1_m\": 1.75, \"h2_m\": 1.75, "
+         "\"rho_kgpm3\": 1800, \"fp_npm\": 0, \"a\": 0, \"a_prime\": 0, \"g_mps2\": 9.81, \"r\": 0.85}\n";
+  }
+  const ProcessResult replay =
+      rockwatch_with({"replay"}, {"--log", in_log, "--wall-file", wall, "--sensor-seed", "3", "--json"});
+  CHECK_EQUAL_TEXT(0, replay.exit_status, describe(replay).c_str());
+  const json plant = json::parse(replay.out).at("plant");
+  const double x_inst_true = plant.at("x_inst_m").get<double>();
+  DOUBLES_EQUAL(0.0902, x_inst_true, 0.0005);
+  // The plant rocks for the whole record (about a hundred impacts): enough for the observer to learn from.
+  CHECK_TEXT(plant.at("n_impacts").get<long>() >= 20, plant.dump().c_str());
+
+  const ProcessResult mon =
+      rockwatch::test::run_monitor({"--offline-in", in_log, "--offline-out", out_log, "--observer", "--r", "exp"});
+  CHECK_EQUAL_TEXT(0, mon.exit_status, describe(mon).c_str());
+  const json summary = rockwatch::test::json_lines(mon.out).back().at("summary");
+  const json& obs = summary.at("observer");
+  const std::string what = plant.dump() + "\nvs\n" + summary.dump();
+  LONGS_EQUAL_TEXT(plant.at("sensor_samples_sent").get<long>(), obs.at("sensor_samples_received").get<long>(),
+                   what.c_str());
+  // The capacity and r of the wall file, not the nominal wall's (0.1003 m, r_exp 0.894), within 3 sigma and 2 %.
+  const double x_inst = obs.at("x_inst_estimate_m").get<double>(), sx = obs.at("sigma_x_inst_m").get<double>();
+  CHECK_TEXT(std::fabs(x_inst - x_inst_true) <= 3.0 * sx, what.c_str());
+  CHECK_TEXT(std::fabs(x_inst - x_inst_true) <= 0.02 * x_inst_true, what.c_str());
+  const double r = obs.at("r_estimate").get<double>(), sr = obs.at("sigma_r").get<double>();
+  CHECK_TEXT(std::fabs(r - 0.85) <= 3.0 * sr && sr < 0.02, what.c_str());
+  // The monitor's verdict is the plant's.
+  const bool monitor_collapsed = summary.at("max_alarm_level").get<std::string>() == "COLLAPSED";
+  CHECK_EQUAL_TEXT(plant.at("collapsed").get<bool>(), monitor_collapsed, what.c_str());
 }
