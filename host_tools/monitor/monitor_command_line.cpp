@@ -47,7 +47,7 @@ const char* const kFooter =
     "            capacity_sigmas}\n"
     "    the wall observer (--observer: enabled with the defaults): fuses wall_sensor_t samples (channel\n"
     "    wall_sensor) with the model, publishes wall_estimate_t (channel wall_estimate) and alarms on the fused state\n"
-    "  forecast {enabled, members, horizon_s, rate_hz, seed, channel, calibration [c0, c1, c2, c3]}\n"
+    "  forecast {enabled, members, horizon_s, rate_hz, seed, channel, calibration [c0, c1, c2, c3(, c4)]}\n"
     "    (--forecast N,H, --forecast-rate, --forecast-calibration; off by\n"
     "    default; 200 members, 5 s, 10 Hz, seed 29, ROCKWATCH_WALL_FORECAST): the ensemble forecast of collapse\n"
     "    (SPEC section 10) from the latest (fused, with the observer) state, on a thread of its own, published as\n"
@@ -144,9 +144,10 @@ void add_options(CLI::App& app, RawOptions& raw) {
                  "period the ticks it overran are skipped and counted (ticks_skipped)")
       ->type_name("HZ");
   app.add_option("--forecast-calibration", raw.forecast_calibration,
-                 "With --forecast: the coefficients c0,c1,c2,c3 of the calibrated P (SPEC section 10 'Calibrated P'; "
-                 "default: the shipped ones, fitted at H = 3 s and 5 s and applied only at those horizons)")
-      ->type_name("C0,C1,C2,C3");
+                 "With --forecast: the coefficients c0,c1,c2,c3[,c4] of the calibrated P (SPEC section 10 "
+                 "'Calibrated P'; four numbers: c4 = 0; default: the shipped ones, fitted at H = 3 s and 5 s and "
+                 "applied only at those horizons)")
+      ->type_name("C0,C1,C2,C3[,C4]");
   app.add_flag("--print-config", raw.print_config,
                "Print the normalised settings and their digest as one JSON object and exit");
   app.add_flag("--version", raw.version, "Print the version and exit");

@@ -21,7 +21,7 @@ struct RawOptions {
   std::string config, lcm_url, arith = "fixed", rate, max_step, offline_in, offline_out, log, receive_path = "own";
   std::string clock_tolerance;
   std::string forecast, forecast_rate;  // --forecast N,H; --forecast-rate HZ
-  std::string forecast_calibration;     // --forecast-calibration C0,C1,C2,C3
+  std::string forecast_calibration;     // --forecast-calibration C0,C1,C2,C3[,C4]
   std::string work_budget, work_overflow;
   std::vector<std::string> accept_from;
   options::RealtimeOptionTexts timing;  // --realtime, --cpu, --busy-poll-us

@@ -2,6 +2,8 @@
 
 #include "rockwatch/sim/forecast_calibration.hpp"
 
+static_assert(rockwatch::sim::kCalibrationFeatures == 5, "MonitorConfig::forecast calibration holds c0..c4");
+
 #include <sys/stat.h>
 
 #include <cerrno>

@@ -70,9 +70,10 @@ struct ForecastConfig {
   std::uint64_t seed = 29;
   std::string channel = kDefaultForecastChannel;
   std::string origin;  // "--forecast", "--config FILE: forecast": for messages
-  // --forecast-calibration / forecast.calibration: the recalibration's coefficients c0..c3 (SPEC §10 "Calibrated P");
-  // none: the shipped ones (sim::default_forecast_calibration), applied only at the horizon they were fitted at.
-  std::optional<std::array<double, 4>> calibration;
+  // --forecast-calibration / forecast.calibration: the recalibration's coefficients c0..c4 (SPEC §10 "Calibrated P";
+  // four given: c4 = 0); none: the shipped ones (sim::default_forecast_calibration), applied only at the horizon they
+  // were fitted at.
+  std::optional<std::array<double, 5>> calibration;
 };
 
 // One wall of a `walls` configuration (monitor_walls.hpp).

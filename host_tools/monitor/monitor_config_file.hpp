@@ -68,7 +68,7 @@ struct FileValues {
   std::optional<double> forecast_horizon_s, forecast_rate_hz;
   std::optional<std::uint64_t> forecast_seed;
   std::optional<std::string> forecast_channel;
-  std::optional<std::array<double, 4>> forecast_calibration;
+  std::optional<std::array<double, 5>> forecast_calibration;  // c0..c4 (SPEC §10 "Calibrated P")
 };
 
 struct WallField {
@@ -355,11 +355,12 @@ class ConfigReader {
     check_keys(f, "forecast.", {"enabled", "members", "horizon_s", "rate_hz", "seed", "channel", "calibration"});
     if (f.contains("calibration")) {
       const json& c = f.at("calibration");
-      if (!c.is_array() || c.size() != 4) {
-        fail("forecast.calibration", "expected an array of four numbers [c0, c1, c2, c3], got " + c.dump());
+      if (!c.is_array() || (c.size() != 4 && c.size() != 5)) {
+        fail("forecast.calibration",
+             "expected an array of four or five numbers [c0, c1, c2, c3(, c4)], got " + c.dump());
       }
-      std::array<double, 4> k{};
-      for (std::size_t i = 0; i < 4; ++i) k[i] = number(c.at(i), "forecast.calibration", "");
+      std::array<double, 5> k{};  // four numbers: c4 = 0 (the first calibration's model)
+      for (std::size_t i = 0; i < c.size(); ++i) k[i] = number(c.at(i), "forecast.calibration", "");
       v.forecast_calibration = k;
     }
     if (f.contains("enabled")) {

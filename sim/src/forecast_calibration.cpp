@@ -19,8 +19,8 @@ struct Shipped {
 //   rockwatch study --forecast --forecast-horizon-s 5 --jobs 2 --out fc_c5  (H = 5 s)
 // summary.json forecast.calibrated.coefficients_all_records.
 constexpr Shipped kShipped[] = {
-    {3.0, {-1.2374, 0.7469, -0.2078, 2.0928}},
-    {5.0, {-0.9138, 0.7591, -0.1514, 1.8780}},
+    {3.0, {-1.2374, 0.7469, -0.2078, 2.0928, 0.0}},
+    {5.0, {-0.9138, 0.7591, -0.1514, 1.8780, 0.0}},
 };
 
 }  // namespace
@@ -46,12 +46,15 @@ std::optional<ForecastCalibration> parse_forecast_calibration(const std::string&
   cal.horizon_s = horizon_s;
   cal.source = "given: " + text;
   std::size_t pos = 0;
-  for (int a = 0; a < kCalibrationFeatures; ++a) {
+  // Four numbers (the first calibration: c4 = 0) or five.
+  int given = 1;
+  for (const char ch : text) given += ch == ',' ? 1 : 0;
+  if (given != kCalibrationFeatures - 1 && given != kCalibrationFeatures) {
+    if (error) *error = "four or five numbers separated by commas: c0,c1,c2,c3[,c4]";
+    return std::nullopt;
+  }
+  for (int a = 0; a < given; ++a) {
     const std::size_t end = text.find(',', pos);
-    if ((a < kCalibrationFeatures - 1) != (end != std::string::npos)) {
-      if (error) *error = "four numbers separated by commas: c0,c1,c2,c3";
-      return std::nullopt;
-    }
     const std::string item = text.substr(pos, end == std::string::npos ? std::string::npos : end - pos);
     char* stop = nullptr;
     const double v = item.empty() ? std::nan("") : std::strtod(item.c_str(), &stop);
@@ -74,7 +77,10 @@ double ensemble_logit(double p, int members) {
 
 std::array<double, kCalibrationFeatures> calibration_features(double p, int members, double energy_ratio_max,
                                                               double x_over_x_inst) {
-  return {1.0, ensemble_logit(p, members), energy_ratio_max, x_over_x_inst};
+  const double l = ensemble_logit(p, members);
+  const double capped = std::isfinite(energy_ratio_max) ? std::min(energy_ratio_max, kCalibrationInteractionEnergyCap)
+                                                        : energy_ratio_max;
+  return {1.0, l, energy_ratio_max, x_over_x_inst, l * capped};
 }
 
 double calibrated_probability(const ForecastCalibration& cal, double p, int members, double energy_ratio_max,

@@ -1,6 +1,7 @@
 // sim::ForecastCalibration (SPEC §10 "Calibrated P"): the logistic fit recovers a known logistic model from synthetic
 // data drawn from it, the clamp of logit P at half a member, the rows left out of a fit are never used, the
 // coefficients' text, and the trailing maximum of the live monitor's energy feature.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -15,17 +16,17 @@ using namespace rockwatch;
 
 TEST_GROUP(ForecastCalibration){};
 
-// 40 000 rows of (1, logit p̃, ρ, |x|/x_inst) drawn at random, outcomes drawn from a known logistic model: maximum
-// likelihood must find its coefficients within a few standard errors (≈ 0.02–0.05 at this size).
+// 40 000 rows of (1, logit p̃, ρ, |x|/x_inst, logit p̃·min(ρ, 2)) drawn at random, outcomes drawn from a known
+// logistic model: maximum likelihood must find its coefficients within a few standard errors (≈ 0.02–0.1 here).
 TEST(ForecastCalibration, FitRecoversAKnownLogisticModel) {
-  const double truth[4] = {-3.0, 0.8, 1.5, 2.0};
+  const double truth[5] = {-3.0, 0.8, 1.5, 2.0, -0.25};
   sim::synthesis::RandomStream rs(2029);
   const std::size_t n = 40000, k = sim::kCalibrationFeatures;
   std::vector<double> x(n * k);
   std::vector<std::uint8_t> y(n);
   for (std::size_t i = 0; i < n; ++i) {
     const double p = rs.uniform();
-    const auto f = sim::calibration_features(p, 100, 2.0 * rs.uniform(), rs.uniform());
+    const auto f = sim::calibration_features(p, 100, 2.5 * rs.uniform(), rs.uniform());
     double z = 0.0;
     for (std::size_t a = 0; a < k; ++a) {
       x[i * k + a] = f[a];
@@ -34,11 +35,12 @@ TEST(ForecastCalibration, FitRecoversAKnownLogisticModel) {
     y[i] = rs.uniform() < 1.0 / (1.0 + std::exp(-z)) ? 1 : 0;
   }
   const std::vector<double> w = sim::fit_logistic_regression(x, k, y);
-  LONGS_EQUAL(4, static_cast<long>(w.size()));
+  LONGS_EQUAL(5, static_cast<long>(w.size()));
   DOUBLES_EQUAL(truth[0], w[0], 0.15);
-  DOUBLES_EQUAL(truth[1], w[1], 0.05);
-  DOUBLES_EQUAL(truth[2], w[2], 0.12);
+  DOUBLES_EQUAL(truth[1], w[1], 0.08);
+  DOUBLES_EQUAL(truth[2], w[2], 0.15);
   DOUBLES_EQUAL(truth[3], w[3], 0.2);
+  DOUBLES_EQUAL(truth[4], w[4], 0.06);
   // Rows excluded by `use` play no part: the fit on the first half equals the fit on the first half's rows alone.
   std::vector<std::uint8_t> use(n, 0);
   for (std::size_t i = 0; i < n / 2; ++i) use[i] = 1;
@@ -86,9 +88,9 @@ TEST(ForecastCalibration, LogitIsClampedAtHalfAMember) {
   DOUBLES_EQUAL(std::log(0.3 / 0.7), sim::ensemble_logit(0.3, 200), 1e-12);
   // P_cal with c = (c0, 1, 0, 0) is Platt's scaling: the logistic of logit p + c0.
   sim::ForecastCalibration cal;
-  cal.c = {0.0, 1.0, 0.0, 0.0};
+  cal.c = {0.0, 1.0, 0.0, 0.0, 0.0};
   DOUBLES_EQUAL(0.3, sim::calibrated_probability(cal, 0.3, 100, 5.0, 5.0), 1e-12);
-  cal.c = {-1.0, 0.5, 2.0, -1.0};
+  cal.c = {-1.0, 0.5, 2.0, -1.0, 0.0};
   const double z = -1.0 + 0.5 * std::log(0.2 / 0.8) + 2.0 * 0.7 - 1.0 * 0.4;
   DOUBLES_EQUAL(1.0 / (1.0 + std::exp(-z)), sim::calibrated_probability(cal, 0.2, 50, 0.7, 0.4), 1e-12);
   // The shipped coefficients (3 s and 5 s, none for 4 s): P rises with the ensemble's P and with |x|/x_inst.
@@ -101,6 +103,45 @@ TEST(ForecastCalibration, LogitIsClampedAtHalfAMember) {
   }
 }
 
+// The interaction c4·logit p̃·min(ρ_max, 2) (issue 29's second calibration): the weight of the ensemble's logit
+// moves with the energy up to twice the barrier and no further; with c4 = 0 the first calibration's P exactly.
+TEST(ForecastCalibration, InteractionOfLogitAndCappedEnergy) {
+  const auto f = sim::calibration_features(0.2, 100, 1.5, 0.3);
+  const double l = std::log(0.2 / 0.8);
+  DOUBLES_EQUAL(l * 1.5, f[4], 1e-12);
+  DOUBLES_EQUAL(l * 2.0, sim::calibration_features(0.2, 100, 3.7, 0.3)[4], 1e-12);  // capped at 2
+  DOUBLES_EQUAL(1.5, sim::calibration_features(0.2, 100, 1.5, 0.3)[2], 0.0);
+  DOUBLES_EQUAL(3.7, sim::calibration_features(0.2, 100, 3.7, 0.3)[2], 0.0);        // ρ_max itself is not capped
+  sim::ForecastCalibration first, second;
+  first.c = {-1.0, 0.8, 0.3, 1.5, 0.0};
+  second = first;
+  second.c[4] = -0.2;
+  const double z = -1.0 + 0.8 * l + 0.3 * 1.5 + 1.5 * 0.3;
+  DOUBLES_EQUAL(1.0 / (1.0 + std::exp(-z)), sim::calibrated_probability(first, 0.2, 100, 1.5, 0.3), 1e-12);
+  DOUBLES_EQUAL(1.0 / (1.0 + std::exp(-(z - 0.2 * l * 1.5))), sim::calibrated_probability(second, 0.2, 100, 1.5, 0.3),
+                1e-12);
+  // c4 < 0: at high energy a high raw P is trusted less (P_cal lower) and a low raw P less too (P_cal higher).
+  CHECK(sim::calibrated_probability(second, 0.9, 100, 1.8, 0.3) <
+        sim::calibrated_probability(first, 0.9, 100, 1.8, 0.3));
+  CHECK(sim::calibrated_probability(second, 0.05, 100, 1.8, 0.3) >
+        sim::calibrated_probability(first, 0.05, 100, 1.8, 0.3));
+  // Monotone in the raw P whenever c1 + c4·min(ρ, 2) > 0 (the shipped coefficients at every ρ up to the cap and
+  // beyond), and deterministic.
+  for (const double h : {3.0, 5.0}) {
+    const sim::ForecastCalibration d = *sim::default_forecast_calibration(h);
+    CHECK(d.c[1] + std::min(0.0, d.c[4]) * sim::kCalibrationInteractionEnergyCap > 0.0);
+    for (const double rho : {0.0, 0.5, 1.0, 1.5, 2.0, 4.0}) {
+      double last = -1.0;
+      for (int k = 0; k <= 100; ++k) {
+        const double p = sim::calibrated_probability(d, k / 100.0, 100, rho, 0.4);
+        CHECK(p >= last);
+        DOUBLES_EQUAL(p, sim::calibrated_probability(d, k / 100.0, 100, rho, 0.4), 0.0);
+        last = p;
+      }
+    }
+  }
+}
+
 TEST(ForecastCalibration, CoefficientsText) {
   std::string why;
   const auto c = sim::parse_forecast_calibration("-2.5,0.75,1e0,0", 3.0, &why);
@@ -110,7 +151,13 @@ TEST(ForecastCalibration, CoefficientsText) {
   DOUBLES_EQUAL(1.0, c->c[2], 0.0);
   DOUBLES_EQUAL(0.0, c->c[3], 0.0);
   DOUBLES_EQUAL(3.0, c->horizon_s, 0.0);
-  for (const char* bad : {"", "1,2,3", "1,2,3,4,5", "1,,3,4", "1,2,3,x", "1,2,3,nan", "1,2,3,inf", "1,2,3,4,"}) {
+  DOUBLES_EQUAL(0.0, c->c[4], 0.0);  // four numbers: the first calibration's model, no interaction
+  const auto five = sim::parse_forecast_calibration("-2.5,0.75,1e0,0,-0.125", 5.0, &why);
+  CHECK(five.has_value());
+  DOUBLES_EQUAL(-0.125, five->c[4], 0.0);
+  DOUBLES_EQUAL(0.75, five->c[1], 0.0);
+  for (const char* bad : {"", "1,2,3", "1,2,3,4,5,6", "1,,3,4", "1,2,3,x", "1,2,3,nan", "1,2,3,inf", "1,2,3,4,",
+                          "1,2,3,4,x", "1,2,3,4,nan"}) {
     CHECK_FALSE_TEXT(sim::parse_forecast_calibration(bad, 3.0, &why).has_value(), bad);
   }
 }

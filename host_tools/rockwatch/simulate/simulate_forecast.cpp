@@ -97,7 +97,8 @@ nlohmann::ordered_json forecast_json(const ForecastSeries& s, bool with_alarm) {
                          {{"const", s.calibration.c[0]},
                           {"logit_p", s.calibration.c[1]},
                           {"energy_ratio_max_2s", s.calibration.c[2]},
-                          {"x_over_x_inst", s.calibration.c[3]}}},
+                          {"x_over_x_inst", s.calibration.c[3]},
+                          {"logit_p_x_energy_ratio_max_2s_capped", s.calibration.c[4]}}},
                         {"horizon_s", s.calibration.horizon_s},
                         {"source", s.calibration.source},
                         {"applied", true}};

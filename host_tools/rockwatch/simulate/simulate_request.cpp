@@ -133,9 +133,10 @@ void add_options(CLI::App& app, RawOptions& raw) {
                  "Ensemble forecast: one every S seconds while the wall is not at rest, S in [0.01, 60] (default 0.1)")
       ->type_name("S");
   app.add_option("--forecast-calibration", raw.forecast_calibration,
-                 "Ensemble forecast: the recalibration's coefficients c0,c1,c2,c3 (SPEC section 10 'Calibrated P'; "
-                 "default: the shipped ones, fitted at H = 3 s and 5 s and applied only at those horizons)")
-      ->type_name("C0,C1,C2,C3");
+                 "Ensemble forecast: the recalibration's coefficients c0,c1,c2,c3[,c4] (SPEC section 10 "
+                 "'Calibrated P'; four numbers: c4 = 0; default: the shipped ones, fitted at H = 3 s and 5 s and "
+                 "applied only at those horizons)")
+      ->type_name("C0,C1,C2,C3[,C4]");
   app.add_option("--forecast-seed", raw.forecast_seed,
                  "Ensemble forecast: seed of the members, 0 to 2^64-1 (default 29)")
       ->type_name("K");

@@ -48,8 +48,8 @@ struct SimulateRequest {
   // collapse (SPEC §10) from the simulated state every S seconds while the wall is not at rest (JSON `forecast`).
   std::optional<sim::ForecastSettings> forecast;
   double forecast_every_s = 0.1;
-  // --forecast-calibration c0,c1,c2,c3: the recalibration's coefficients (SPEC §10 "Calibrated P"); none: the shipped
-  // default (sim::default_forecast_calibration), applied when the horizon is the one it was fitted at.
+  // --forecast-calibration c0,c1,c2,c3[,c4]: the recalibration's coefficients (SPEC §10 "Calibrated P"); none: the
+  // shipped default (sim::default_forecast_calibration), applied when the horizon is the one it was fitted at.
   std::optional<sim::ForecastCalibration> forecast_calibration;
 };
 

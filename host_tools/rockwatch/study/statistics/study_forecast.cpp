@@ -479,14 +479,16 @@ nlohmann::ordered_json forecast_summary_json(const study::ForecastEvaluationPlan
   const CalibratedForecast& c = o.calibrated_forecast;
   {
     nlohmann::ordered_json cj;
-    cj["model"] = "P_cal = 1/(1 + exp(-(c0 + c1 logit(clamp(P, 0.5/N, 1 - 0.5/N)) + c2 energy_ratio_max_2s + c3 "
-                  "x_over_x_inst))), maximum likelihood; leave one record out (the baseline's folds)";
+    cj["model"] = "P_cal = 1/(1 + exp(-(c0 + c1 L + c2 energy_ratio_max_2s + c3 x_over_x_inst + c4 L min("
+                  "energy_ratio_max_2s, 2)))), L = logit(clamp(P, 0.5/N, 1 - 0.5/N)), maximum likelihood; leave one "
+                  "record out (the baseline's folds)";
     nlohmann::ordered_json coef = nullptr;
     if (c.coefficients_all_records.size() == std::size_t(sim::kCalibrationFeatures)) {
       coef = {{"const", c.coefficients_all_records[0]},
               {"logit_p", c.coefficients_all_records[1]},
               {"energy_ratio_max_2s", c.coefficients_all_records[2]},
-              {"x_over_x_inst", c.coefficients_all_records[3]}};
+              {"x_over_x_inst", c.coefficients_all_records[3]},
+              {"logit_p_x_energy_ratio_max_2s_capped", c.coefficients_all_records[4]}};
     }
     cj["coefficients_all_records"] = coef;
     cj["folds"] = c.folds;

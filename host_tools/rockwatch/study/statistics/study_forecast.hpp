@@ -54,8 +54,8 @@ struct LeadScore {
 };
 
 // The ensemble's P recalibrated (SPEC §10 "Calibrated P", sim::ForecastCalibration): a logistic regression on
-// (1, logit of the clamped P, max E/E_barrier over 2 s, |x|/x_inst), fitted leave one record out (the folds of the
-// baseline), scored as the raw P is.
+// (1, logit of the clamped P, max E/E_barrier over 2 s, |x|/x_inst, logit × min(max E/E_barrier, 2)), fitted
+// leave one record out (the folds of the baseline), scored as the raw P is.
 struct CalibratedForecast {
   bool fitted = false;                               // two or more record groups
   std::vector<double> p;                             // per forecast, in the order of forecast.csv
@@ -66,7 +66,8 @@ struct CalibratedForecast {
   bool calibrated = false;
   LeadScore at_5, at_imminent;
   // Fitted on every record (in sample): what `rockwatch-monitor` and `simulate` would ship for this horizon.
-  std::vector<double> coefficients_all_records;      // c0, c_logit_p, c_energy_ratio_max_2s, c_x_over_x_inst
+  // c0, c_logit_p, c_energy_ratio_max_2s, c_x_over_x_inst, c_logit_p_x_energy_ratio_max_2s_capped
+  std::vector<double> coefficients_all_records;
   std::optional<double> brier_skill_in_sample;
   // Per fold: the records whose forecasts fitted its coefficients never include the record it is applied to.
   std::size_t folds = 0, fold_rows_checked = 0;

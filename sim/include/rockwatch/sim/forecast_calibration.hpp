@@ -2,12 +2,17 @@
 // P(collapse within H) post-processed as weather services post-process their ensembles (ensemble MOS, Platt
 // scaling), stacked with the wall's state: a logistic regression
 //
-//   P_cal = 1 / (1 + exp(−(c0 + c1·logit(p̃) + c2·ρ_max + c3·|x|/x_inst))),   p̃ = clamp(p, 0.5/N, 1 − 0.5/N),
+//   P_cal = 1 / (1 + exp(−(c0 + c1·logit(p̃) + c2·ρ_max + c3·|x|/x_inst + c4·logit(p̃)·min(ρ_max, 2)))),
+//   p̃ = clamp(p, 0.5/N, 1 − 0.5/N),
 //
 // ρ_max the largest E/E_barrier (SPEC §2, free motion) over the last 2 s, |x|/x_inst the state now (the state-only
 // baseline's two features): the ensemble's P adds what the state alone does not know, and the state corrects what
-// the ensemble gets wrong. The coefficients are fitted by maximum likelihood (fit_logistic_regression); in
-// `rockwatch study --forecast` leave one record out, for the live monitor and `simulate` on the whole shipped suite
+// the ensemble gets wrong. The interaction (c4, issue 29's second calibration) lets the weight of the ensemble's
+// logit depend on the energy (fitted c4 < 0: the ensemble's P is trusted less where the state is energetic, which
+// removed the over-confidence of the first calibration at P 0.5-0.9, docs/BENCHMARKS.md); ρ_max is capped at 2 in
+// it so that the few forecasts far over the barrier (0.3 % of the default study's) do not lever it. Four
+// coefficients (the first calibration's) mean c4 = 0. The coefficients are fitted by maximum likelihood
+// (fit_logistic_regression); in `rockwatch study --forecast` leave one record out, for the live monitor and `simulate` on the whole shipped suite
 // (default_forecast_calibration; an option overrides them). They hold for the horizon they were fitted at.
 #pragma once
 
@@ -20,12 +25,15 @@
 
 namespace rockwatch::sim {
 
-inline constexpr int kCalibrationFeatures = 4;  // 1, logit(p̃), ρ_max, |x|/x_inst
+inline constexpr int kCalibrationFeatures = 5;  // 1, logit(p̃), ρ_max, |x|/x_inst, logit(p̃)·min(ρ_max, 2)
+// The cap of ρ_max in the interaction term.
+inline constexpr double kCalibrationInteractionEnergyCap = 2.0;
 // The window of the energy feature ρ_max [s] (the state-only baseline's, the same).
 inline constexpr double kCalibrationEnergyWindow_s = 2.0;
 
 struct ForecastCalibration {
-  std::array<double, kCalibrationFeatures> c{};  // c0 (constant), c1 (logit p̃), c2 (ρ_max), c3 (|x|/x_inst)
+  // c0 (constant), c1 (logit p̃), c2 (ρ_max), c3 (|x|/x_inst), c4 (logit p̃ · min(ρ_max, 2); 0: the first calibration)
+  std::array<double, kCalibrationFeatures> c{};
   double horizon_s = 0.0;                         // the horizon H the coefficients were fitted at [s]
   std::string source;                             // where they come from (for reports)
 };
@@ -37,8 +45,8 @@ std::optional<ForecastCalibration> default_forecast_calibration(double horizon_s
 // The horizons default_forecast_calibration has coefficients for, as text ("3 s and 5 s"), for messages.
 const char* shipped_calibration_horizons();
 
-// "c0,c1,c2,c3" (an option's text) as coefficients for horizon_s; none (and *error set) when it is not four finite
-// numbers separated by commas.
+// "c0,c1,c2,c3[,c4]" (an option's text) as coefficients for horizon_s (four numbers: c4 = 0, the first
+// calibration's model); none (and *error set) when it is not four or five finite numbers separated by commas.
 std::optional<ForecastCalibration> parse_forecast_calibration(const std::string& text, double horizon_s,
                                                               std::string* error = nullptr);
 
@@ -46,7 +54,7 @@ std::optional<ForecastCalibration> parse_forecast_calibration(const std::string&
 // truth; the clamp is half a member).
 double ensemble_logit(double p_collapse, int members);
 
-// The features (1, logit(p̃), ρ_max, |x|/x_inst).
+// The features (1, logit(p̃), ρ_max, |x|/x_inst, logit(p̃)·min(ρ_max, 2)).
 std::array<double, kCalibrationFeatures> calibration_features(double p_collapse, int members, double energy_ratio_max,
                                                               double x_over_x_inst);
 

@@ -165,7 +165,7 @@ TEST(StudyForecast, SummaryFiguresAreThoseOfTheForecastsInTheCsv) {
   CHECK_EQUAL(f["goals"]["skill_above_baseline"].get<bool>(),
               c["brier_skill"].get<double>() > f["baseline"]["brier_skill"].get<double>());
   CHECK_EQUAL(f["goals_raw_ensemble"]["calibrated"].get<bool>(), f["calibration"]["calibrated"].get<bool>());
-  LONGS_EQUAL(4, static_cast<long>(c["coefficients_all_records"].size()));
+  LONGS_EQUAL(5, static_cast<long>(c["coefficients_all_records"].size()));
 }
 
 TEST(StudyForecast, RejectsBadOptionsNamingThem) {
@@ -325,10 +325,10 @@ TEST(StudyForecast, CalibrationNeverSeesTheRecordScored) {
       y.push_back(p.outcome ? 1 : 0);
     }
   }
-  const std::vector<double> w = rockwatch::sim::fit_logistic_regression(x, 4, y);
+  const std::vector<double> w = rockwatch::sim::fit_logistic_regression(x, rockwatch::sim::kCalibrationFeatures, y);
   const study::ForecastPoint& q = runs[2].points[7];
   rockwatch::sim::ForecastCalibration cal;
-  for (std::size_t a = 0; a < 4; ++a) cal.c[a] = w[a];
+  for (std::size_t a = 0; a < std::size_t(rockwatch::sim::kCalibrationFeatures); ++a) cal.c[a] = w[a];
   DOUBLES_EQUAL(rockwatch::sim::calibrated_probability(cal, q.p_collapse, 100, q.energy_ratio_max, q.x_over_x_inst),
                 c.p[80 + 7], 1e-12);
   // Scored as the raw P is: Brier, skill, reliability over every forecast.
@@ -343,5 +343,5 @@ TEST(StudyForecast, CalibrationNeverSeesTheRecordScored) {
   std::size_t binned = 0;
   for (const cli::ReliabilityBin& b : c.bins) binned += b.n;
   LONGS_EQUAL(240, static_cast<long>(binned));
-  LONGS_EQUAL(4, static_cast<long>(c.coefficients_all_records.size()));
+  LONGS_EQUAL(5, static_cast<long>(c.coefficients_all_records.size()));
 }
