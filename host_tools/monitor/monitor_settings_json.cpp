@@ -103,8 +103,13 @@ json normalised_settings(const MonitorConfig& config) {
     const ForecastConfig& f = config.forecast;
     out["forecast"] = {{"members", f.members}, {"horizon_s", f.horizon_s}, {"rate_hz", f.rate_hz},
                        {"seed", f.seed},       {"channel", f.channel}};
-    // Given coefficients only (the shipped ones leave the digest of a forecast configuration as it was).
-    if (f.calibration) out["forecast"]["calibration"] = *f.calibration;
+    // Given coefficients only (the shipped ones leave the digest of a forecast configuration as it was); four when c4
+    // is 0 (the first calibration's model: the digest of a configuration that gave four numbers stays).
+    if (f.calibration) {
+      const auto& k = *f.calibration;
+      out["forecast"]["calibration"] =
+          k[4] == 0.0 ? json::array({k[0], k[1], k[2], k[3]}) : json(k);
+    }
   }
   // Which sources are accepted changes what the monitor processes; absent when any is (the default digest stays).
   if (!config.accept_from.empty()) {

@@ -239,6 +239,8 @@ TEST(MonitorLiveForecast, BadForecastSettingsAreRefusedNamingThem) {
                {{"--forecast-rate", "5"}, "--forecast-rate"},
                {{"--forecast", "200,5", "--forecast-calibration", "1,2,3"}, "--forecast-calibration"},
                {{"--forecast", "200,5", "--forecast-calibration", "1,2,3,nan"}, "--forecast-calibration"},
+               {{"--forecast", "200,5", "--forecast-calibration", "1,2,3,4,5,6"}, "--forecast-calibration"},
+               {{"--forecast", "200,5", "--forecast-calibration", "1,2,3,4,nan"}, "--forecast-calibration"},
                {{"--forecast-calibration", "0,1,0,0"}, "--forecast-calibration"}};
   for (const auto& c : cases) {
     const rockwatch::test::ProcessResult r = rockwatch::test::run_monitor(c.args);
@@ -254,7 +256,9 @@ TEST(MonitorLiveForecast, BadForecastSettingsAreRefusedNamingThem) {
                {{{"enabled", true}, {"rate_hz", 500}}, "forecast.rate_hz"},
                {{{"enabled", "yes"}}, "forecast.enabled"},
                {{{"enabled", true}, {"speed", 1}}, "forecast.speed"},
-               {{{"enabled", true}, {"channel", "ROCKWATCH_ALARM"}}, "forecast.channel"}};
+               {{{"enabled", true}, {"channel", "ROCKWATCH_ALARM"}}, "forecast.channel"},
+               {{{"enabled", true}, {"calibration", {1, 2, 3}}}, "forecast.calibration"},
+               {{{"enabled", true}, {"calibration", {1, 2, 3, 4, 5, 6}}}, "forecast.calibration"}};
   for (const auto& f : files) {
     rockwatch::test::write_file(dir.file("bad.json"), json{{"forecast", f.forecast}}.dump());
     const rockwatch::test::ProcessResult r = rockwatch::test::run_monitor({"--config", dir.file("bad.json")});
@@ -279,6 +283,24 @@ TEST(MonitorLiveForecast, PrintConfigShowsTheForecastAndOnlyItChangesTheDigest) 
   json without = b.at("settings");
   without.erase("forecast");
   CHECK(without == a.at("settings"));
+  // Given coefficients: five (the interaction c4, SPEC §10) as given; four (the first calibration's model, c4 = 0) as
+  // four, on the command line or in the file.
+  const rockwatch::test::ProcessResult five =
+      rockwatch::test::run_monitor({"--print-config", "--forecast", "200,5", "--forecast-calibration",
+                                    "-1,0.9,-0.4,2,-0.125"});
+  CHECK_EQUAL_TEXT(0, five.exit_status, five.err.c_str());
+  const json k5 = json::parse(five.out).at("settings").at("forecast").at("calibration");
+  LONGS_EQUAL(5, static_cast<long>(k5.size()));
+  DOUBLES_EQUAL(-0.125, k5.at(4).get<double>(), 0.0);
+  const TempDir dir;
+  rockwatch::test::write_file(dir.file("four.json"),
+                              json{{"forecast", {{"enabled", true}, {"calibration", {-1, 0.9, -0.4, 2}}}}}.dump());
+  const rockwatch::test::ProcessResult four =
+      rockwatch::test::run_monitor({"--print-config", "--config", dir.file("four.json")});
+  CHECK_EQUAL_TEXT(0, four.exit_status, four.err.c_str());
+  const json k4 = json::parse(four.out).at("settings").at("forecast").at("calibration");
+  LONGS_EQUAL(4, static_cast<long>(k4.size()));
+  DOUBLES_EQUAL(2.0, k4.at(3).get<double>(), 0.0);
 }
 
 // Offline, the forecasts are made every 1/rate s of log time, synchronously: the output log is the same on every run,
