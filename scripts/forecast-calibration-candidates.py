@@ -11,9 +11,10 @@ mean P -> observed (* over 0.1).
 
 Methods: a stage 1 (first: 1, logit p~, rho, |x|/x_inst, the first calibration; inter_capC: + logit p~ * min(rho, C),
 C a number or `inf`; quad: + (logit p~)^2/10; spline: + hinges (logit p~ - k)+ at -2, 0, 2; beta: + ln(1 - p~);
-interx: + logit p~ * |x|/x_inst), optionally +iso (isotonic regression, pool-adjacent-violators, of the outcome on
-stage-1 P of the training records, interpolated between blocks and clamped to its range) or +iso50 (the same on 50
-quantile bins). Needs numpy (Debian: python3-numpy).
+interx: + logit p~ * |x|/x_inst; several joined by &: beta&inter_cap2), optionally +iso (isotonic regression,
+pool-adjacent-violators, of the outcome on stage-1 P of the training records, interpolated between blocks and clamped
+to its range) or +iso50 (the same on 50 quantile bins). --lead adds the study's 5 % rule. Needs numpy (Debian:
+python3-numpy).
 """
 import argparse
 import csv
@@ -24,6 +25,9 @@ import numpy as np
 def load(path):
     rows = list(csv.DictReader(open(path)))
     return dict(rec=np.array([r["record"] for r in rows]), run=np.array([int(r["run"]) for r in rows]),
+                t=np.array([float(r["t_s"]) for r in rows]),
+                collapsed=np.array([r["collapsed"] == "true" for r in rows]),
+                t_collapse=np.array([float(r["t_collapse_s"]) if r["t_collapse_s"] else np.nan for r in rows]),
                 p=np.array([float(r["p_collapse"]) for r in rows]),
                 e=np.array([float(r["energy_ratio_max_2s"]) for r in rows]),
                 x=np.array([float(r["x_over_x_inst"]) for r in rows]),
@@ -53,18 +57,19 @@ def features(d, kind, members):
     q = np.clip(d["p"], 0.5 / members, 1 - 0.5 / members)
     L = np.log(q / (1 - q))
     cols = [np.ones_like(L), L, d["e"], d["x"]]
-    if kind.startswith("inter_cap"):
-        cols.append(L * np.minimum(d["e"], float(kind[len("inter_cap"):])))
-    elif kind == "quad":
-        cols.append(L * L / 10)
-    elif kind == "spline":
-        cols += [np.maximum(L - k, 0) for k in (-2.0, 0.0, 2.0)]
-    elif kind == "beta":
-        cols.append(np.log(1 - q))
-    elif kind == "interx":
-        cols.append(L * d["x"])
-    elif kind != "first":
-        raise SystemExit(f"unknown stage 1: {kind}")
+    for term in kind.split("&"):  # terms added together: beta&inter_cap2
+        if term.startswith("inter_cap"):
+            cols.append(L * np.minimum(d["e"], float(term[len("inter_cap"):])))
+        elif term == "quad":
+            cols.append(L * L / 10)
+        elif term == "spline":
+            cols += [np.maximum(L - k, 0) for k in (-2.0, 0.0, 2.0)]
+        elif term == "beta":
+            cols.append(np.log(1 - q))
+        elif term == "interx":
+            cols.append(L * d["x"])
+        elif term != "first":
+            raise SystemExit(f"unknown stage 1: {term}")
     return np.column_stack(cols)
 
 
@@ -127,6 +132,40 @@ def score(d, P):
     return worst, skill, cells
 
 
+def lead_5_percent(d, P):
+    """The study's 5 % rule: per record left out, p* the smallest multiple of 0.01 that at most floor(5 %) of the
+    other records' surviving runs ever reach; then its survivors flagged, collapses flagged in time, median lead.
+    Runs without a forecast are not in forecast.csv: they are not counted (the study counts them as survivors)."""
+    runs = np.unique(d["run"])
+    first = {r: np.flatnonzero(d["run"] == r) for r in runs}
+    rec = {r: d["rec"][first[r][0]] for r in runs}
+    top = {r: P[first[r]].max() for r in runs}
+    col = {r: bool(d["collapsed"][first[r][0]]) for r in runs}
+    flagged = survivors = hits = collapses = 0
+    leads = []
+    for g in np.unique(d["rec"]):
+        maxima = np.array([top[r] for r in runs if rec[r] != g and not col[r]])
+        allowed = int(np.floor(0.05 * len(maxima)))
+        p_star = next((k / 100 for k in range(1, 101) if (maxima >= k / 100 - 1e-12).sum() <= allowed), None)
+        for r in runs:
+            if rec[r] != g:
+                continue
+            if not col[r]:
+                survivors += 1
+                flagged += p_star is not None and top[r] >= p_star - 1e-12
+                continue
+            collapses += 1
+            if p_star is None:
+                continue
+            i = first[r]
+            t = d["t"][i][P[i] >= p_star - 1e-12]
+            if len(t) and t[0] < d["t_collapse"][i[0]]:
+                hits += 1
+                leads.append(d["t_collapse"][i[0]] - t[0])
+    median = f"{np.median(leads):.2f} s" if leads else "-"
+    return f"{flagged}/{survivors} survivors, {hits}/{collapses} collapses, median lead {median}"
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("csv", nargs="+", help="forecast.csv of rockwatch study --forecast")
@@ -134,6 +173,7 @@ def main():
                                          "inter_cap2,inter_cap2+iso50")
     ap.add_argument("--members", type=int, default=100, help="the study's --forecast-members (the clamp)")
     ap.add_argument("--bins", action="store_true", help="print every bin")
+    ap.add_argument("--lead", action="store_true", help="print the 5 %% rule's false alarms and leads")
     a = ap.parse_args()
     data = [load(p) for p in a.csv]
     for m in a.methods.split(","):
@@ -141,6 +181,8 @@ def main():
         for path, d in zip(a.csv, data):
             worst, skill, cells = score(d, leave_one_record_out(d, m, a.members))
             line.append(f"{worst:.3f} / {skill:.3f}")
+            if a.lead:
+                print(f"  {m} {path}: at <= 5 %: {lead_5_percent(d, leave_one_record_out(d, m, a.members))}")
             if a.bins:
                 print(f"  {m} {path}: " + " | ".join(cells))
         print(f"{m:22s} " + "   ".join(line), flush=True)
