@@ -14,6 +14,10 @@ void add_restitution_option(CLI::App& app, std::string& text) {
       ->type_name("R");
 }
 
+void add_model_option(CLI::App& app, std::string& text) {
+  app.add_option("--model", text, "Equation of motion: linear (default, the paper's) | full")->type_name("linear|full");
+}
+
 void add_kappa_option(CLI::App& app, std::string& text) {
   app.add_option("--kappa", text,
                  "Collapse at |x| >= kappa * x_inst (default " + number_text(default_kappa()) + ", >= 1)")

@@ -7,6 +7,7 @@
 #include "common/replay_out/lcm_multicast.hpp"
 #include "common/replay_out/replay_lateness.hpp"
 #include "rockwatch/options/option_values.hpp"
+#include "simulate/simulate_report.hpp"
 #include "common/process/options_namespace.hpp"
 
 namespace rockwatch::cli {
@@ -83,14 +84,8 @@ nlohmann::ordered_json plant_json(const ReplayRequest& q, const PlantRun& p, std
   j["r"] = a.r;
   j["model"] = model_name(plant.analysis.model);
   j["kappa"] = plant.analysis.kappa;
-  j["collapsed"] = a.collapsed;
-  j["collapse_after_end"] = a.collapse_after_end;
-  j["t_collapse_s"] = number_or_null(a.t_collapse_s);
-  j["t_exceed_s"] = number_or_null(a.t_exceed_s);
-  j["max_abs_x_m"] = a.max_abs_x_m;
-  j["t_max_abs_x_s"] = a.max_abs_x_m > 0.0 ? ordered_json(a.t_max_abs_x_s) : ordered_json(nullptr);
+  add_verdict_json(j, a);  // simulate's keys: max_abs_x_m, t_max_abs_x_s, collapsed, … n_impacts
   j["x_inst_m"] = a.x_inst_m;
-  j["n_impacts"] = a.n_impacts;
   j["t_final_s"] = a.t_final_s;
   const sim::SensorModel& m = plant.sensor_model;
   ordered_json dropouts = ordered_json::array();

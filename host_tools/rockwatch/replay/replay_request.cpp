@@ -125,8 +125,7 @@ void add_options(CLI::App& app, RawOptions& raw) {
   // The plant: simulate's wall and engine options, whose help says they need --wall-file.
   add_wall_options(app, raw.wall);
   add_restitution_option(app, raw.r);
-  app.add_option("--model", raw.model, "Equation of motion: linear (default, the paper's) | full")
-      ->type_name("linear|full");
+  add_model_option(app, raw.model);
   add_kappa_option(app, raw.kappa);
   add_max_step_option(app, raw.max_step);
   app.get_option("--wall-file")

@@ -235,8 +235,7 @@ const char* verdict_word(const sim::AnalysisResult& r) {
   return "SURVIVED";
 }
 
-nlohmann::ordered_json result_json(const SimulateRequest& q, const sim::AnalysisResult& r) {
-  nlohmann::ordered_json j;
+void add_verdict_json(nlohmann::ordered_json& j, const sim::AnalysisResult& r) {
   j["max_abs_x_m"] = r.max_abs_x_m;
   // A wall that never moved has no time of maximum.
   j["t_max_abs_x_s"] = r.max_abs_x_m > 0.0 ? nlohmann::ordered_json(r.t_max_abs_x_s) : nlohmann::ordered_json(nullptr);
@@ -245,6 +244,11 @@ nlohmann::ordered_json result_json(const SimulateRequest& q, const sim::Analysis
   j["t_exceed_s"] = number_or_null(r.t_exceed_s);
   j["collapse_after_end"] = r.collapse_after_end;
   j["n_impacts"] = r.n_impacts;
+}
+
+nlohmann::ordered_json result_json(const SimulateRequest& q, const sim::AnalysisResult& r) {
+  nlohmann::ordered_json j;
+  add_verdict_json(j, r);
   j["t_first_motion_s"] = number_or_null(r.t_first_motion_s);
   j["x_inst_m"] = r.x_inst_m;
   j["threshold_mps2"] = r.threshold_mps2;

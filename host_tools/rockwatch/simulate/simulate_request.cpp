@@ -98,8 +98,7 @@ void add_options(CLI::App& app, RawOptions& raw) {
       ->type_name("G");
   add_wall_options(app, raw.wall);
   add_restitution_option(app, raw.r);
-  app.add_option("--model", raw.model, "Equation of motion: linear (default, the paper's) | full")
-      ->type_name("linear|full");
+  add_model_option(app, raw.model);
   add_kappa_option(app, raw.kappa);
   add_max_step_option(app, raw.max_step);
   app.add_option("--t-end", raw.t_end, "End of the forced phase [s] (default: record duration; zero input after it)")

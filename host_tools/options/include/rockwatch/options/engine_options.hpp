@@ -14,6 +14,9 @@ double default_kappa();
 // Registers --r: one restitution, ana | exp | impulse | a value in [0, 1] (parse_restitution reads it).
 void add_restitution_option(CLI::App& app, std::string& text);
 
+// Registers --model, the equation of motion: linear (the paper's, the default) | full (parse_model reads it).
+void add_model_option(CLI::App& app, std::string& text);
+
 // Registers --kappa (parse_kappa reads it); the help states default_kappa().
 void add_kappa_option(CLI::App& app, std::string& text);
 
