@@ -7,7 +7,7 @@
 #include "common/replay_out/lcm_multicast.hpp"
 #include "common/replay_out/replay_lateness.hpp"
 #include "rockwatch/options/option_values.hpp"
-#include "simulate/simulate_report.hpp"
+#include "common/process/verdict_json.hpp"
 #include "common/process/options_namespace.hpp"
 
 namespace rockwatch::cli {

@@ -21,8 +21,4 @@ std::string summary_text(const SimulateRequest& request, const InputMotion& inpu
 // "COLLAPSED", "COLLAPSED AFTER THE RECORD", "SURVIVED" or "UNDECIDED".
 const char* verdict_word(const sim::AnalysisResult& result);
 
-// The engine's verdict as `--json` gives it (max_abs_x_m … n_impacts), added to j: written once, so that replay's
-// plant (`replay --wall-file --json`) states it in simulate's keys and values.
-void add_verdict_json(nlohmann::ordered_json& j, const sim::AnalysisResult& result);
-
 }  // namespace rockwatch::cli
