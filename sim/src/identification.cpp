@@ -196,8 +196,10 @@ double median(std::vector<double> v) {
   return v[m];
 }
 
-// σ of the transducer's noise from the first differences (robust: the median absolute difference), and whether the
-// record moves at all beyond it.
+// σ of the transducer's noise from the second differences (robust: the median absolute value; white noise of σ gives
+// Δ²z of σ√6, while the motion's own share, ẍ·Δt² ≈ 3 m/s² × (5 ms)² ≈ 0.08 mm, stays well below a transducer's
+// noise — first differences carry ẋ·Δt, up to 2 mm at 200 Hz, and overstated the noise by 5–45 % while the wall
+// rocked), and whether the record moves at all beyond it.
 struct DataCheck {
   double noise_m = 0.0;
   double spread_m = 0.0;  // max |z − median z|
@@ -206,11 +208,20 @@ struct DataCheck {
 DataCheck check_data(const std::vector<double>& z) {
   DataCheck d;
   std::vector<double> diffs;
-  for (std::size_t i = 1; i < z.size(); ++i) diffs.push_back(std::fabs(z[i] - z[i - 1]));
-  d.noise_m = median(diffs) / 0.6745 / std::sqrt(2.0);
+  for (std::size_t i = 2; i < z.size(); ++i) diffs.push_back(std::fabs(z[i] - 2.0 * z[i - 1] + z[i - 2]));
+  d.noise_m = median(diffs) / 0.6745 / std::sqrt(6.0);
   const double mid = median(z);
   for (double v : z) d.spread_m = std::max(d.spread_m, std::fabs(v - mid));
   return d;
+}
+
+// The fit explains the record when its residual is at the noise level: SSR/(n σ²) is 1 ± √(2/n) for a right model
+// and white noise, and the noise estimate itself is good to a few per cent. 20 % (more for short records) flags the
+// minima a cycle or more off (40–1800 % above the noise in the forced tests measured) and passes the 146 s snap-back
+// of a wall at r_ana whose last, sub-5 mm cycles drift by a fraction of a cycle (16 % above; x_inst within 0.2 %).
+bool residual_at_noise_level(double residual_rms_m, double noise_m, std::size_t n) {
+  const double allowed = 1.0 + std::max(0.20, 4.0 / std::sqrt(double(std::max<std::size_t>(n, 1))));
+  return residual_rms_m <= allowed * std::max(noise_m, 1e-6);
 }
 
 }  // namespace
@@ -258,8 +269,9 @@ IdentificationResult identify(const IdentificationInput& in) {
   }
   if (problem.snap_back()) start(kX0) = z.front() - start(kOffset);
 
-  // A coarse grid around the start (thickness ±25 %, heights ×0.45…1.5: an overburden of a few kN/m looks like a
-  // shorter wall, SPEC §9; r 0.7…0.98), the offset solved exactly at each point; the best point starts the fit.
+  // A coarse grid around the start (thickness ±25 % in 9 steps, heights ×0.45…1.5 in 14: an overburden of a few kN/m
+  // looks like a shorter wall, SPEC §9; r 0.7…0.99 in 7: a forced test's first second of rocking already has several
+  // impacts), the offset solved exactly at each point, on the first window; its best points start the fit.
   const auto cost_of = [&](Eigen::VectorXd& th, bool solve_offset) {
     Eigen::VectorXd res;
     if (!problem.residuals(th, res)) return std::numeric_limits<double>::infinity();
@@ -275,10 +287,22 @@ IdentificationResult identify(const IdentificationInput& in) {
     }
     return res.squaredNorm();
   };
-  // The windows of the continuation: the first 5 s, then ×3 until the whole record. The grid and the several starts
-  // work on the first window; each longer one starts from the last one's minimum.
+  // The windows of the continuation. A forced test may rest for seconds before the ground lifts the wall, and a
+  // window that holds little motion ranks the grid by noise; a window that holds many cycles has a minimum per phase.
+  // The first window ends 1 s after the record first leaves rest (by max(1 mm, 8 σ_noise) from the starting offset; a
+  // snap-back test moves from its first sample), each next one is 1.5 times as long, until the whole record. (The
+  // first 5 s and then ×3 found 9 of 22 forced tests on real records; this, with the finer grid and the carried
+  // minima below, 17: docs/BENCHMARKS.md "Identification".)
+  std::size_t first_motion = 0;
+  {
+    const double gate = std::max(1e-3, 8.0 * data.noise_m);
+    while (first_motion < n && std::fabs(z[first_motion] - start(kOffset)) <= gate) ++first_motion;
+    first_motion = std::min(first_motion, n - 1);
+  }
+  constexpr double kFirstSpan_s = 1.0;  // after the first motion [s]
+  constexpr double kGrowth = 1.5;
   std::vector<std::size_t> windows;
-  for (double span_s = 5.0;; span_s *= 3.0) {
+  for (double span_s = t[first_motion] - t.front() + kFirstSpan_s;; span_s *= kGrowth) {
     std::size_t m = 0;
     while (m < n && t[m] <= t.front() + span_s) ++m;
     if (m >= n || n - m < 10) {
@@ -291,15 +315,15 @@ IdentificationResult identify(const IdentificationInput& in) {
 
   // Every grid point with its cost; the kStarts best start Levenberg–Marquardt, the lowest minimum wins (a forced
   // test near the uplift threshold has local minima in which the wall starts rocking at other pulses).
-  constexpr std::size_t kStarts = 3;
+  constexpr std::size_t kStarts = 6;
   std::vector<std::pair<double, Eigen::VectorXd>> grid;
   {
     Eigen::VectorXd th = start;
     grid.emplace_back(cost_of(th, false), th);
   }
   const double b_factors[] = {0.75, 0.8125, 0.875, 0.9375, 1.0, 1.0625, 1.125, 1.1875, 1.25};
-  const double scales[] = {0.45, 0.55, 0.7, 0.85, 1.0, 1.15, 1.3, 1.5};
-  const double rs[] = {0.72, 0.85, 0.95, 0.99};
+  const double scales[] = {0.45, 0.5, 0.55, 0.6, 0.65, 0.7, 0.775, 0.85, 0.925, 1.0, 1.075, 1.15, 1.3, 1.5};
+  const double rs[] = {0.7, 0.75, 0.8, 0.85, 0.9, 0.95, 0.99};
   for (double fb : b_factors) {
     for (double sc : scales) {
       for (double rv : rs) {
@@ -362,23 +386,50 @@ IdentificationResult identify(const IdentificationInput& in) {
     }
     return t_cost;
   };
+  // Several minima are carried through the continuation: on a longer window the best of a shorter one is not always
+  // the best any more (a forced response's phase after the next strong pulse decides), and the grid's kStarts best
+  // points are each fitted on the first window; after every window the kCarry lowest go on.
+  struct Candidate {
+    Eigen::VectorXd th, res;
+    double cost = std::numeric_limits<double>::infinity();
+    bool converged = false;
+  };
+  constexpr std::size_t kCarry = 3;
+  std::vector<Candidate> candidates;
+  for (std::size_t k = 0; k < std::min(kStarts, grid.size()); ++k) {
+    Candidate c;
+    c.th = grid[k].second;
+    c.cost = levenberg_marquardt(c.th, c.res, c.converged);
+    if (std::isfinite(c.cost)) candidates.push_back(std::move(c));
+  }
+  const auto keep_lowest = [&]() {
+    std::sort(candidates.begin(), candidates.end(), [](const Candidate& l, const Candidate& r) { return l.cost < r.cost; });
+    // Two starts that met in one minimum are one candidate.
+    std::vector<Candidate> kept;
+    for (Candidate& c : candidates) {
+      bool same = false;
+      for (const Candidate& k : kept) same = same || ((c.th - k.th).cwiseAbs().array() <= 1e-4 * (k.th.cwiseAbs().array() + 1e-3)).all();
+      if (!same && kept.size() < kCarry) kept.push_back(std::move(c));
+    }
+    candidates = std::move(kept);
+  };
+  keep_lowest();
+  for (std::size_t w = 1; w < windows.size() && !candidates.empty(); ++w) {
+    problem.set_window(windows[w]);
+    for (Candidate& c : candidates) c.cost = levenberg_marquardt(c.th, c.res, c.converged);
+    candidates.erase(std::remove_if(candidates.begin(), candidates.end(),
+                                    [](const Candidate& c) { return !std::isfinite(c.cost); }),
+                     candidates.end());
+    keep_lowest();
+  }
   Eigen::VectorXd th;
   Eigen::VectorXd res;
   double cost = std::numeric_limits<double>::infinity();
-  for (std::size_t k = 0; k < std::min(kStarts, grid.size()); ++k) {
-    Eigen::VectorXd t_th = grid[k].second, t_res;
-    bool converged = false;
-    const double t_cost = levenberg_marquardt(t_th, t_res, converged);
-    if (t_cost < cost) {
-      cost = t_cost;
-      th = t_th;
-      res = t_res;
-      out.converged = converged;
-    }
-  }
-  for (std::size_t w = 1; w < windows.size() && std::isfinite(cost); ++w) {
-    problem.set_window(windows[w]);
-    cost = levenberg_marquardt(th, res, out.converged);
+  if (!candidates.empty()) {
+    th = candidates.front().th;
+    res = candidates.front().res;
+    cost = candidates.front().cost;
+    out.converged = candidates.front().converged;
   }
   if (!std::isfinite(cost)) {
     throw IdentificationError("the fit left the model's range from every start: the record does not identify the wall");
@@ -448,7 +499,7 @@ IdentificationResult identify(const IdentificationInput& in) {
   }
   out.residual_rms_m = std::sqrt(cost / double(n));
   out.noise_estimate_m = data.noise_m;
-  out.fit_explains_record = out.residual_rms_m <= 3.0 * std::max(data.noise_m, 1e-6);
+  out.fit_explains_record = residual_at_noise_level(out.residual_rms_m, data.noise_m, n);
   out.samples_used = n;
   out.model_evaluations = problem.evaluations();
   out.t_s = t;

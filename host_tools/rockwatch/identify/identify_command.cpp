@@ -130,8 +130,10 @@ std::string summary_text(const IdentifyRequest& q, const sim::IdentificationResu
   if (!r.fit_explains_record) {
     o << "  WARNING            the residual is " << fixed(r.residual_rms_m / std::fmax(r.noise_estimate_m, 1e-9), 1)
       << " times the transducer's noise (" << number_text(r.noise_estimate_m)
-      << " m): the identified wall does not explain the record (a chaotic response near collapse, SPEC 4, or a wall\n"
-         "                     the two-block model does not describe): do not use these estimates\n";
+      << " m): the identified wall does not explain the record (a fit a cycle off, a chaotic response near collapse,\n"
+         "                     SPEC 4, or a wall the equivalent wall does not describe: a forced test also sees gamma,\n"
+         "                     so start it from a wall with the right h1:h2 and overburden, --h1 --h2 --fp): do not use\n"
+         "                     these estimates\n";
   }
   o << "\nEquivalent wall (b, h1, h2 identified; h1:h2, rho, Fp, a, a', g held)\n";
   o << "  b                  " << pm(r.wall.b_m, r.sigma_b_m, 6, "m") << '\n';
@@ -191,8 +193,11 @@ int run(const IdentifyRequest& q) {
     if (!plot.ok) throw UsageError("--plot " + *q.plot_path + ": " + plot.message);
   }
   if (!r.fit_explains_record && q.json) {
-    std::cerr << "warning: the residual RMS " << number_text(r.residual_rms_m) << " m is above 3 times the noise ("
-              << number_text(r.noise_estimate_m) << " m): the identified wall does not explain the record\n";
+    std::cerr << "warning: the residual RMS " << number_text(r.residual_rms_m) << " m is "
+              << fixed(r.residual_rms_m / std::fmax(r.noise_estimate_m, 1e-9), 2) << " times the noise ("
+              << number_text(r.noise_estimate_m)
+              << " m): the identified wall does not explain the record (for a forced test, start from a wall with the "
+                 "right h1:h2 and overburden: --h1 --h2 --fp)\n";
   }
   if (q.json) {
     std::cout << identify_json(q, r, in.start_r).dump(2) << '\n';

@@ -63,10 +63,12 @@ struct IdentificationResult {
   double offset_m = 0.0, sigma_offset_m = 0.0;                  // the transducer's zero offset [m]
   std::optional<double> x0_m, sigma_x0_m;                       // the release displacement (snap-back) [m]
   double residual_rms_m = 0.0;          // RMS of measured − fitted [m]
-  double noise_estimate_m = 0.0;        // the transducer's noise from the data alone (median |first difference|) [m]
-  // The residual is at the noise level (residual RMS ≤ 3 × noise_estimate_m): the identified wall explains the record.
-  // False: a response the model does not follow (near collapse a forced response is chaotic, SPEC §4; or a wall the
-  // two-block model does not describe) — the estimates are then not to be trusted, whatever their standard errors.
+  double noise_estimate_m = 0.0;        // the transducer's noise from the data alone (median |second difference|) [m]
+  // The residual is at the noise level (residual RMS ≤ 1.2 × noise_estimate_m, more below 400 samples): the identified
+  // wall explains the record.
+  // False: a response the model does not follow (a minimum a cycle off; near collapse a forced response is chaotic,
+  // SPEC §4; or a wall the equivalent wall does not describe: a forced test sees γ, which h1 : h2 and Fp set) — the
+  // estimates are then not to be trusted, whatever their standard errors.
   bool fit_explains_record = true;
   std::size_t samples_used = 0;         // displacement samples in the fit
   int n_impacts = 0;                    // counted impacts (|ẋ⁻| ≥ 1 mm/s, SPEC §3) of the fitted response
