@@ -130,6 +130,10 @@ class ResponseRecorder {
                                             to_double(rep.first_impact_v_before_mps),
                                             to_double(rep.first_impact_v_after_mps)});
     }
+    if (options_.mark_counted_impact > 0 && !result_.t_counted_impact_s &&
+        result_.n_impacts + rep.impacts_counted >= options_.mark_counted_impact) {
+      result_.t_counted_impact_s = t0_s + to_double(rep.first_impact_fraction) * h_s;  // in this sub-step
+    }
     result_.n_impacts += rep.impacts_counted;
     result_.n_impacts_total += rep.impacts_total;
     if (rep.exceeded && !result_.t_exceed_s) result_.t_exceed_s = t0_s + to_double(rep.exceed_fraction) * h_s;
@@ -158,6 +162,7 @@ class ObservedSteps {
   ObservedSteps(const core::WallParameters& wall, const core::StepperSetup<double>& setup, const AnalysisOptions& o,
                 double dt_s)
       : samples_(*o.wall_sensors), r_after_impacts_(o.observer_r_after_impacts),
+        estimate_before_s_(o.observer_estimate_before_s),
         step_us_(static_cast<std::int64_t>(std::llround(dt_s * 1e6))) {
     const core::ObserverError err = observer_.init(o.observer, setup, wall);
     if (err != core::ObserverError::ok) throw AnalysisError(core::observer_error_message(err));
@@ -173,6 +178,10 @@ class ObservedSteps {
     while (next_ < samples_.size() && samples_[next_].utime_us <= t_us) observer_.push(samples_[next_++]);
     r_before_step_ = observer_.r_estimate();
     x_inst_before_step_ = observer_.x_inst_estimate_m();
+    if (estimate_before_s_ && !r_before_time_ && t0_s + dt_s > *estimate_before_s_) {
+      r_before_time_ = r_before_step_;
+      x_inst_before_time_ = x_inst_before_step_;
+    }
     const core::ObserverStepReport outcome =
         engine.chain().step_observed(ug, vg, observer_, t_us, step_us_, engine.out(), on_substep);
     flags_ |= outcome.flags;
@@ -219,6 +228,8 @@ class ObservedSteps {
     s.stiffness_scale = observer_.stiffness_scale();
     s.sigma_stiffness_scale = observer_.sigma_stiffness_scale();
     s.x_inst_estimate_after_impacts_m = x_inst_after_;
+    s.r_estimate_before_time = r_before_time_;
+    s.x_inst_estimate_before_time_m = x_inst_before_time_;
     if (!r_after_ && n_impacts >= r_after_impacts_) {
       s.r_estimate_after_impacts = s.r_estimate;
       s.x_inst_estimate_after_impacts_m = s.x_inst_estimate_m;
@@ -228,6 +239,8 @@ class ObservedSteps {
  private:
   const std::vector<core::WallSensorSample>& samples_;
   int r_after_impacts_;
+  std::optional<double> estimate_before_s_;
+  std::optional<double> r_before_time_, x_inst_before_time_;
   std::int64_t step_us_;
   Observer observer_{};
   std::size_t next_ = 0;

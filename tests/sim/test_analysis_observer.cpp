@@ -162,6 +162,45 @@ TEST(AnalysisObserver, LearnsTheRestitutionOfTheRealWallAndFollowsIt) {
   }
 }
 
+TEST(AnalysisObserver, TheEstimatesAreTakenBeforeTheSampleOfAGivenImpact) {
+  // The study scores the estimate after n counted impacts of the TRUE wall: the true run marks the time of its impact
+  // n + 1 (mark_counted_impact), the fused run keeps r̂ and x̂_inst as they stood before the sample holding that time
+  // (observer_estimate_before_s). Marked on the fused run itself, that is exactly r_estimate_after_impacts (taken
+  // before the sample of its own impact n + 1); and the mark is the time of counted impact n + 1 in the impact list.
+  const core::WallParameters wall = core::paper_wall();
+  const sim::GroundMotion m = suite_motion(10, 0, 0.20);
+  sim::SensorModel model;
+  model.x_bias_m = 2e-3;
+  model.seed = 3;
+  const Truth truth = simulate_truth(wall, m, ana(), model);
+  sim::AnalysisOptions o;
+  o.keep_history = true;
+  o.wall_sensors = &truth.samples;
+  o.mark_counted_impact = o.observer_r_after_impacts + 1;
+  o.max_impacts_kept = 1000;
+  const sim::AnalysisResult first = sim::analyse(wall, m, o);
+  CHECK(first.t_counted_impact_s.has_value());
+  CHECK_FALSE(first.observer.r_estimate_before_time.has_value());  // not asked for
+  int counted = 0;
+  double t_mark = -1.0;
+  for (const sim::ImpactEvent& e : first.impacts) {
+    if (std::fabs(e.v_before_mps) >= 1e-3 && ++counted == o.mark_counted_impact) {
+      t_mark = e.t_s;
+      break;
+    }
+  }
+  DOUBLES_EQUAL(t_mark, *first.t_counted_impact_s, 1e-12);
+  o.observer_estimate_before_s = first.t_counted_impact_s;
+  const sim::AnalysisResult second = sim::analyse(wall, m, o);
+  CHECK(second.observer.r_estimate_before_time.has_value() && second.observer.r_estimate_after_impacts.has_value());
+  CHECK_EQUAL(*second.observer.r_estimate_after_impacts, *second.observer.r_estimate_before_time);
+  CHECK_EQUAL(*second.observer.x_inst_estimate_after_impacts_m, *second.observer.x_inst_estimate_before_time_m);
+  // A later time gives a later estimate (r̂ learns from the impacts between).
+  o.observer_estimate_before_s = *first.t_counted_impact_s + 5.0;
+  const sim::AnalysisResult later = sim::analyse(wall, m, o);
+  CHECK(*later.observer.r_estimate_before_time != *second.observer.r_estimate_before_time);
+}
+
 TEST(AnalysisObserver, FollowsTheRealWallToItsCollapseWhereTheOpenLoopDoesNot) {
   // Set 1 X at 0.20 g: the real wall (r_ana) collapses at 6.14 s, the nominal one (r_exp) survives open loop.
   const core::WallParameters wall = core::paper_wall();

@@ -66,6 +66,7 @@ class Worker {
       t.evaluate_alarm = false;
       t.max_impacts_kept = 0;
       t.max_alarm_transitions_kept = 0;
+      t.mark_counted_impact = evaluation_.r_after_impacts + 1;
       const AnalysisResult truth = analyse(c.wall, motion_, t);
       out.true_collapsed = truth.verdict_collapse();
       out.true_t_collapse_s = truth.t_collapse_s;
@@ -93,6 +94,7 @@ class Worker {
       o.wall_sensors = &samples;
       o.observer = evaluation_.observer;
       o.observer_r_after_impacts = evaluation_.r_after_impacts;
+      o.observer_estimate_before_s = truth.t_counted_impact_s;
       const AnalysisResult fused = analyse(plan_.wall, motion_, o);
       out.fused_collapsed = fused.verdict_collapse();
       out.fused_t_first_imminent_s = fused.alarm.t_first_imminent_s;
@@ -101,6 +103,8 @@ class Worker {
       out.r_estimate_after_impacts = fused.observer.r_estimate_after_impacts;
       out.x_inst_estimate_m = fused.observer.x_inst_estimate_m;
       out.x_inst_estimate_after_impacts_m = fused.observer.x_inst_estimate_after_impacts_m;
+      out.r_estimate_after_true_impacts = fused.observer.r_estimate_before_time;
+      out.x_inst_estimate_after_true_impacts_m = fused.observer.x_inst_estimate_before_time_m;
       out.fused_impacts = fused.n_impacts;
       out.bias_estimate_m = fused.observer.bias_estimate_m;
       out.n_updates = fused.observer.n_updates;

@@ -43,7 +43,7 @@ study::RunResult as_alarm_run(const study::ObserverRunResult& r, const std::opti
 ObserverScore score(const std::vector<const study::ObserverRunResult*>& runs, int r_after_impacts) {
   ObserverScore s;
   std::vector<study::RunResult> open, fused;
-  std::vector<double> fused_x, open_x, r_after, r_final, x_inst_after;
+  std::vector<double> fused_x, open_x, r_after, r_final, x_inst_after, r_after_true, x_inst_after_true;
   for (const study::ObserverRunResult* r : runs) {
     if (!r->error.empty()) {
       ++s.runs_with_error;
@@ -69,6 +69,14 @@ ObserverScore score(const std::vector<const study::ObserverRunResult*>& runs, in
         if (ex <= 0.03) ++s.x_inst_within_3_percent;
       }
     }
+    if (r->r_estimate_after_true_impacts && r->x_inst_estimate_after_true_impacts_m && r->true_x_inst_m > 0.0) {
+      const double e = std::fabs(*r->r_estimate_after_true_impacts - r->true_r);
+      const double ex = std::fabs(*r->x_inst_estimate_after_true_impacts_m - r->true_x_inst_m) / r->true_x_inst_m;
+      r_after_true.push_back(e);
+      x_inst_after_true.push_back(ex);
+      if (e <= 0.02) ++s.r_within_0_02_after_true_impacts;
+      if (ex <= 0.03) ++s.x_inst_within_3_percent_after_true_impacts;
+    }
     if (r->n_reinitialised > 0) ++s.runs_reinitialised;
     if (r->steps_sensor_lost > 0) ++s.runs_sensor_lost;
   }
@@ -79,6 +87,8 @@ ObserverScore score(const std::vector<const study::ObserverRunResult*>& runs, in
   s.r_error_after_impacts = spread_of(r_after);
   s.r_error_final = spread_of(r_final);
   s.x_inst_error_after_impacts = spread_of(x_inst_after);
+  s.r_error_after_true_impacts = spread_of(r_after_true);
+  s.x_inst_error_after_true_impacts = spread_of(x_inst_after_true);
   return s;
 }
 
@@ -100,10 +110,16 @@ nlohmann::ordered_json score_json(const ObserverScore& s) {
   r_after["within_0_02"] = s.r_within_0_02;
   nlohmann::ordered_json x_inst_after = spread_json(s.x_inst_error_after_impacts);
   x_inst_after["within_0_03"] = s.x_inst_within_3_percent;
+  nlohmann::ordered_json r_after_true = spread_json(s.r_error_after_true_impacts);
+  r_after_true["within_0_02"] = s.r_within_0_02_after_true_impacts;
+  nlohmann::ordered_json x_inst_after_true = spread_json(s.x_inst_error_after_true_impacts);
+  x_inst_after_true["within_0_03"] = s.x_inst_within_3_percent_after_true_impacts;
   j["estimation"] = {{"x_rms_over_x_inst", x},
                      {"r_error_after_impacts", r_after},
                      {"r_error_final", spread_json(s.r_error_final)},
-                     {"x_inst_relative_error_after_impacts", x_inst_after}};
+                     {"x_inst_relative_error_after_impacts", x_inst_after},
+                     {"r_error_after_true_impacts", r_after_true},
+                     {"x_inst_relative_error_after_true_impacts", x_inst_after_true}};
   j["runs_reinitialised"] = s.runs_reinitialised;
   j["runs_sensor_lost"] = s.runs_sensor_lost;
   return j;
@@ -233,6 +249,10 @@ nlohmann::ordered_json observer_summary_json(const study::ObserverEvaluationPlan
       {"r_error_final", "the same runs: |r_hat - r_true| at the end of the analysis"},
       {"x_inst_relative_error_after_impacts", "the same runs: |x_inst_hat - x_inst_true| / x_inst_true when r_hat after "
                                               "r_after_impacts impacts was taken; within_0_03: runs within 3 %"},
+      {"r_error_after_true_impacts", "per run whose TRUE wall has more than r_after_impacts counted impacts: |r_hat - "
+                                     "r_true| before the input sample that holds the true wall's next counted impact"},
+      {"x_inst_relative_error_after_true_impacts", "the same runs and time: |x_inst_hat - x_inst_true| / x_inst_true; "
+                                                   "within_0_03: runs within 3 %"},
       {"percentile", "linear interpolation between order statistics (Hyndman-Fan type 7)"}};
   return j;
 }
@@ -243,8 +263,8 @@ void write_observer_runs_csv(std::ostream& out, const study::StudyPlan& plan,
   out << "case,record,component,vertical,pga_g,true_collapsed,true_t_collapse_s,true_r,true_x_inst_m,true_max_abs_x_m,"
          "true_impacts,open_collapsed,open_t_first_imminent_s,fused_collapsed,fused_t_first_imminent_s,"
          "open_x_rms_error_m,fused_x_rms_error_m,r_estimate,r_estimate_after_impacts,fused_impacts,bias_estimate_m,"
-         "n_updates,n_rejected,n_reinitialised,steps_sensor_lost,x_inst_estimate_m,x_inst_estimate_after_impacts_m,run,"
-         "error\n";
+         "n_updates,n_rejected,n_reinitialised,steps_sensor_lost,x_inst_estimate_m,x_inst_estimate_after_impacts_m,"
+         "r_estimate_after_true_impacts,x_inst_estimate_after_true_impacts_m,run,error\n";
   for (std::size_t i = 0; i < results.size(); ++i) {
     const study::ObserverRunResult& r = results[i];
     if (!r.done) continue;
@@ -264,9 +284,10 @@ void write_observer_runs_csv(std::ostream& out, const study::StudyPlan& plan,
              csv_number(r.bias_estimate_m) + ',' + std::to_string(r.n_updates) + ',' + std::to_string(r.n_rejected) +
              ',' + std::to_string(r.n_reinitialised) + ',' + std::to_string(r.steps_sensor_lost) + ',' +
              csv_number(r.x_inst_estimate_m) + ',' + csv_optional(r.x_inst_estimate_after_impacts_m) + ',' +
-             std::to_string(i) + ",\n";
+             csv_optional(r.r_estimate_after_true_impacts) + ',' +
+             csv_optional(r.x_inst_estimate_after_true_impacts_m) + ',' + std::to_string(i) + ",\n";
     } else {
-      row += std::string(22, ',') + std::to_string(i) + ',' + csv_text(r.error) + '\n';
+      row += std::string(24, ',') + std::to_string(i) + ',' + csv_text(r.error) + '\n';
     }
     out << row;
   }
@@ -292,15 +313,23 @@ std::string observer_summary_text(const study::ObserverEvaluationPlan& evaluatio
               evaluation.r_after_impacts, opt4(s.r_error_after_impacts.median).c_str(),
               opt4(s.r_error_after_impacts.p95).c_str(), s.r_within_0_02, s.r_error_after_impacts.n,
               opt4(s.r_error_final.median).c_str(), opt4(s.r_error_final.p95).c_str()));
+  line(out, "after true impacts",
+       format("after %d counted impacts of the true wall: x_inst err median %s (%zu of %zu runs <= 0.03), |r err| "
+              "median %s (%zu <= 0.02)",
+              evaluation.r_after_impacts, opt4(s.x_inst_error_after_true_impacts.median).c_str(),
+              s.x_inst_within_3_percent_after_true_impacts, s.x_inst_error_after_true_impacts.n,
+              opt4(s.r_error_after_true_impacts.median).c_str(), s.r_within_0_02_after_true_impacts));
   if (s.runs_with_error > 0) line(out, "refused runs", format("%zu (no scores)", s.runs_with_error));
   for (std::size_t i = 0; i < evaluation.cases.size(); ++i) {
     const ObserverScore& c = outcome.per_case[i];
     line(out, evaluation.cases[i].name.c_str(),
-         format("open loop recall %s FA %s; fused recall %s FA %s lead %s s; x err %s; |r err| %s; x_inst err %s",
+         format("open loop recall %s FA %s; fused recall %s FA %s lead %s s; x err %s; |r err| %s; x_inst err %s "
+                "(after the true wall's impacts %s)",
                 probability_text(c.open_loop.recall).c_str(), probability_text(c.open_loop.false_alarm_rate).c_str(),
                 probability_text(c.fused.recall).c_str(), probability_text(c.fused.false_alarm_rate).c_str(),
                 opt3(c.fused.lead_time_s_median).c_str(), opt4(c.fused_x_rms_over_x_inst.median).c_str(),
-                opt4(c.r_error_after_impacts.median).c_str(), opt4(c.x_inst_error_after_impacts.median).c_str()));
+                opt4(c.r_error_after_impacts.median).c_str(), opt4(c.x_inst_error_after_impacts.median).c_str(),
+                opt4(c.x_inst_error_after_true_impacts.median).c_str()));
   }
   return out;
 }

@@ -58,6 +58,11 @@ struct AnalysisOptions {
   const std::vector<core::WallSensorSample>* wall_sensors = nullptr;
   core::ObserverOptions observer{};
   int observer_r_after_impacts = 5;     // ObserverSummary::r_estimate_after_impacts after this many impacts
+  // ObserverSummary::r_estimate_before_time / x_inst_estimate_before_time_m: the estimates as they stood before the
+  // input sample whose interval holds this time (e.g. another wall's impact, AnalysisResult::t_counted_impact_s) [s].
+  std::optional<double> observer_estimate_before_s;
+  // n > 0: AnalysisResult::t_counted_impact_s is the time of counted impact number n (|ẋ⁻| ≥ 1 mm/s).
+  int mark_counted_impact = 0;
   // When set (not owned), receives the engine's input of every sample as run, in double before any conversion: the
   // input the engine was reset with, then one {ü, v̈} [m/s²] per record sample (the engine sub-steps between them;
   // then the zeros of the free motion after the record), up to where the analysis stopped. `rockwatch simulate --engine-input-out` writes it for
@@ -134,6 +139,8 @@ struct ObserverSummary {
   double capacity_scale = 1.0, sigma_capacity_scale = 0.0;
   double stiffness_scale = 1.0, sigma_stiffness_scale = 0.0;
   std::optional<double> x_inst_estimate_after_impacts_m;  // x̂_inst when r_estimate_after_impacts was taken [m]
+  // r̂ and x̂_inst before AnalysisOptions::observer_estimate_before_s (none when not set or not reached) [-, m].
+  std::optional<double> r_estimate_before_time, x_inst_estimate_before_time_m;
 };
 
 struct HistoryRow {
@@ -158,6 +165,7 @@ struct AnalysisResult {
   std::optional<double> t_first_motion_s;
   int n_impacts = 0;                    // impacts with |ẋ⁻| ≥ 1 mm/s
   int n_impacts_total = 0;              // every impact (depends on the rest threshold)
+  std::optional<double> t_counted_impact_s;  // counted impact number AnalysisOptions::mark_counted_impact [s]
   bool free_motion_undecided = false;   // free motion hit free_motion_limit_s without a verdict
   double x_inst_m = 0.0;                // smaller side [m]
   double threshold_mps2 = 0.0;          // smaller side, with v̈ = 0 [m/s²]

@@ -76,6 +76,9 @@ struct ObserverRunResult {
   std::optional<double> r_estimate_after_impacts;
   double x_inst_estimate_m = 0.0;                         // the observer's x̂_inst at the end [m]
   std::optional<double> x_inst_estimate_after_impacts_m;  // ... when r̂ after n impacts was taken [m]
+  // r̂ and x̂_inst after n counted impacts of the TRUE wall: before the input sample that holds its impact n + 1 (none
+  // when the true wall impacted n times or fewer) [-, m].
+  std::optional<double> r_estimate_after_true_impacts, x_inst_estimate_after_true_impacts_m;
   int fused_impacts = 0;
   double bias_estimate_m = 0.0;
   std::int64_t n_updates = 0, n_rejected = 0, n_reinitialised = 0;
