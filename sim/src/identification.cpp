@@ -400,16 +400,22 @@ IdentificationResult identify(const IdentificationInput& in) {
     Candidate c;
     c.th = grid[k].second;
     c.cost = levenberg_marquardt(c.th, c.res, c.converged);
-    if (std::isfinite(c.cost)) candidates.push_back(std::move(c));
+    candidates.push_back(std::move(c));
   }
+  // The kCarry lowest distinct minima go on; a start that left the model's range (cost ∞) does not, and two starts
+  // that met in one minimum are one candidate.
   const auto keep_lowest = [&]() {
-    std::sort(candidates.begin(), candidates.end(), [](const Candidate& l, const Candidate& r) { return l.cost < r.cost; });
-    // Two starts that met in one minimum are one candidate.
+    std::sort(candidates.begin(), candidates.end(),
+              [](const Candidate& l, const Candidate& r) { return l.cost < r.cost; });
+    const auto same_minimum = [](const Candidate& a, const Candidate& b) {
+      return ((a.th - b.th).cwiseAbs().array() <= 1e-4 * (b.th.cwiseAbs().array() + 1e-3)).all();
+    };
     std::vector<Candidate> kept;
     for (Candidate& c : candidates) {
-      bool same = false;
-      for (const Candidate& k : kept) same = same || ((c.th - k.th).cwiseAbs().array() <= 1e-4 * (k.th.cwiseAbs().array() + 1e-3)).all();
-      if (!same && kept.size() < kCarry) kept.push_back(std::move(c));
+      if (kept.size() == kCarry || !std::isfinite(c.cost)) break;
+      if (std::none_of(kept.begin(), kept.end(), [&](const Candidate& k) { return same_minimum(c, k); })) {
+        kept.push_back(std::move(c));
+      }
     }
     candidates = std::move(kept);
   };
@@ -417,9 +423,6 @@ IdentificationResult identify(const IdentificationInput& in) {
   for (std::size_t w = 1; w < windows.size() && !candidates.empty(); ++w) {
     problem.set_window(windows[w]);
     for (Candidate& c : candidates) c.cost = levenberg_marquardt(c.th, c.res, c.converged);
-    candidates.erase(std::remove_if(candidates.begin(), candidates.end(),
-                                    [](const Candidate& c) { return !std::isfinite(c.cost); }),
-                     candidates.end());
     keep_lowest();
   }
   Eigen::VectorXd th;
