@@ -11,13 +11,15 @@ capacity (the runs within 0.02 g of a record's lowest collapse PGA for the true 
 
 Writes DIR/identify_evaluation.csv and prints a Markdown table. Deterministic (fixed sensor seeds).
 
-    scripts/identify-evaluation.py --forced [--out DIR]
+    scripts/identify-evaluation.py --forced [--bootstrap N] [--out DIR]
 
 Forced tests instead: four true walls x the shipped suite's sets 1, 3, 5, 7 (component X) x 0.15 and 0.22 g, the
 transducer as above (seed = case number); each identified with the record from the paper wall, and again from a
 starting wall with the true wall's held fields (h1 : h2, Fp: SPEC 9.1). A case is "ok" when r is within 0.005 and
 x_inst within 1 %; records that leave the wall at rest (exit 2, "at rest throughout") are counted apart. Writes
-DIR/identify_forced.csv and prints a summary.
+DIR/identify_forced.csv and prints a summary. With --bootstrap N every identification also runs N bootstrap refits
+(identify --bootstrap N): the summary then compares |error| / sigma of the curvature's and of the bootstrap's
+standard errors.
 """
 import argparse
 import csv
@@ -66,7 +68,7 @@ FORCED_WALLS = [
 SUITE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "sim", "suites", "npr9998-2015")
 
 
-def forced(rw, out_dir):
+def forced(rw, out_dir, bootstrap=0):
     rows = []
     case = 0
     for name, wall, r, held in FORCED_WALLS:
@@ -82,7 +84,8 @@ def forced(rw, out_dir):
                     if start_name != "paper wall" and not held:
                         continue
                     t0 = time.perf_counter()
-                    p = subprocess.run([rw, "identify", "--wall-sensors", sensors, "--json"] + rec + start,
+                    boot = ["--bootstrap", str(bootstrap)] if bootstrap else []
+                    p = subprocess.run([rw, "identify", "--wall-sensors", sensors, "--json"] + rec + start + boot,
                                        capture_output=True, text=True)
                     seconds = time.perf_counter() - t0
                     row = {"case": case, "wall": name, "set": set_no, "pga_g": pga, "start": start_name,
@@ -102,6 +105,11 @@ def forced(rw, out_dir):
                                     "noise_estimate_m": ident["noise_estimate_m"],
                                     "fit_explains_record": ident["fit_explains_record"],
                                     "outcome": "ok" if ok else "off"})
+                        if ident.get("bootstrap"):
+                            b = ident["bootstrap"]
+                            row.update({"curvature_sigma_r": b["curvature_sigma_r"],
+                                        "curvature_sigma_x_inst_rel": b["curvature_sigma_x_inst_m"] / truth["x_inst_m"],
+                                        "bootstrap_refused": b["refused"]})
                     rows.append(row)
                     print("%2d %-14s set %d %s g %-17s %s" % (case, name, set_no, pga, start_name,
                           row["outcome"] if "x_inst_error" not in row else
@@ -124,6 +132,19 @@ def forced(rw, out_dir):
               "%d flagged (fit_explains_record false), %d off but not flagged (worst x_inst %+.2f %%)" % (
                   start_name, len(sel), len(sel) - len(fitted), len(fitted), len(ok), len(flagged), len(silent),
                   100 * max((x["x_inst_error"] for x in silent), key=abs, default=0.0)))
+        if bootstrap:
+            explained = [x for x in fitted if x["fit_explains_record"]]
+            for label, sr, sx in (("curvature", "curvature_sigma_r", "curvature_sigma_x_inst_rel"),
+                                  ("bootstrap", "sigma_r", "sigma_x_inst_rel")):
+                zx = sorted(abs(x["x_inst_error"]) / max(x[sx], 1e-300) for x in explained)
+                zr = sorted(abs(x["r_error"]) / max(x[sr], 1e-300) for x in explained)
+                if zx:
+                    print("  %s sigma over the %d explained fits: |x_inst error|/sigma median %.2f, max %.3g, "
+                          "within 2 sigma %d, within 3 sigma %d; |r error|/sigma median %.2f, max %.3g, within 2 "
+                          "sigma %d, within 3 sigma %d" % (
+                              label, len(explained), zx[len(zx) // 2], zx[-1], sum(z <= 2 for z in zx),
+                              sum(z <= 3 for z in zx), zr[len(zr) // 2], zr[-1], sum(z <= 2 for z in zr),
+                              sum(z <= 3 for z in zr)))
         noise = [x["noise_estimate_m"] for x in fitted]
         if noise:
             print("  noise estimate: %.3f-%.3f mm (true 0.5 mm)" % (1e3 * min(noise), 1e3 * max(noise)))
@@ -135,12 +156,13 @@ def main():
     ap.add_argument("--rockwatch", default="build/release/host_tools/rockwatch")
     ap.add_argument("--out", default=None)
     ap.add_argument("--forced", action="store_true", help="forced tests of real records instead of snap-back tests")
+    ap.add_argument("--bootstrap", type=int, default=0, help="with --forced: identify --bootstrap N (default 0)")
     a = ap.parse_args()
     rw = a.rockwatch
     out_dir = a.out or tempfile.mkdtemp(prefix="identify-evaluation.")
     os.makedirs(out_dir, exist_ok=True)
     if a.forced:
-        forced(rw, out_dir)
+        forced(rw, out_dir, a.bootstrap)
         return
     rows = []
     for seed, (name, wall, r, x0) in enumerate(CASES, start=1):

@@ -510,7 +510,9 @@ py::object identify(const std::string& wall_sensors, const std::optional<std::st
                     const std::optional<std::string>& units, const std::optional<double>& dt_s,
                     const std::optional<std::string>& channel, const std::optional<std::string>& component,
                     const std::optional<double>& scale_pga_g, const std::optional<Wall>& wall, const py::object& r,
-                    const std::optional<double>& max_step_s, const std::optional<std::string>& wall_out) {
+                    const std::optional<double>& max_step_s, const std::optional<std::string>& wall_out,
+                    const std::optional<long long>& bootstrap, const std::optional<unsigned long long>& bootstrap_seed,
+                    const std::optional<long long>& jobs) {
   Arguments args;
   args.add("--wall-sensors", wall_sensors);
   if (record) args.add("--record", *record);
@@ -523,16 +525,16 @@ py::object identify(const std::string& wall_sensors, const std::optional<std::st
   if (!r.is_none()) args.add("--r", restitution_text(r));
   if (max_step_s) args.add("--max-step", *max_step_s);
   if (wall_out) args.add("--wall-out", *wall_out);
+  if (bootstrap) args.add("--bootstrap", std::to_string(*bootstrap));
+  if (bootstrap_seed) args.add("--bootstrap-seed", std::to_string(*bootstrap_seed));
+  if (jobs) args.add("--jobs", std::to_string(*jobs));
   args.flag("--json");
   std::vector<const char*> argv;
   for (const std::string& w : args.words) argv.push_back(w.c_str());
   const cli::IdentifyParse parsed = cli::parse_identify_arguments(static_cast<int>(argv.size()), argv.data());
   const cli::IdentifyRequest& q = *parsed.request;
   // As the command runs it (identify_command.cpp).
-  sim::IdentificationInput in;
-  in.start_wall = q.start_wall;
-  in.start_r = core::restitution_energy_ratio(q.start_wall, q.start_r);
-  in.max_step_s = q.max_step_s;
+  sim::IdentificationInput in = cli::identification_input(q);
   sim::IdentificationResult result;
   {
     py::gil_scoped_release release;
@@ -719,8 +721,10 @@ PYBIND11_MODULE(rockwatch, m) {
         py::arg("units") = py::none(), py::arg("dt_s") = py::none(), py::arg("channel") = py::none(),
         py::arg("component") = py::none(), py::arg("scale_pga_g") = py::none(), py::arg("wall") = py::none(),
         py::arg("r") = py::none(), py::arg("max_step_s") = py::none(), py::arg("wall_out") = py::none(),
+        py::arg("bootstrap") = py::none(), py::arg("bootstrap_seed") = py::none(), py::arg("jobs") = py::none(),
         "Identifies a wall from a test as `rockwatch identify --json` (sim::identify): wall_sensors the transducer's "
         "CSV, record the ground motion of a forced test (None: a snap-back test), wall the starting wall, r the start "
-        "of r, wall_out a wall file to write (Wall.from_file reads it). Returns identify --json's dict, with the "
+        "of r, wall_out a wall file to write (Wall.from_file reads it), bootstrap N refits whose spread is the "
+        "standard error (--bootstrap; a forced test needs it), bootstrap_seed, jobs its threads. Returns identify --json's dict, with the "
         "fitted curve as arrays t_s, measured_m, fitted_m.");
 }

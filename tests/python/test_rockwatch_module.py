@@ -213,6 +213,11 @@ def test_identify_equals_the_tool(tmp_path):
     expected = cli("identify", "--wall-sensors", sensors, "--b", "0.13", "--h1", "1.8", "--r", "ana", "--json")
     got = rockwatch.identify(str(sensors), wall=rockwatch.Wall(b_m=0.13, h1_m=1.8), r="ana")
     assert {k: v for k, v in got.items() if k not in curve} == expected
+    # With a bootstrap (its spread the standard errors), on two threads.
+    expected = cli("identify", "--wall-sensors", sensors, "--bootstrap", "3", "--jobs", "2", "--json")
+    got = rockwatch.identify(str(sensors), bootstrap=3, jobs=2)
+    assert {k: v for k, v in got.items() if k not in curve} == expected
+    assert got["sigma_method"] == "bootstrap" and got["bootstrap"]["replicates"] == 3
     forced = tmp_path / "forced.csv"
     cli("simulate", "--record", ELC, "--scale-pga", "0.18", "--b", "0.12", "--r", "0.8", "--t-end", "12",
         "--sensors-out", forced)
@@ -250,6 +255,7 @@ def test_bad_arguments_raise_the_tools_message():
         (lambda: rockwatch.simulate(a, dt, wall_sensors="/nonexistent.csv"),
          ["simulate", "--record", ELC, "--wall-sensors", "/nonexistent.csv"]),
         (lambda: rockwatch.identify("/nonexistent.csv"), ["identify", "--wall-sensors", "/nonexistent.csv"]),
+        (lambda: rockwatch.identify(ELC, bootstrap=-1), ["identify", "--wall-sensors", ELC, "--bootstrap=-1"]),
         (lambda: rockwatch.Wall.from_file(ELC), ["simulate", "--record", ELC, "--wall-file", ELC]),
     ]
     for call, args in cases:

@@ -74,6 +74,21 @@ nlohmann::ordered_json identify_json(const IdentifyRequest& q, const sim::Identi
   j["sigma_offset_m"] = r.sigma_offset_m;
   j["x0_m"] = or_null(r.x0_m);
   j["sigma_x0_m"] = or_null(r.sigma_x0_m);
+  j["sigma_method"] = r.bootstrap && r.bootstrap->used >= 2 ? "bootstrap" : "curvature";
+  if (r.bootstrap) {
+    const sim::IdentificationBootstrap& b = *r.bootstrap;
+    j["bootstrap"] = {{"replicates", b.replicates},
+                      {"refused", b.refused},
+                      {"flagged", b.flagged},
+                      {"used", b.used},
+                      {"seed", b.seed},
+                      {"curvature_sigma_r", b.curvature_sigma_r},
+                      {"curvature_sigma_x_inst_m", b.curvature_sigma_x_inst_m},
+                      {"curvature_sigma_omega_radps", b.curvature_sigma_omega_radps},
+                      {"curvature_sigma_offset_m", b.curvature_sigma_offset_m}};
+  } else {
+    j["bootstrap"] = nullptr;
+  }
   j["residual_rms_m"] = r.residual_rms_m;
   j["noise_estimate_m"] = r.noise_estimate_m;
   j["fit_explains_record"] = r.fit_explains_record;
@@ -120,7 +135,11 @@ std::string summary_text(const IdentifyRequest& q, const sim::IdentificationResu
   o << "  test               " << (r.snap_back ? "snap-back (ground at rest, released at t = 0)" : "forced (record " + q.record->record_path + ")") << '\n';
   o << "  sensors            " << q.wall_sensors_path << ": " << r.samples_used << " displacement samples\n";
   o << "  start              " << q.start_wall_text << ", r " << number_text(start_r) << '\n';
-  o << "\nIdentified (estimate +- standard error)\n";
+  const bool by_bootstrap = r.bootstrap && r.bootstrap->used >= 2;
+  o << "\nIdentified (estimate +- standard error: "
+    << (by_bootstrap ? "the spread of " + std::to_string(r.bootstrap->used) + " bootstrap refits"
+                     : std::string("the minimum's curvature"))
+    << ")\n";
   o << "  r                  " << pm(r.r, r.sigma_r, 5, "") << '\n';
   o << "  x_inst             " << pm(r.reduced.x_inst_m, r.sigma_x_inst_m, 6, "m") << '\n';
   o << "  omega = sqrt(k)    " << pm(r.reduced.omega_radps, r.sigma_omega_radps, 5, "rad/s") << '\n';
@@ -134,6 +153,15 @@ std::string summary_text(const IdentifyRequest& q, const sim::IdentificationResu
          "                     SPEC 4, or a wall the equivalent wall does not describe: a forced test also sees gamma,\n"
          "                     so start it from a wall with the right h1:h2 and overburden, --h1 --h2 --fp): do not use\n"
          "                     these estimates\n";
+  }
+  if (r.bootstrap) {
+    o << "  bootstrap          " << r.bootstrap->replicates << " refits (seed " << r.bootstrap->seed << "), "
+      << r.bootstrap->refused << " refused, " << r.bootstrap->flagged << " not explaining their record\n"
+      << "  curvature          r +- " << number_text(r.bootstrap->curvature_sigma_r) << ", x_inst +- "
+      << number_text(r.bootstrap->curvature_sigma_x_inst_m) << " m (the minimum's own errors, for comparison)\n";
+  } else if (!r.snap_back) {
+    o << "  note               a forced test's curvature errors understate the uncertainty (many narrow minima):\n"
+         "                     --bootstrap 30 measures it\n";
   }
   o << "\nEquivalent wall (b, h1, h2 identified; h1:h2, rho, Fp, a, a', g held)\n";
   o << "  b                  " << pm(r.wall.b_m, r.sigma_b_m, 6, "m") << '\n';
@@ -154,18 +182,21 @@ int run(const IdentifyRequest& q) {
   // (mmap/munmap and page faults were half the run time, docs/BENCHMARKS.md).
   mallopt(M_MMAP_THRESHOLD, 256 * 1024 * 1024);
   mallopt(M_TRIM_THRESHOLD, 512 * 1024 * 1024);
-  sim::IdentificationInput in;
-  in.start_wall = q.start_wall;
-  in.start_r = core::restitution_energy_ratio(q.start_wall, q.start_r);
-  in.max_step_s = q.max_step_s;
+  sim::IdentificationInput in = identification_input(q);
   in.samples = read_wall_sensor_samples(q.wall_sensors_path);
+  const bool terminal = isatty(STDERR_FILENO) != 0;
+  if (terminal && q.bootstrap > 0) {
+    in.bootstrap_progress = [](std::size_t done, std::size_t total) {
+      std::cerr << "\ridentify: bootstrap " << done << '/' << total << (done == total ? "\n" : "") << std::flush;
+    };
+  }
   std::optional<InputMotion> motion;
   if (q.record) {
     motion = prepare_input(InputRequest{*q.record, q.scale_pga_g, q.start_wall.g_mps2});
     for (const std::string& note : motion->notes) std::cerr << "note: " << note << '\n';
     in.ground = &motion->motion;
   }
-  if (isatty(STDERR_FILENO) != 0) {
+  if (terminal) {
     std::cerr << "identify: fitting " << in.samples.size() << " samples through the engine...\n";
   }
   sim::IdentificationResult r;
@@ -219,6 +250,8 @@ options::WallFile identified_wall_file(const IdentifyRequest& q, const sim::Iden
                      {"sigma_r", r.sigma_r},
                      {"sigma_x_inst_m", r.sigma_x_inst_m},
                      {"sigma_omega_radps", r.sigma_omega_radps},
+                     {"sigma_method", r.bootstrap && r.bootstrap->used >= 2
+                                          ? "bootstrap" : "curvature"},
                      {"residual_rms_m", r.residual_rms_m},
                      {"identified", {"b_m", "h1_m", "h2_m", "r"}},
                      {"held", {"h1_m:h2_m", "rho_kgpm3", "fp_npm", "a", "a_prime", "g_mps2"}}};

@@ -18,7 +18,7 @@ namespace {
 struct RawOptions {
   RecordOptionTexts record;
   WallOptionTexts wall;
-  std::string wall_sensors, scale_pga, r = "exp", max_step, plot, wall_out;
+  std::string wall_sensors, scale_pga, r = "exp", max_step, plot, wall_out, bootstrap, bootstrap_seed, jobs;
   bool json = false;
 };
 
@@ -29,6 +29,11 @@ const char* const kFooter =
     "released at t = 0 (the release displacement x0 is identified). Identified: the thickness b and a common scale\n"
     "of h1 and h2 (an equivalent wall reproducing the identified x_inst and free-rocking rate), r, the transducer's\n"
     "zero offset (and x0); held at the starting wall's: h1:h2, rho, Fp, a, a', g.\n"
+    "\n"
+    "Standard errors: by default the curvature of the minimum, s^2 (J'J)^-1. For a snap-back test they are honest;\n"
+    "a forced response's cost has many narrow minima, and the curvature says how narrow the one found is, not how\n"
+    "far from the wall it may be: give a forced test --bootstrap N (e.g. 30), N refits of the fitted response plus\n"
+    "new noise, whose spread is then the standard error (N times the fit's run time, on --jobs threads).\n"
     "\n"
     "Exit status: 0 identified, 2 invalid options or input, or a record that does not identify the wall (no\n"
     "impact, too short, at rest throughout: the message says why), 1 internal error.\n"
@@ -52,6 +57,12 @@ void add_options(CLI::App& app, RawOptions& raw) {
   app.add_option("--wall-out", raw.wall_out,
                  "Write the identified wall (and r) as a wall file for --wall-file of simulate, study, demo, monitor")
       ->type_name("FILE.json");
+  app.add_option("--bootstrap", raw.bootstrap,
+                 "Standard errors from N parametric bootstrap refits, 0 to 10000 (default 0: the curvature's)")
+      ->type_name("N");
+  app.add_option("--bootstrap-seed", raw.bootstrap_seed, "Seed of the bootstrap's noise, 0 to 2^64-1 (default 1)")
+      ->type_name("S");
+  app.add_option("--jobs", raw.jobs, "The bootstrap's threads; 0 = every hardware thread (default 0)")->type_name("N");
   app.footer(kFooter);
 }
 
@@ -100,7 +111,41 @@ IdentifyParse parse_identify_arguments(int argc, const char* const* argv) {
     check_output_file("--wall-out", raw.wall_out);
     q.wall_out_path = raw.wall_out;
   }
+  if (given(app, "--bootstrap")) {
+    const std::optional<std::uint64_t> n = whole_number(raw.bootstrap, 0, 10000);
+    if (!n) throw UsageError("--bootstrap must be a whole number from 0 to 10000 (got " + options::quoted(raw.bootstrap) + ")");
+    q.bootstrap = int(*n);
+  }
+  if (given(app, "--bootstrap-seed")) {
+    const std::optional<std::uint64_t> seed = whole_number(raw.bootstrap_seed, 0, UINT64_MAX);
+    if (!seed) {
+      throw UsageError("--bootstrap-seed must be a whole number from 0 to 2^64-1 (got " +
+                       options::quoted(raw.bootstrap_seed) + ")");
+    }
+    q.bootstrap_seed = *seed;
+  }
+  if (given(app, "--jobs")) {
+    const std::optional<std::uint64_t> jobs = whole_number(raw.jobs, 0, 256);
+    if (!jobs) throw UsageError("--jobs must be a whole number from 0 (every hardware thread) to 256 (got " + options::quoted(raw.jobs) + ")");
+    q.jobs = std::size_t(*jobs);
+  }
+  if (q.bootstrap == 0) {
+    for (const char* option : {"--bootstrap-seed", "--jobs"}) {
+      if (given(app, option)) throw UsageError(std::string(option) + " needs --bootstrap N (N >= 1)");
+    }
+  }
   return IdentifyParse{q, {}};
+}
+
+sim::IdentificationInput identification_input(const IdentifyRequest& q) {
+  sim::IdentificationInput in;
+  in.start_wall = q.start_wall;
+  in.start_r = core::restitution_energy_ratio(q.start_wall, q.start_r);
+  in.max_step_s = q.max_step_s;
+  in.bootstrap_replicates = q.bootstrap;
+  in.bootstrap_seed = q.bootstrap_seed;
+  in.bootstrap_jobs = q.jobs;
+  return in;
 }
 
 }  // namespace rockwatch::cli

@@ -1,6 +1,8 @@
 // What `rockwatch identify` was asked to do, parsed and validated from its command line.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -8,6 +10,7 @@
 #include "common/records_in/record_selection.hpp"
 #include "rockwatch/core/restitution.hpp"
 #include "rockwatch/core/wall.hpp"
+#include "rockwatch/sim/identification.hpp"
 
 namespace rockwatch::cli {
 
@@ -22,6 +25,9 @@ struct IdentifyRequest {
   bool json = false;
   std::optional<std::string> plot_path;      // --plot FILE.png
   std::optional<std::string> wall_out_path;  // --wall-out FILE.json
+  int bootstrap = 0;                         // --bootstrap N: parametric bootstrap replicates (0: none)
+  std::uint64_t bootstrap_seed = 1;          // --bootstrap-seed
+  std::size_t jobs = 0;                      // --jobs: the bootstrap's threads (0: every hardware thread)
 };
 
 struct IdentifyParse {
@@ -30,5 +36,9 @@ struct IdentifyParse {
 };
 
 IdentifyParse parse_identify_arguments(int argc, const char* const* argv);
+
+// The identification's settings from the request (the starting wall and r, the step, the bootstrap); the caller adds
+// the samples and the ground motion (the command and the Python module alike).
+sim::IdentificationInput identification_input(const IdentifyRequest& request);
 
 }  // namespace rockwatch::cli

@@ -14,6 +14,8 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
+#include <functional>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -48,6 +50,29 @@ struct IdentificationInput {
   const GroundMotion* ground = nullptr;
   std::vector<core::WallSensorSample> samples;  // the transducer's samples (x_valid rows are used), utime ascending
   int max_iterations = 60;
+  // A parametric bootstrap of the estimator (SPEC §9.1): `bootstrap_replicates` records made of the fitted response
+  // plus new white noise of the noise estimate's σ at the same sample times, each identified from the same start
+  // (grid, continuation, every step); the standard deviations of the replicates' estimates are then the reported
+  // standard errors. 0: none, the errors are the minimum's curvature (honest for a snap-back test, not for a forced
+  // one: docs/BENCHMARKS.md "Identification").
+  int bootstrap_replicates = 0;
+  std::uint64_t bootstrap_seed = 1;       // replicate i's noise: RandomStream(splitmix64 of seed and i)
+  std::size_t bootstrap_jobs = 0;         // threads (0: one per core); the result does not depend on it
+  std::function<void(std::size_t done, std::size_t total)> bootstrap_progress;  // called after each replicate
+};
+
+// The curvature's standard errors (the covariance s² (JᵀJ)⁻¹ at the minimum) beside the bootstrap's.
+struct IdentificationBootstrap {
+  int replicates = 0;                   // refits attempted
+  int refused = 0;                      // replicates whose record did not identify the wall (IdentificationError)
+  int flagged = 0;                      // replicates identified whose fit does not explain their record
+  int used = 0;                         // the rest: their standard deviations are the sigma_* (when used >= 2;
+                                        // otherwise the sigma_* stay the curvature's)
+  std::uint64_t seed = 1;
+  double curvature_sigma_r = 0.0;       // [-]
+  double curvature_sigma_x_inst_m = 0.0;  // [m]
+  double curvature_sigma_omega_radps = 0.0;  // [rad/s]
+  double curvature_sigma_offset_m = 0.0;  // [m]
 };
 
 struct IdentificationResult {
@@ -76,6 +101,8 @@ struct IdentificationResult {
   int model_evaluations = 0;            // engine runs in all (grid, iterations, Jacobians)
   bool converged = false;               // the step and the cost change fell below their tolerances
   std::vector<double> t_s, measured_m, fitted_m;  // the samples used, for plots: measured and fitted x_mid [s, m]
+  // Set when a bootstrap ran: the sigma_* above are then its standard deviations (over the replicates identified).
+  std::optional<IdentificationBootstrap> bootstrap;
 };
 
 // The record does not identify the wall (no displacement samples, too short, at rest throughout, no impact, a

@@ -151,6 +151,37 @@ TEST(IdentifyCommand, ASnapBackTestGivesTheWallAndItsFileReproducesIt) {
   CHECK(read_text(dir.file("study") + "/runs.csv").find(num(r_hat).substr(0, 6)) != std::string::npos);
 }
 
+TEST(IdentifyCommand, ABootstrapReplacesTheStandardErrorsAndSaysSo) {
+  TempDir dir;
+  const std::string sensors = make_snap_back(dir);
+  const ProcessResult plain = run_rockwatch({"identify", "--wall-sensors", sensors, "--json"});
+  check_ok(plain);
+  const json p = json::parse(plain.out);
+  CHECK_EQUAL("curvature", p.at("sigma_method").get<std::string>());
+  CHECK(p.at("bootstrap").is_null());
+  const std::string wall_out = dir.file("wall.json");
+  const ProcessResult boot = run_rockwatch(
+      {"identify", "--wall-sensors", sensors, "--json", "--bootstrap", "3", "--jobs", "2", "--wall-out", wall_out});
+  check_ok(boot);
+  const json j = json::parse(boot.out);
+  CHECK_EQUAL("bootstrap", j.at("sigma_method").get<std::string>());
+  const json& b = j.at("bootstrap");
+  CHECK_EQUAL(3, b.at("replicates").get<int>());
+  CHECK_EQUAL(1, b.at("seed").get<int>());
+  CHECK_EQUAL(3, b.at("used").get<int>() + b.at("flagged").get<int>() + b.at("refused").get<int>());
+  // The point estimates are the record's own fit; the curvature's errors are kept beside the bootstrap's.
+  CHECK(j.at("x_inst_m").get<double>() == p.at("x_inst_m").get<double>());
+  CHECK(j.at("r").get<double>() == p.at("r").get<double>());
+  CHECK(b.at("curvature_sigma_x_inst_m").get<double>() == p.at("sigma_x_inst_m").get<double>());
+  CHECK(j.at("sigma_x_inst_m").get<double>() != p.at("sigma_x_inst_m").get<double>());
+  CHECK(j.at("sigma_x_inst_m").get<double>() > 0.0);
+  CHECK_EQUAL("bootstrap", json::parse(read_text(wall_out)).at("identified").at("sigma_method").get<std::string>());
+  const ProcessResult text = run_rockwatch({"identify", "--wall-sensors", sensors, "--bootstrap", "3"});
+  check_ok(text);
+  CHECK(text.out.find("the spread of") != std::string::npos);
+  CHECK(text.out.find("3 refits (seed 1)") != std::string::npos);
+}
+
 TEST(IdentifyCommand, ARecordThatDoesNotIdentifyTheWallExitsTwoSayingWhy) {
   TempDir dir;
   std::string rest = "t_s,x_mid_m\n";
@@ -164,6 +195,17 @@ TEST(IdentifyCommand, ARecordThatDoesNotIdentifyTheWallExitsTwoSayingWhy) {
   expect_command_rejected("identify", {}, {"--wall-sensors"});
   expect_command_rejected("identify", {"--wall-sensors", dir.file("rest.csv"), "--scale-pga", "0.2"},
                           {"--scale-pga", "needs a record"});
+  // The bootstrap's options.
+  expect_command_rejected("identify", {"--wall-sensors", dir.file("rest.csv"), "--bootstrap", "10001"},
+                          {"--bootstrap", "0 to 10000", "10001"});
+  expect_command_rejected("identify", {"--wall-sensors", dir.file("rest.csv"), "--bootstrap", "2.5"},
+                          {"--bootstrap", "whole number"});
+  expect_command_rejected("identify", {"--wall-sensors", dir.file("rest.csv"), "--bootstrap", "3", "--jobs", "x"},
+                          {"--jobs", "whole number"});
+  expect_command_rejected("identify", {"--wall-sensors", dir.file("rest.csv"), "--bootstrap-seed", "7"},
+                          {"--bootstrap-seed", "needs --bootstrap"});
+  expect_command_rejected("identify", {"--wall-sensors", dir.file("rest.csv"), "--jobs", "2"},
+                          {"--jobs", "needs --bootstrap"});
 }
 
 TEST(IdentifyCommand, AWrongWallFileIsRefusedNamingTheField) {
