@@ -161,7 +161,7 @@ std::string summary_text(const IdentifyRequest& q, const sim::IdentificationResu
       << number_text(r.bootstrap->curvature_sigma_x_inst_m) << " m (the minimum's own errors, for comparison)\n";
   } else if (!r.snap_back) {
     o << "  note               a forced test's curvature errors understate the uncertainty (many narrow minima):\n"
-         "                     --bootstrap 30 measures it\n";
+         "                     --bootstrap 20 measures it\n";
   }
   o << "\nEquivalent wall (b, h1, h2 identified; h1:h2, rho, Fp, a, a', g held)\n";
   o << "  b                  " << pm(r.wall.b_m, r.sigma_b_m, 6, "m") << '\n';

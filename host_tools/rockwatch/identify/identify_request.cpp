@@ -32,7 +32,7 @@ const char* const kFooter =
     "\n"
     "Standard errors: by default the curvature of the minimum, s^2 (J'J)^-1. For a snap-back test they are honest;\n"
     "a forced response's cost has many narrow minima, and the curvature says how narrow the one found is, not how\n"
-    "far from the wall it may be: give a forced test --bootstrap N (e.g. 30), N refits of the fitted response plus\n"
+    "far from the wall it may be: give a forced test --bootstrap N (e.g. 20), N refits of the fitted response plus\n"
     "new noise, whose spread is then the standard error (N times the fit's run time, on --jobs threads).\n"
     "\n"
     "Exit status: 0 identified, 2 invalid options or input, or a record that does not identify the wall (no\n"
