@@ -12,7 +12,7 @@
 
 #include "rockwatch/core/restitution.hpp"
 #include "rockwatch/sim/synthesis/random_stream.hpp"
-#include "study/parallel_runs.hpp"
+#include "rockwatch/sim/study/parallel_runs.hpp"
 
 namespace rockwatch::sim {
 

@@ -6,7 +6,7 @@
 #include <utility>
 
 #include "rockwatch/core/stepper_alarm_chain.hpp"
-#include "parallel_runs.hpp"
+#include "rockwatch/sim/study/parallel_runs.hpp"
 
 namespace rockwatch::sim::study {
 

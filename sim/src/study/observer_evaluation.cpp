@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "rockwatch/sim/synthesis/random_stream.hpp"
-#include "parallel_runs.hpp"
+#include "rockwatch/sim/study/parallel_runs.hpp"
 
 namespace rockwatch::sim::study {
 

@@ -1,5 +1,5 @@
-// The study's worker pool, shared by the batch study (batch_study.cpp) and the observer evaluation
-// (observer_evaluation.cpp): runs the runs not yet done on `jobs` threads, each with a worker of its own (the
+// The study's worker pool, shared by the batch study (batch_study.cpp), the observer and forecast evaluations and the
+// identification's bootstrap (identification.cpp): runs the runs not yet done on `jobs` threads, each with a worker of its own (the
 // per-thread buffers: one allocation per thread, none per run), the calling thread being one of them.
 #pragma once
 
