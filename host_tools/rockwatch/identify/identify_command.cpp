@@ -121,6 +121,14 @@ std::string pm(double value, double sigma, int digits, const std::string& unit) 
   return o.str();
 }
 
+// `digits` significant digits (the curvature's errors span 1e-3 to 1e-9).
+std::string significant(double value, int digits) {
+  std::ostringstream o;
+  o.precision(digits);
+  o << value;
+  return o.str();
+}
+
 std::string fixed(double value, int digits) {
   std::ostringstream o;
   o.setf(std::ios::fixed);
@@ -157,8 +165,8 @@ std::string summary_text(const IdentifyRequest& q, const sim::IdentificationResu
   if (r.bootstrap) {
     o << "  bootstrap          " << r.bootstrap->replicates << " refits (seed " << r.bootstrap->seed << "), "
       << r.bootstrap->refused << " refused, " << r.bootstrap->flagged << " not explaining their record\n"
-      << "  curvature          r +- " << number_text(r.bootstrap->curvature_sigma_r) << ", x_inst +- "
-      << number_text(r.bootstrap->curvature_sigma_x_inst_m) << " m (the minimum's own errors, for comparison)\n";
+      << "  curvature          r +- " << significant(r.bootstrap->curvature_sigma_r, 3) << ", x_inst +- "
+      << significant(r.bootstrap->curvature_sigma_x_inst_m, 3) << " m (the minimum's own errors, for comparison)\n";
   } else if (!r.snap_back) {
     o << "  note               a forced test's curvature errors understate the uncertainty (many narrow minima):\n"
          "                     --bootstrap 20 measures it\n";
