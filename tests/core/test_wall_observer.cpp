@@ -237,6 +237,12 @@ TEST(WallObserver, RefusesSettingsOutOfRangeNamingWhich) {
   o.gate_chi2 = 0.5;
   CHECK(observer.init(o, setup_with_r(0.8), paper_wall()) == ObserverError::gate_out_of_range);
   o = ObserverOptions{};
+  o.capacity_reopen_after = -1;
+  CHECK(observer.init(o, setup_with_r(0.8), paper_wall()) == ObserverError::gate_out_of_range);
+  STRCMP_CONTAINS("capacity_reopen_after", observer_error_message(ObserverError::gate_out_of_range));
+  o.capacity_reopen_after = 0;  // never: allowed
+  CHECK(observer.init(o, setup_with_r(0.8), paper_wall()) == ObserverError::ok);
+  o = ObserverOptions{};
   o.dropout_s = -1.0;
   CHECK(observer.init(o, setup_with_r(0.8), paper_wall()) == ObserverError::timing_out_of_range);
   STRCMP_CONTAINS("dropout", observer_error_message(ObserverError::timing_out_of_range));
