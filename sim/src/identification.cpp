@@ -601,7 +601,8 @@ void bootstrap(const IdentificationInput& in, IdentificationResult& out) {
   b.refused = b.replicates - identified;
   b.flagged = identified - explained;
   b.used = explained;
-  if (explained >= 2) {
+  out.sigma_by_bootstrap = explained >= 2;
+  if (out.sigma_by_bootstrap) {
     out.sigma_r = standard_deviation(reps, &ReplicateEstimate::r);
     out.sigma_x_inst_m = standard_deviation(reps, &ReplicateEstimate::x_inst_m);
     out.sigma_omega_radps = standard_deviation(reps, &ReplicateEstimate::omega_radps);

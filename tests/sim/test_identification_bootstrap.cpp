@@ -48,6 +48,8 @@ TEST(IdentificationBootstrap, ABootstrapStatesTheUncertaintyOfAForcedTestThatThe
   CHECK_EQUAL(0, got.bootstrap->refused);
   CHECK_EQUAL(6, got.bootstrap->used + got.bootstrap->flagged);
   CHECK(got.bootstrap->used >= 2);
+  CHECK_TRUE(got.sigma_by_bootstrap);
+  CHECK_FALSE(plain.sigma_by_bootstrap);
   CHECK(got.bootstrap->curvature_sigma_x_inst_m == plain.sigma_x_inst_m);
   // The curvature's error is not an uncertainty here (the case is chosen so: more than 10 of its σ off) ...
   CHECK(x_error_m > 10.0 * plain.sigma_x_inst_m);

@@ -74,7 +74,7 @@ nlohmann::ordered_json identify_json(const IdentifyRequest& q, const sim::Identi
   j["sigma_offset_m"] = r.sigma_offset_m;
   j["x0_m"] = or_null(r.x0_m);
   j["sigma_x0_m"] = or_null(r.sigma_x0_m);
-  j["sigma_method"] = r.bootstrap && r.bootstrap->used >= 2 ? "bootstrap" : "curvature";
+  j["sigma_method"] = r.sigma_by_bootstrap ? "bootstrap" : "curvature";
   if (r.bootstrap) {
     const sim::IdentificationBootstrap& b = *r.bootstrap;
     j["bootstrap"] = {{"replicates", b.replicates},
@@ -143,7 +143,7 @@ std::string summary_text(const IdentifyRequest& q, const sim::IdentificationResu
   o << "  test               " << (r.snap_back ? "snap-back (ground at rest, released at t = 0)" : "forced (record " + q.record->record_path + ")") << '\n';
   o << "  sensors            " << q.wall_sensors_path << ": " << r.samples_used << " displacement samples\n";
   o << "  start              " << q.start_wall_text << ", r " << number_text(start_r) << '\n';
-  const bool by_bootstrap = r.bootstrap && r.bootstrap->used >= 2;
+  const bool by_bootstrap = r.sigma_by_bootstrap;
   o << "\nIdentified (estimate +- standard error: "
     << (by_bootstrap ? "the spread of " + std::to_string(r.bootstrap->used) + " bootstrap refits"
                      : std::string("the minimum's curvature"))
@@ -258,8 +258,7 @@ options::WallFile identified_wall_file(const IdentifyRequest& q, const sim::Iden
                      {"sigma_r", r.sigma_r},
                      {"sigma_x_inst_m", r.sigma_x_inst_m},
                      {"sigma_omega_radps", r.sigma_omega_radps},
-                     {"sigma_method", r.bootstrap && r.bootstrap->used >= 2
-                                          ? "bootstrap" : "curvature"},
+                     {"sigma_method", r.sigma_by_bootstrap ? "bootstrap" : "curvature"},
                      {"residual_rms_m", r.residual_rms_m},
                      {"identified", {"b_m", "h1_m", "h2_m", "r"}},
                      {"held", {"h1_m:h2_m", "rho_kgpm3", "fp_npm", "a", "a_prime", "g_mps2"}}};

@@ -103,6 +103,8 @@ struct IdentificationResult {
   std::vector<double> t_s, measured_m, fitted_m;  // the samples used, for plots: measured and fitted x_mid [s, m]
   // Set when a bootstrap ran: the sigma_* above are then its standard deviations (over the replicates identified).
   std::optional<IdentificationBootstrap> bootstrap;
+  // The sigma_* are the bootstrap's (it ran and used ≥ 2 replicates), not the curvature's: what every report says.
+  bool sigma_by_bootstrap = false;
 };
 
 // The record does not identify the wall (no displacement samples, too short, at rest throughout, no impact, a
