@@ -242,6 +242,9 @@ TEST(WallObserver, RefusesSettingsOutOfRangeNamingWhich) {
   STRCMP_CONTAINS("capacity_reopen_after", observer_error_message(ObserverError::gate_out_of_range));
   o.capacity_reopen_after = 0;  // never: allowed
   CHECK(observer.init(o, setup_with_r(0.8), paper_wall()) == ObserverError::ok);
+  o.rest_from_accel_after = 1001;
+  CHECK(observer.init(o, setup_with_r(0.8), paper_wall()) == ObserverError::gate_out_of_range);
+  STRCMP_CONTAINS("rest_from_accel_after", observer_error_message(ObserverError::gate_out_of_range));
   o = ObserverOptions{};
   o.dropout_s = -1.0;
   CHECK(observer.init(o, setup_with_r(0.8), paper_wall()) == ObserverError::timing_out_of_range);

@@ -435,9 +435,48 @@ TEST(AnalysisObserver, AnOverburdenedWallSeenByTheAccelerometerIsLearnedNotGated
       CHECK(std::fabs(s.r_estimate - truth.result.r) <= 3.0 * s.sigma_r);
       CHECK(rms_x_error(fused, truth.result) < 0.01 * truth.result.x_inst_m);
       CHECK(s.n_accel_updates > 3000);
-      CHECK(s.counters.reinitialised <= 1);
+      CHECK(s.counters.reinitialised < 10);  // 39–41 without the rule (seeds 2, 3)
       CHECK_FALSE(fused.verdict_collapse());
     }
   }
   CHECK(diverged_without >= 2);
+}
+
+TEST(AnalysisObserver, AWallTheAccelerometerReadsAtRestIsNotRockedByTheModel) {
+  // The real wall carries 3 kN/m: its uplift threshold is 2.2 m/s², the nominal one's 1.1. Set 2 Y at 0.23 g: the
+  // real wall never lifts (max |x| 2 µm); the nominal model does, at a few millimetres the transducer hardly tells
+  // from its noise. The accelerometer can: a rocking wall's reading differs from the ground's by ≈ c_s. Without the
+  // rest rule (ObserverOptions::rest_from_accel_after 0) the model rocked on and ~3 000 of ~4 000 accelerations were
+  // gated out; with it the model is put to rest 11–51 times and 170–590 are. (Seed 3 also shows its weakness: the
+  // model, restarted by the ground at the nominal threshold, rocks to 10 mm and ends with κc 0.48, where the rule off
+  // leaves the prior's 1.0: docs/BENCHMARKS.md "Observer evaluation".)
+  core::WallParameters wall = core::paper_wall();
+  wall.fp_npm = 3000.0;
+  const sim::GroundMotion m = suite_motion(2, 1, 0.23);
+  for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+    sim::SensorModel model;
+    model.x_bias_m = 2e-3;
+    model.a_noise_mps2 = 0.05;
+    model.seed = seed;
+    const Truth truth = simulate_truth(wall, m, core::Restitution{}, model);
+    CHECK(truth.result.max_abs_x_m < 1e-5);
+    for (const int rest : {0, 8}) {
+      sim::AnalysisOptions o;
+      o.keep_history = true;
+      o.evaluate_alarm = true;
+      o.wall_sensors = &truth.samples;
+      o.observer.rest_from_accel_after = rest;
+      const sim::AnalysisResult fused = sim::analyse(core::paper_wall(), m, o);
+      const sim::ObserverSummary& s = fused.observer;
+      CHECK_FALSE(fused.verdict_collapse());
+      CHECK_FALSE(fused.alarm.t_first_imminent_s.has_value());
+      if (rest == 0) {
+        CHECK(s.n_rejected > 2500);
+        LONGS_EQUAL(0, s.counters.rest_from_accel);
+      } else {
+        CHECK(s.n_rejected < 1000);
+        CHECK(s.counters.rest_from_accel >= 10);
+      }
+    }
+  }
 }

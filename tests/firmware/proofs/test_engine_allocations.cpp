@@ -48,7 +48,12 @@ ObserverRun run_observer(rockwatch::firmware::WallEngine& engine, const std::vec
       if (i % 97 == 0) s.x_mid_m = std::nan("");
       if (i % 89 == 0) s.x_mid_m += 0.03;
       s.a_valid = true;
-      s.a_mid_mps2 = ug[k];
+      // The wall's reading (SPEC §8: ü + ẍ − g·x/h1) but for 15–16 s of each cycle, where it reads a wall at rest
+      // (ü alone) while the model may rock: the observer's rest rule.
+      const auto& st = engine.stepper();
+      const bool reads_rest = k >= 3000 && k < 3200;
+      s.a_mid_mps2 = ug[k] + (st.moving() && !reads_rest ? st.xdd_mps2().to_double() - 9.81 * st.x_m().to_double() / 1.75
+                                                         : 0.0);
       engine.push_sensor(s);
     }
     const rockwatch::firmware::EngineSample e = engine.step_at(ug[k], vg[k], t_us, 5000);
@@ -127,14 +132,15 @@ int main() {
   const core::ObserverCounters& oc_counts = observed.observer_counters();
   std::printf("observer: init %llu allocation calls (allowed); %llu samples, %llu impacts, %llu collapses, %llu "
               "corrected, %llu sensor-lost, %llu with a fault; %lld x and %lld a updates, %lld rejected, %lld not "
-              "finite, %lld jumps, %lld re-initialisations, %lld dropouts\n",
+              "finite, %lld jumps, %lld re-initialisations, %lld dropouts, %lld rests from the accelerometer\n",
               static_cast<unsigned long long>(observer_init_calls), static_cast<unsigned long long>(o.samples),
               static_cast<unsigned long long>(o.impacts), static_cast<unsigned long long>(o.collapses),
               static_cast<unsigned long long>(o.corrected), static_cast<unsigned long long>(o.lost),
               static_cast<unsigned long long>(o.faults), static_cast<long long>(oc_counts.x_updates),
               static_cast<long long>(oc_counts.a_updates), static_cast<long long>(oc_counts.rejected),
               static_cast<long long>(oc_counts.not_finite), static_cast<long long>(oc_counts.jumps),
-              static_cast<long long>(oc_counts.reinitialised), static_cast<long long>(oc_counts.dropouts));
+              static_cast<long long>(oc_counts.reinitialised), static_cast<long long>(oc_counts.dropouts),
+              static_cast<long long>(oc_counts.rest_from_accel));
   std::printf("allocation calls during push_sensor()/step_at()/start()/restart(): %llu\n",
               static_cast<unsigned long long>(observer_calls));
   if (!(o.impacts >= 100 && o.corrected >= 10000 && o.lost > 0 && o.faults > 0 && oc_counts.x_updates > 0 &&
