@@ -30,8 +30,8 @@ struct ObserverRun {
 };
 
 // The engine with the observer over the looped cycle: push_sensor then step_at per sample. Only calls the engine.
-ObserverRun run_observer(rockwatch::firmware::WallEngine& engine, const std::vector<double>& ug,
-                         const std::vector<double>& vg, std::size_t n) {
+ObserverRun run_observer(rockwatch::firmware::WallEngine& engine, const core::WallParameters& w,
+                         const std::vector<double>& ug, const std::vector<double>& vg, std::size_t n) {
   ObserverRun r;
   std::size_t k = 0;
   std::int64_t t_us = 0;
@@ -52,8 +52,9 @@ ObserverRun run_observer(rockwatch::firmware::WallEngine& engine, const std::vec
       // (ü alone) while the model may rock: the observer's rest rule.
       const auto& st = engine.stepper();
       const bool reads_rest = k >= 3000 && k < 3200;
-      s.a_mid_mps2 = ug[k] + (st.moving() && !reads_rest ? st.xdd_mps2().to_double() - 9.81 * st.x_m().to_double() / 1.75
-                                                         : 0.0);
+      s.a_mid_mps2 = ug[k] + (st.moving() && !reads_rest
+                                  ? st.xdd_mps2().to_double() - w.g_mps2 * st.x_m().to_double() / w.h1_m
+                                  : 0.0);
       engine.push_sensor(s);
     }
     const rockwatch::firmware::EngineSample e = engine.step_at(ug[k], vg[k], t_us, 5000);
@@ -127,7 +128,7 @@ int main() {
     return 1;
   }
   const std::uint64_t before_observer = g_calls;
-  const ObserverRun o = run_observer(observed, ug, vg, et::kMeasuredSamples);
+  const ObserverRun o = run_observer(observed, oc.wall, ug, vg, et::kMeasuredSamples);
   const std::uint64_t observer_calls = g_calls - before_observer;
   const core::ObserverCounters& oc_counts = observed.observer_counters();
   std::printf("observer: init %llu allocation calls (allowed); %llu samples, %llu impacts, %llu collapses, %llu "

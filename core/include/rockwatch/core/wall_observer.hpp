@@ -1153,20 +1153,21 @@ class WallObserver {
     for (int a = 0; a < kStates; ++a) ph[a] = p_(a, X) * hx + p_(a, C) * hc + p_(a, K) * hk;
     Vec dz = Vec::Zero();
     last_innovation_a_ = y;
-    if (!scalar_update(ph, hx * ph[X] + hc * ph[C] + hk * ph[K] + r_a_, cov(y), dz, informative(x))) {
+    const bool learn = informative(x);
+    if (!scalar_update(ph, hx * ph[X] + hc * ph[C] + hk * ph[K] + r_a_, cov(y), dz, learn)) {
       ++counters_.rejected;
       out.flags |= observer_flag::rejected;
-      // The displacement agrees (its last update passed) and the motion is large enough to inform the capacity, yet
-      // the accelerometer keeps disagreeing: the capacity is further from the estimate than its covariance says.
-      if (reopen_after_ > 0 && consecutive_rejections_ == 0 && informative(x) &&
-          ++consecutive_a_rejections_ >= reopen_after_) {
+      const bool x_agrees = consecutive_rejections_ == 0;  // the last displacement update passed
+      // The displacement agrees and the motion is large enough to inform the capacity, yet the accelerometer keeps
+      // disagreeing: the capacity is further from the estimate than its covariance says.
+      if (reopen_after_ > 0 && x_agrees && learn && ++consecutive_a_rejections_ >= reopen_after_) {
         reopen_capacity(cov(y) / hc);
       }
       // The reading is what a wall at rest gives (a = ü, block 1 vertical): the model rocks where the real wall
       // does not. Every such reading in a row, with the displacement agreeing, is a vote; rest_after_ votes put the
       // model to rest, where its state is known (x = ẋ = 0), and the stepper's start logic takes it from there.
       const Cov y_rest = cov(Scalar(s.a_mid_mps2) - ug_s);
-      if (rest_after_ > 0 && consecutive_rejections_ == 0 && y_rest * y_rest <= gate_ * r_a_) {
+      if (rest_after_ > 0 && x_agrees && y_rest * y_rest <= gate_ * r_a_) {
         if (++rest_votes_ >= rest_after_) put_to_rest(stepper, ug, vg);
       } else {
         rest_votes_ = 0;
