@@ -42,7 +42,7 @@ using options::UsageError;
 
 // What the file set; absent keys keep the defaults.
 // The observer keys a configuration may give (kObserverFields below).
-inline constexpr int kObserverFieldCount = 7;
+inline constexpr int kObserverFieldCount = 8;
 
 struct FileValues {
   std::optional<double> wall[8];  // in kWallFields order
@@ -108,6 +108,7 @@ inline constexpr ObserverField kObserverFields[kObserverFieldCount] = {
     {"dropout_s", &core::ObserverOptions::dropout_s, "s"},
     {"max_age_s", &core::ObserverOptions::max_age_s, "s"},
     {"capacity_sigmas", &core::ObserverOptions::alarm_capacity_sigmas, "-"},
+    {"accel_inform_peak_noises", &core::ObserverOptions::accel_inform_peak_noises, "-"},
 };
 
 inline std::string json_type(const json& v) {

@@ -84,6 +84,9 @@ json normalised_settings(const MonitorConfig& config) {
     if (o.alarm_capacity_sigmas != core::ObserverOptions{}.alarm_capacity_sigmas) {
       out["observer"]["capacity_sigmas"] = o.alarm_capacity_sigmas;
     }
+    if (o.accel_inform_peak_noises != core::ObserverOptions{}.accel_inform_peak_noises) {
+      out["observer"]["accel_inform_peak_noises"] = o.accel_inform_peak_noises;
+    }
     out["channels"]["wall_sensor"] = s.channels.wall_sensor;
     out["channels"]["wall_estimate"] = s.channels.wall_estimate;
   }

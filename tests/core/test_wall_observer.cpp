@@ -246,6 +246,12 @@ TEST(WallObserver, RefusesSettingsOutOfRangeNamingWhich) {
   CHECK(observer.init(o, setup_with_r(0.8), paper_wall()) == ObserverError::gate_out_of_range);
   STRCMP_CONTAINS("rest_from_accel_after", observer_error_message(ObserverError::gate_out_of_range));
   o = ObserverOptions{};
+  o.accel_inform_peak_noises = -0.5;
+  CHECK(observer.init(o, setup_with_r(0.8), paper_wall()) == ObserverError::range_out_of_range);
+  STRCMP_CONTAINS("accel_inform_peak_noises", observer_error_message(ObserverError::range_out_of_range));
+  o.accel_inform_peak_noises = 0.0;  // from the first motion: allowed
+  CHECK(observer.init(o, setup_with_r(0.8), paper_wall()) == ObserverError::ok);
+  o = ObserverOptions{};
   o.dropout_s = -1.0;
   CHECK(observer.init(o, setup_with_r(0.8), paper_wall()) == ObserverError::timing_out_of_range);
   STRCMP_CONTAINS("dropout", observer_error_message(ObserverError::timing_out_of_range));

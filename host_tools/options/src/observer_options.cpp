@@ -56,6 +56,13 @@ void add_observer_options(CLI::App& app, ObserverOptionTexts& texts, const std::
                      range_text(kMinObserverCapacitySigmas, kMaxObserverCapacitySigmas, "") + " (default " +
                      number_text(d.alarm_capacity_sigmas) + ")")
       ->type_name("K");
+  app.add_option("--observer-accel-inform-peak-noises", texts.accel_inform_peak_noises,
+                 help_prefix + "the accelerometer informs the capacity once the half-cycle peaks at N x the "
+                     "transducer's sigma; 0: from the first motion, for a wall whose overburden and heights are known "
+                     "(SPEC 8), " +
+                     range_text(kMinObserverAccelInformPeakNoises, kMaxObserverAccelInformPeakNoises, "") +
+                     " (default " + number_text(d.accel_inform_peak_noises) + ")")
+      ->type_name("N");
 }
 
 bool observer_option_given(const CLI::App& app) {
@@ -78,6 +85,10 @@ core::ObserverOptions parse_observer_options(const CLI::App& app, const Observer
   o.alarm_capacity_sigmas = parse_in_range(app, "--observer-capacity-sigmas", texts.capacity_sigmas,
                                            kMinObserverCapacitySigmas, kMaxObserverCapacitySigmas, "",
                                            o.alarm_capacity_sigmas);
+  o.accel_inform_peak_noises =
+      parse_in_range(app, "--observer-accel-inform-peak-noises", texts.accel_inform_peak_noises,
+                     kMinObserverAccelInformPeakNoises, kMaxObserverAccelInformPeakNoises, "",
+                     o.accel_inform_peak_noises);
   // The core's own check, in case its ranges ever become narrower than the ones above.
   const core::ObserverError err = core::validate_observer_options(o);
   if (err != core::ObserverError::ok) throw UsageError(core::observer_error_message(err));

@@ -423,6 +423,8 @@ TEST(MonitorObserverSettings, BadValuesNameTheKeyAndTheRange) {
   expect_config_rejected(R"({"observer": {"max_age_s": 11}})", {"observer.max_age_s", "[0, 10]"});
   expect_config_rejected(R"({"observer": {"capacity_sigmas": 11}})",
                          {"observer.capacity_sigmas", "alarm_capacity_sigmas in [0, 10]"});
+  expect_config_rejected(R"({"observer": {"accel_inform_peak_noises": -1}})",
+                         {"observer.accel_inform_peak_noises", "accel_inform_peak_noises in [0, 1000]"});
   expect_config_rejected(R"({"observer": {"a_noise_mps2": 50}})", {"observer.a_noise_mps2"});
   expect_config_rejected(R"({"observer": {"process_accel_mps2": "1"}})", {"observer.process_accel_mps2", "a string"});
   expect_config_rejected(R"({"observer": {"enabled": 1}})", {"observer.enabled", "true or false"});

@@ -66,6 +66,8 @@ enum class EngineInputKey : std::uint64_t {
   observer_quiet_fraction = 32,
   observer_v_min_mps = 33,
   work_overflow = 34,     // core::WorkOverflow as a number (the budgeted step()'s policy at a full queue)
+  observer_alarm_capacity_sigmas = 35,     // the alarm's margin k_σ (`--observer-capacity-sigmas`)
+  observer_accel_inform_peak_noises = 36,  // `--observer-accel-inform-peak-noises`
 };
 
 // Every configuration field with its key, in key order: the one list both the writer and the reader use.
@@ -107,6 +109,8 @@ void visit_engine_input_fields(Config& c, Visit&& visit) {
   visit(EngineInputKey::observer_quiet_fraction, c.observer.quiet_fraction);
   visit(EngineInputKey::observer_v_min_mps, c.observer.v_min_mps);
   visit(EngineInputKey::work_overflow, c.work_overflow);
+  visit(EngineInputKey::observer_alarm_capacity_sigmas, c.observer.alarm_capacity_sigmas);
+  visit(EngineInputKey::observer_accel_inform_peak_noises, c.observer.accel_inform_peak_noises);
 }
 
 // A field's value as the file carries it (a double).

@@ -202,6 +202,14 @@ nlohmann::ordered_json observer_plan_json(const study::ObserverEvaluationPlan& e
                    {"a_noise_mps2", o.a_noise_mps2},
                    {"process_mps2", o.process_accel_mps2},
                    {"gate_chi2", o.gate_chi2}};
+  // Only when changed: the description (what --resume compares) of a study written before the keys existed stays.
+  const core::ObserverOptions defaults{};
+  if (o.alarm_capacity_sigmas != defaults.alarm_capacity_sigmas) {
+    j["observer"]["capacity_sigmas"] = o.alarm_capacity_sigmas;
+  }
+  if (o.accel_inform_peak_noises != defaults.accel_inform_peak_noises) {
+    j["observer"]["accel_inform_peak_noises"] = o.accel_inform_peak_noises;
+  }
   j["r_after_impacts"] = e.r_after_impacts;
   return j;
 }

@@ -112,7 +112,7 @@ TEST(SimulateEngineInput, HoldsTheConfigurationAndEveryInputTheEngineSteppedOn) 
   const EngineInputFile f = read_engine_input(path);
   CHECK_TRUE(f.complete);
   CHECK_TRUE(f.keys_known);
-  LONGS_EQUAL(34, f.n_config);
+  LONGS_EQUAL(36, f.n_config);
   CHECK_TRUE(f.config.work_overflow == core::WorkOverflow::finish);  // the firmware's policy, for the M4 replay
   STRCMP_EQUAL("finish", j["alarm"]["published"]["work_overflow"].get<std::string>().c_str());
   CHECK_FALSE(f.config.observer_enabled);
@@ -174,7 +174,8 @@ TEST(SimulateEngineInput, CarriesTheObserverSettingsAndTheWallSensorSamples) {
   CHECK_EQUAL_TEXT(0, t.exit_status, describe(t).c_str());
   std::vector<std::string> fused = record;
   for (const char* a : {"--wall-sensors", sensors.c_str(), "--observer-gate-chi2", "25", "--observer-process-mps2",
-                        "0.3", "--engine-input-out", path.c_str()}) {
+                        "0.3", "--observer-capacity-sigmas", "0.5", "--observer-accel-inform-peak-noises", "0",
+                        "--engine-input-out", path.c_str()}) {
     fused.push_back(a);
   }
   const ProcessResult r = run_rockwatch(fused);
@@ -185,6 +186,8 @@ TEST(SimulateEngineInput, CarriesTheObserverSettingsAndTheWallSensorSamples) {
   CHECK_TRUE(f.config.observer_enabled);
   DOUBLES_EQUAL(25.0, f.config.observer.gate_chi2, 0.0);
   DOUBLES_EQUAL(0.3, f.config.observer.process_accel_mps2, 0.0);
+  DOUBLES_EQUAL(0.5, f.config.observer.alarm_capacity_sigmas, 0.0);
+  DOUBLES_EQUAL(0.0, f.config.observer.accel_inform_peak_noises, 0.0);
   DOUBLES_EQUAL(core::ObserverOptions{}.x_noise_m, f.config.observer.x_noise_m, 0.0);
   LONGS_EQUAL(core::ObserverOptions{}.stuck_after, f.config.observer.stuck_after);
   const std::vector<core::WallSensorSample> expected = rockwatch::cli::read_wall_sensor_samples(sensors);

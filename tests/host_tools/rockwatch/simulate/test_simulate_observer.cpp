@@ -191,6 +191,8 @@ TEST(SimulateObserver, RefusesBadSensorFilesAndOptionsNamingThem) {
                           {"--observer-process-mps2 must be in [1e-04, 100] m/s2"});
   expect_command_rejected("simulate", set10({"--wall-sensors", good, "--observer-a-noise-mps2", "11"}),
                           {"--observer-a-noise-mps2"});
+  expect_command_rejected("simulate", set10({"--wall-sensors", good, "--observer-accel-inform-peak-noises", "-1"}),
+                          {"--observer-accel-inform-peak-noises must be in [0, 1000] (got -1)"});
   expect_command_rejected("simulate", set10({"--sensor-noise-m", "0.001"}),
                           {"--sensor-noise-m", "give it too"});
   expect_command_rejected("simulate", set10({"--sensors-out", dir.file("x.csv"), "--wall-sensors", good}),
@@ -212,7 +214,7 @@ TEST(SimulateObserver, HelpNamesTheOptionsWithTheirDefaults) {
   const ProcessResult r = run_rockwatch({"simulate", "--help"});
   check_ok(r);
   for (const char* text : {"--wall-sensors", "--observer-x-noise-m", "(default 5e-04)", "--observer-gate-chi2",
-                           "(default 16)", "--sensors-out", "--sensor-dropout", "--sensor-accel-noise-mps2",
+                           "(default 16)", "--observer-accel-inform-peak-noises", "--sensors-out", "--sensor-dropout", "--sensor-accel-noise-mps2",
                            "--sensor-seed"}) {
     CHECK_TEXT(r.out.find(text) != std::string::npos, text);
   }

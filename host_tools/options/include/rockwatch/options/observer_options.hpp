@@ -1,5 +1,5 @@
 // The wall observer's settings on a command line (core::ObserverOptions, core/wall_observer.hpp): --observer-x-noise-m,
-// --observer-a-noise-mps2, --observer-process-mps2, --observer-gate-chi2 and --observer-capacity-sigmas, with the defaults of core::ObserverOptions
+// --observer-a-noise-mps2, --observer-process-mps2, --observer-gate-chi2, --observer-capacity-sigmas and --observer-accel-inform-peak-noises, with the defaults of core::ObserverOptions
 // in their help and one range check each, whose message names the option. `rockwatch simulate --wall-sensors` and
 // `rockwatch study --observer` use them; the monitor can register the same options.
 #pragma once
@@ -15,7 +15,7 @@
 namespace rockwatch::options {
 
 struct ObserverOptionTexts {
-  std::string x_noise, a_noise, process, gate, capacity_sigmas;
+  std::string x_noise, a_noise, process, gate, capacity_sigmas, accel_inform_peak_noises;
 };
 
 // The ranges core::validate_observer_options accepts.
@@ -24,11 +24,13 @@ inline constexpr double kMinObserverANoise_mps2 = 1e-4, kMaxObserverANoise_mps2 
 inline constexpr double kMinObserverProcess_mps2 = 1e-4, kMaxObserverProcess_mps2 = 100.0;
 inline constexpr double kMinObserverGateChi2 = 1.0, kMaxObserverGateChi2 = 1000.0;
 inline constexpr double kMinObserverCapacitySigmas = 0.0, kMaxObserverCapacitySigmas = 10.0;
+inline constexpr double kMinObserverAccelInformPeakNoises = 0.0, kMaxObserverAccelInformPeakNoises = 1000.0;
 
 // The option names, in registration order.
 inline constexpr const char* kObserverOptionNames[] = {"--observer-x-noise-m", "--observer-a-noise-mps2",
                                                        "--observer-process-mps2", "--observer-gate-chi2",
-                                                       "--observer-capacity-sigmas"};
+                                                       "--observer-capacity-sigmas",
+                                                       "--observer-accel-inform-peak-noises"};
 
 // Registers the options; each help starts with `help_prefix` (e.g. "With --wall-sensors: ").
 void add_observer_options(CLI::App& app, ObserverOptionTexts& texts, const std::string& help_prefix);
