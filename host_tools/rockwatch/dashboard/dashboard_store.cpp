@@ -374,11 +374,15 @@ void SnapshotStore::on_forecast(const std::string& name, const rockwatch::wall_f
   ++w->version;
   w->forecast = m;
   using F = rockwatch::wall_forecast_t;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
   const double p = m.status == F::STATUS_OK          ? m.p_collapse
                    : m.status == F::STATUS_AT_REST   ? 0.0
                    : m.status == F::STATUS_COLLAPSED ? 1.0
-                                                     : std::numeric_limits<double>::quiet_NaN();
-  if (std::isfinite(p) && m.utime > 0) add_point(w->forecast_p, seconds_of(m.utime), p, std::numeric_limits<double>::quiet_NaN());
+                                                     : nan;
+  // The calibrated P (SPEC §10; NaN where the monitor has no coefficients for its horizon: the page then draws the
+  // ensemble's alone), in the point's second value.
+  const double p_calibrated = m.status == F::STATUS_OK ? m.p_collapse_calibrated : p;
+  if (std::isfinite(p) && m.utime > 0) add_point(w->forecast_p, seconds_of(m.utime), p, p_calibrated);
 }
 
 void SnapshotStore::count_decode_error() {
@@ -421,7 +425,8 @@ json SnapshotStore::wall_json(const Wall& w, bool whole) const {
   }
   j["estimate"] = w.estimate ? estimate_json(*w.estimate) : json(nullptr);
   j["forecast"] = w.forecast ? forecast_json(*w.forecast) : json(nullptr);
-  // Points as [id, t_s, x_m, energy_ratio] ([id, t_s, x_m] for the measured x): compact, and the page appends by id.
+  // Points as [id, t_s, x_m, energy_ratio] ([id, t_s, x_m] for the measured x; [id, t_s, P, P calibrated or null]
+  // for the forecasts): compact, and the page appends by id.
   const auto series = [whole](const Series& s, bool with_energy) {
     json points = json::array();
     for (const Point& p : s.points) {
@@ -434,7 +439,7 @@ json SnapshotStore::wall_json(const Wall& w, bool whole) const {
   };
   j["points"] = series(w.predicted, true);
   j["measured"] = series(w.measured, false);
-  j["forecast_points"] = series(w.forecast_p, false);
+  j["forecast_points"] = series(w.forecast_p, true);
   if (whole || w.send_everything || w.transitions_total != w.pushed_transitions_total) {
     json transitions = json::array();
     for (const rockwatch::alarm_event_t& e : w.transitions) transitions.push_back(transition_json(e));

@@ -62,15 +62,18 @@
     }, [[], [], [], []], el);
   }
 
-  // P(collapse within H) of the monitor's ensemble forecast (wall_forecast_t), 0 to 1.
+  // P(collapse within H) of the monitor's forecast (wall_forecast_t), 0 to 1: the calibrated P (SPEC §10, the odds
+  // to read) and the ensemble's raw fraction, over-confident above 0.5 (docs/BENCHMARKS.md "Forecast").
   function makePChart(el) {
     return new uPlot({
       width: chartWidth(el), height: 180,
       scales: { x: { time: true }, y: { range: () => [0, 1] } },
       axes: [{}, { label: 'P(collapse)', size: 50 }],
-      series: [{}, { label: 'P(collapse within H)', stroke: COLORS.forecast, width: 2, spanGaps: false }],
+      series: [{},
+        { label: 'P(collapse within H), calibrated', stroke: COLORS.forecast, width: 2, spanGaps: false },
+        { label: 'ensemble fraction (raw)', stroke: COLORS.forecast, width: 1, dash: [4, 4], spanGaps: false }],
       legend: { live: false },
-    }, [[], []], el);
+    }, [[], [], []], el);
   }
 
   function makeWall(name) {
@@ -123,8 +126,8 @@
     charts.appendChild(eBox);
     card.appendChild(charts);
     const pBox = $('div', 'forecast-box');
-    pBox.appendChild($('p', 'chart-title', 'P(collapse within the horizon): the monitor\'s ensemble forecast ' +
-      '(rockwatch-monitor --forecast; 0 while the wall is at rest)'));
+    pBox.appendChild($('p', 'chart-title', 'P(collapse within the horizon): the monitor\'s forecast, calibrated ' +
+      '(solid) and the ensemble\'s raw fraction (dashed) (rockwatch-monitor --forecast; 0 while the wall is at rest)'));
     view.pEl = $('div', 'chart');
     view.pEl.dataset.testid = 'forecast-chart';
     view.pEl.dataset.wall = name;
@@ -216,9 +219,10 @@
         mm(w.estimate.sigma_x_inst_m) : '') +
       (w.estimate.sensor_health.length ? ' (' + w.estimate.sensor_health.join(', ') + ')' : '') : 'off';
     const f = w.forecast;
+    const calibrated = f && f.p_collapse_calibrated != null ? fmt(f.p_collapse_calibrated, 3) + ' calibrated, ' : '';
     view.pCollapse.textContent = !f ? 'off' : f.status === 'ok' ?
-      fmt(f.p_collapse, 3) + ' ± ' + fmt(f.p_collapse_se, 3) + ' within ' + fmt(f.horizon_s, 1, 's') + ' (' +
-        f.members + ' members, ' + fmt(f.compute_us / 1000, 1, 'ms') + ')' :
+      calibrated + 'ensemble ' + fmt(f.p_collapse, 3) + ' ± ' + fmt(f.p_collapse_se, 3) + ' within ' +
+        fmt(f.horizon_s, 1, 's') + ' (' + f.members + ' members, ' + fmt(f.compute_us / 1000, 1, 'ms') + ')' :
       f.status === 'at_rest' ? 'wall at rest' : f.status === 'collapsed' ? '1 (collapsed)' : 'waiting for input';
     if (f) view.pBox.hidden = false;
     renderTransitions(view);
@@ -226,6 +230,7 @@
     if (haveCharts) renderCharts(view);
     view.xEl.dataset.points = String(view.points.length);
     view.pEl.dataset.points = String(view.forecast.length);
+    view.pEl.dataset.calibrated = String(view.forecast.filter((p) => p[3] !== null && p[3] !== undefined).length);
   }
 
   function renderCharts(view) {
@@ -252,7 +257,8 @@
     view.xEl.dataset.plotted = String(view.xChart.data[0].length);
     if (view.forecast.length || view.pChart) {
       if (!view.pChart) view.pChart = makePChart(view.pEl);
-      view.pChart.setData([view.forecast.map((p) => p[1]), view.forecast.map((p) => p[2])]);
+      view.pChart.setData([view.forecast.map((p) => p[1]), view.forecast.map((p) => p[3]),
+        view.forecast.map((p) => p[2])]);
     }
   }
 

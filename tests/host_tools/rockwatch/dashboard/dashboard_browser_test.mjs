@@ -1,7 +1,8 @@
 // End to end in a real browser: rockwatch-monitor on UDP multicast on loopback (a port of this process's own, ttl=0),
 // `rockwatch dashboard` on a free port, `rockwatch replay` of a record that collapses the paper wall (suite set 1 X at
 // 0.40 g: COLLAPSED at t = 4.30 s), and headless Debian chromium driven by playwright-core. Checks: the level banner
-// of wall "wall" goes through ROCKING, WARNING, IMMINENT to COLLAPSED; the x(t) chart has points; a page opened after
+// of wall "wall" goes through ROCKING, WARNING, IMMINENT to COLLAPSED; the x(t) chart has points; the P(collapse)
+// chart (the monitor with --forecast) has the ensemble's and the calibrated P; a page opened after
 // the collapse shows COLLAPSED at once (latched); /api/state's fields; /ws sends at most 30 updates per second per
 // wall. Exit 0 passed, 1 failed, 77 skipped (no chromium, no playwright-core from `npm ci`, or no multicast here),
 // saying why.
@@ -109,7 +110,8 @@ function getJson(url) {
 
 let browser;
 try {
-  const monitor = start('monitor', args.monitor, ['--lcm-url', lcmUrl, '--rate', '200']);
+  // --forecast 50,3: the P(collapse) chart, with the calibrated P (the shipped coefficients at H = 3 s).
+  const monitor = start('monitor', args.monitor, ['--lcm-url', lcmUrl, '--rate', '200', '--forecast', '50,3']);
   await waitFor('the monitor to listen', () => monitor.output.includes('listening on') || monitor.exitCode !== null, 20);
   if (monitor.exitCode !== null) throw new Error(`the monitor ended at start:\n${monitor.output}`);
   log(`monitor listening on ${lcmUrl}`);
@@ -174,6 +176,11 @@ try {
   check(points > 30 && plotted >= points, `the x(t) chart has points (${points} points, ${plotted} plotted)`);
   const canvas = await page.$('[data-testid="x-chart"][data-wall="wall"] canvas');
   check(canvas !== null, 'the x(t) chart is a uPlot canvas');
+  const forecastPoints = Number(await page.getAttribute('[data-testid="forecast-chart"][data-wall="wall"]', 'data-points'));
+  const calibratedPoints = Number(await page.getAttribute('[data-testid="forecast-chart"][data-wall="wall"]',
+    'data-calibrated'));
+  check(forecastPoints > 5 && calibratedPoints > 5 && calibratedPoints <= forecastPoints,
+    `the P(collapse) chart has the ensemble's and the calibrated P (${forecastPoints} points, ${calibratedPoints} calibrated)`);
   const transitionRows = await page.$$('[data-testid="transitions"][data-wall="wall"] tr[data-level]');
   check(transitionRows.length >= 4, `the transitions list has rows (${transitionRows.length})`);
 

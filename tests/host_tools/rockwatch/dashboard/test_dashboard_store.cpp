@@ -4,6 +4,7 @@
 // restarts, undecodable messages counted, P(collapse) over time from the monitor's forecasts.
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -356,11 +357,13 @@ TEST(DashboardStore, StatusAndMeasuredXAreKept) {
 
 // rockwatch-monitor --forecast: P(collapse) over time (0 at rest, nothing without input), the latest forecast; a
 // forecast sequence that goes back (the monitor restarted) starts the curve again; the raw message through
-// deliver_message as the receiver hands it.
+// deliver_message as the receiver hands it. Each point carries the ensemble's P and the calibrated P (null where the
+// monitor had no coefficients for its horizon).
 TEST(DashboardStore, ForecastsGiveTheCollapseOddsOverTime) {
   SnapshotStore store{StoreSettings{}};
   const DashboardChannels channels;
-  auto forecast = [](std::int64_t seq, std::int64_t utime, int status, double p) {
+  auto forecast = [](std::int64_t seq, std::int64_t utime, int status, double p,
+                     double p_calibrated = std::numeric_limits<double>::quiet_NaN()) {
     rockwatch::wall_forecast_t f{};
     f.utime = utime;
     f.seq = seq;
@@ -371,13 +374,14 @@ TEST(DashboardStore, ForecastsGiveTheCollapseOddsOverTime) {
     f.members = status == rockwatch::wall_forecast_t::STATUS_OK ? 200 : 0;
     f.p_collapse = p;
     f.p_collapse_se = std::sqrt(p * (1.0 - p) / 200.0);
+    f.p_collapse_calibrated = p_calibrated;
     f.compute_us = 4200;
     return f;
   };
   using F = rockwatch::wall_forecast_t;
   const F sequence[] = {forecast(0, 0, F::STATUS_NO_INPUT, 0.0), forecast(1, kStartUtime, F::STATUS_AT_REST, 0.0),
                         forecast(2, kStartUtime + 100000, F::STATUS_OK, 0.25),
-                        forecast(3, kStartUtime + 200000, F::STATUS_OK, 0.75)};
+                        forecast(3, kStartUtime + 200000, F::STATUS_OK, 0.75, 0.62)};
   for (const F& f : sequence) {
     std::vector<std::uint8_t> bytes(static_cast<std::size_t>(f.getEncodedSize()));
     f.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
@@ -390,6 +394,10 @@ TEST(DashboardStore, ForecastsGiveTheCollapseOddsOverTime) {
   DOUBLES_EQUAL(0.0, points[0][2].get<double>(), 0.0);
   DOUBLES_EQUAL(0.25, points[1][2].get<double>(), 0.0);
   DOUBLES_EQUAL(0.75, points[2][2].get<double>(), 0.0);
+  DOUBLES_EQUAL(0.0, points[0][3].get<double>(), 0.0);  // at rest: 0 either way
+  CHECK(points[1][3].is_null());                         // no coefficients: the ensemble's alone
+  DOUBLES_EQUAL(0.62, points[2][3].get<double>(), 0.0);
+  DOUBLES_EQUAL(0.62, w["forecast"]["p_collapse_calibrated"].get<double>(), 0.0);
   DOUBLES_EQUAL(kStartUtime * 1e-6 + 0.2, points[2][1].get<double>(), 1e-6);
   STRCMP_EQUAL("ok", w["forecast"]["status"].get<std::string>().c_str());
   DOUBLES_EQUAL(0.75, w["forecast"]["p_collapse"].get<double>(), 0.0);
