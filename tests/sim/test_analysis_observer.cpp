@@ -100,8 +100,16 @@ double rms_x_error(const sim::AnalysisResult& a, const sim::AnalysisResult& trut
   return n > 0 ? std::sqrt(sum / double(n)) : 0.0;
 }
 
-// A wall carrying 3 kN/m the nominal (paper) wall does not, r_exp, seen by the transducer (2 mm offset) and a
-// mid-height accelerometer of 0.05 m/s².
+// A true wall (r_exp) seen by the transducer (2 mm offset) and a mid-height accelerometer of 0.05 m/s².
+Truth truth_with_accelerometer(const core::WallParameters& wall, const sim::GroundMotion& m, std::uint64_t seed) {
+  sim::SensorModel model;
+  model.x_bias_m = 2e-3;
+  model.a_noise_mps2 = 0.05;
+  model.seed = seed;
+  return simulate_truth(wall, m, core::Restitution{}, model);
+}
+
+// A wall carrying 3 kN/m the nominal (paper) wall does not.
 core::WallParameters overburdened_wall() {
   core::WallParameters wall = core::paper_wall();
   wall.fp_npm = 3000.0;
@@ -109,11 +117,7 @@ core::WallParameters overburdened_wall() {
 }
 
 Truth overburdened_truth(const sim::GroundMotion& m, std::uint64_t seed) {
-  sim::SensorModel model;
-  model.x_bias_m = 2e-3;
-  model.a_noise_mps2 = 0.05;
-  model.seed = seed;
-  return simulate_truth(overburdened_wall(), m, core::Restitution{}, model);
+  return truth_with_accelerometer(overburdened_wall(), m, seed);
 }
 
 sim::SensorModel noise_free() {
@@ -501,11 +505,7 @@ TEST(AnalysisObserver, TheAccelerometerReadsAThinnerWallsCapacityFromItsFirstMot
   for (const Case c : {Case{1, 1, 0.18}, Case{2, 0, 0.14}}) {
     const sim::GroundMotion m = suite_motion(c.set, c.component, c.pga_g);
     for (std::uint64_t seed = 1; seed <= 2; ++seed) {
-      sim::SensorModel model;
-      model.x_bias_m = 2e-3;
-      model.a_noise_mps2 = 0.05;
-      model.seed = seed;
-      const Truth truth = simulate_truth(thinner, m, core::Restitution{}, model);
+      const Truth truth = truth_with_accelerometer(thinner, m, seed);
       CHECK_FALSE(truth.result.verdict_collapse());
       const double x_inst_true = truth.result.x_inst_m;
       for (const double peak_noises : {10.0, 0.0}) {

@@ -427,12 +427,12 @@ json SnapshotStore::wall_json(const Wall& w, bool whole) const {
   j["forecast"] = w.forecast ? forecast_json(*w.forecast) : json(nullptr);
   // Points as [id, t_s, x_m, energy_ratio] ([id, t_s, x_m] for the measured x; [id, t_s, P, P calibrated or null]
   // for the forecasts): compact, and the page appends by id.
-  const auto series = [whole](const Series& s, bool with_energy) {
+  const auto series = [whole](const Series& s, bool with_second) {
     json points = json::array();
     for (const Point& p : s.points) {
       if (!whole && p.id < s.dirty_from) continue;
       json point{p.id, p.t_s, number_or_null(p.x_m)};
-      if (with_energy) point.push_back(number_or_null(p.energy_ratio));
+      if (with_second) point.push_back(number_or_null(p.energy_ratio));
       points.push_back(std::move(point));
     }
     return points;

@@ -230,7 +230,7 @@
     if (haveCharts) renderCharts(view);
     view.xEl.dataset.points = String(view.points.length);
     view.pEl.dataset.points = String(view.forecast.length);
-    view.pEl.dataset.calibrated = String(view.forecast.filter((p) => p[3] !== null && p[3] !== undefined).length);
+    view.pEl.dataset.calibrated = String(view.forecast.filter((p) => p[3] != null).length);
   }
 
   function renderCharts(view) {

@@ -214,8 +214,8 @@ TEST(SimulateObserver, HelpNamesTheOptionsWithTheirDefaults) {
   const ProcessResult r = run_rockwatch({"simulate", "--help"});
   check_ok(r);
   for (const char* text : {"--wall-sensors", "--observer-x-noise-m", "(default 5e-04)", "--observer-gate-chi2",
-                           "(default 16)", "--observer-accel-inform-peak-noises", "--sensors-out", "--sensor-dropout", "--sensor-accel-noise-mps2",
-                           "--sensor-seed"}) {
+                           "(default 16)", "--observer-accel-inform-peak-noises", "--sensors-out", "--sensor-dropout",
+                           "--sensor-accel-noise-mps2", "--sensor-seed"}) {
     CHECK_TEXT(r.out.find(text) != std::string::npos, text);
   }
 }

@@ -1,7 +1,8 @@
 // The wall observer's settings on a command line (core::ObserverOptions, core/wall_observer.hpp): --observer-x-noise-m,
-// --observer-a-noise-mps2, --observer-process-mps2, --observer-gate-chi2, --observer-capacity-sigmas and --observer-accel-inform-peak-noises, with the defaults of core::ObserverOptions
-// in their help and one range check each, whose message names the option. `rockwatch simulate --wall-sensors` and
-// `rockwatch study --observer` use them; the monitor can register the same options.
+// --observer-a-noise-mps2, --observer-process-mps2, --observer-gate-chi2, --observer-capacity-sigmas and
+// --observer-accel-inform-peak-noises, with the defaults of core::ObserverOptions in their help and one range check
+// each, whose message names the option. `rockwatch simulate --wall-sensors` and `rockwatch study --observer` use them;
+// the monitor can register the same options.
 #pragma once
 
 #include <cstdint>
