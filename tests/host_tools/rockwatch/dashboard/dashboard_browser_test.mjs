@@ -176,9 +176,12 @@ try {
   check(points > 30 && plotted >= points, `the x(t) chart has points (${points} points, ${plotted} plotted)`);
   const canvas = await page.$('[data-testid="x-chart"][data-wall="wall"] canvas');
   check(canvas !== null, 'the x(t) chart is a uPlot canvas');
-  const forecastPoints = Number(await page.getAttribute('[data-testid="forecast-chart"][data-wall="wall"]', 'data-points'));
-  const calibratedPoints = Number(await page.getAttribute('[data-testid="forecast-chart"][data-wall="wall"]',
-    'data-calibrated'));
+  // Both counts in one evaluation: a forecast may still arrive after COLLAPSED (its status "collapsed"), and two
+  // separate reads could straddle its render (seen in CI: 59 points read, then 60 calibrated).
+  const [forecastPoints, calibratedPoints] = await page.evaluate(() => {
+    const el = document.querySelector('[data-testid="forecast-chart"][data-wall="wall"]');
+    return el ? [Number(el.dataset.points), Number(el.dataset.calibrated)] : [NaN, NaN];
+  });
   check(forecastPoints > 5 && calibratedPoints > 5 && calibratedPoints <= forecastPoints,
     `the P(collapse) chart has the ensemble's and the calibrated P (${forecastPoints} points, ${calibratedPoints} calibrated)`);
   const transitionRows = await page.$$('[data-testid="transitions"][data-wall="wall"] tr[data-level]');
