@@ -171,8 +171,11 @@ try {
   check(levels[levels.length - 1] === 'COLLAPSED', 'the banner ends at COLLAPSED');
   const cls = await page.getAttribute('[data-testid="level"][data-wall="wall"]', 'class');
   check(cls.includes('level-COLLAPSED'), `the banner has the COLLAPSED colour class (${cls})`);
-  const points = Number(await page.getAttribute('[data-testid="x-chart"][data-wall="wall"]', 'data-points'));
-  const plotted = Number(await page.getAttribute('[data-testid="x-chart"][data-wall="wall"]', 'data-plotted'));
+  // One evaluation for both counts, as for the forecast chart below: a render between two reads would mix two states.
+  const [points, plotted] = await page.evaluate(() => {
+    const el = document.querySelector('[data-testid="x-chart"][data-wall="wall"]');
+    return el ? [Number(el.dataset.points), Number(el.dataset.plotted)] : [NaN, NaN];
+  });
   check(points > 30 && plotted >= points, `the x(t) chart has points (${points} points, ${plotted} plotted)`);
   const canvas = await page.$('[data-testid="x-chart"][data-wall="wall"] canvas');
   check(canvas !== null, 'the x(t) chart is a uPlot canvas');
