@@ -188,6 +188,16 @@ class ObservedSteps {
     if (outcome.flags & core::observer_flag::sensor_lost) ++steps_lost_;
   }
 
+  // The estimates at the end of the sample (AnalysisResult::observer_history).
+  ObserverHistoryRow history_row(double t_s) const {
+    return ObserverHistoryRow{t_s,
+                              observer_.sigma_x_m(),
+                              observer_.sigma_xd_mps(),
+                              observer_.sqrt_r_estimate(),
+                              observer_.capacity_scale(),
+                              observer_.stiffness_scale()};
+  }
+
   // After the step's events (counted impacts before and after it): keeps r̂ as it stood before the step in which
   // impact number r_after_impacts + 1 happened.
   void impacts(int before, int after) {
@@ -272,6 +282,7 @@ void analysis_sample(Engine& engine, typename Engine::Input ug, typename Engine:
   };
   if (observed) {
     observed->step(engine, ug, vg, t0_s, dt_s, on_substep);
+    if (o.keep_history) result.observer_history.push_back(observed->history_row(t_s));
   } else {
     engine.chain().step_motion(ug, vg, out, on_substep);
     if (o.evaluate_alarm || Engine::kVerdictNeedsIndicators) engine.chain().evaluate(out);

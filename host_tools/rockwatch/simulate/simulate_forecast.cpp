@@ -49,6 +49,10 @@ ForecastSeries run_forecasts(const SimulateRequest& q, const sim::GroundMotion& 
     if (double(i) * dt <= result.t_end_s + 1e-9) ug[i] = motion.ug_mps2[i];
   }
   const double t_stop = result.t_collapse_s ? *result.t_collapse_s : t_last;
+  // With the observer: its estimates at the end of each sample, in time order (AnalysisResult::observer_history).
+  const std::vector<sim::ObserverHistoryRow>& oh = result.observer_history;
+  series.fused = !oh.empty();
+  std::size_t orow = 0;
   std::size_t row = 0;
   for (long k = 0;; ++k) {
     const double t = std::round(double(k) * series.every_s * 1e9) / 1e9;  // 2.3, not 2.3000000000000003
@@ -64,9 +68,23 @@ ForecastSeries run_forecasts(const SimulateRequest& q, const sim::GroundMotion& 
     st.x_m = s.x_m;
     st.xd_mps = s.xd_mps;
     st.ug_now_mps2 = s.ug_mps2;
+    // The fused state's spread and the estimated wall, as rockwatch-monitor --forecast passes them (ρ = 0: the
+    // monitor's wall_estimate_t carries σ_x and σ_ẋ only; the two tools start from the same description of the wall).
+    // Before the observer's first sample (the row of t = 0) the open loop's.
+    while (orow + 1 < oh.size() && oh[orow + 1].t_s <= s.t_s + 1e-9) ++orow;
+    std::optional<sim::ObserverHistoryRow> estimate;
+    if (!oh.empty() && oh[orow].t_s <= s.t_s + 1e-9) {
+      estimate = oh[orow];
+      st.sigma_x_m = estimate->sigma_x_m;
+      st.sigma_xd_mps = estimate->sigma_xd_mps;
+      st.sqrt_r = estimate->sqrt_r;
+      st.capacity_scale = estimate->capacity_scale;
+      st.stiffness_scale = estimate->stiffness_scale;
+    }
     const std::size_t n = std::min(ug.size(), static_cast<std::size_t>(std::floor(s.t_s / dt + 1e-9)) + 1);
     ForecastEntry e;
     e.t_s = t;
+    e.observer = estimate;
     e.result = forecaster.forecast(st, ug.data(), std::max<std::size_t>(n, 2), dt);
     double e_max = energy[row];
     for (std::size_t i = row; i-- > 0 && h[i].t_s >= s.t_s - sim::kCalibrationEnergyWindow_s - 1e-9;) {
@@ -120,6 +138,15 @@ nlohmann::ordered_json forecast_json(const ForecastSeries& s, bool with_alarm) {
     x["p_collapse_calibrated"] = e.p_calibrated ? nlohmann::ordered_json(*e.p_calibrated) : nlohmann::ordered_json();
     x["energy_ratio_max_2s"] = e.energy_ratio_max;
     x["x_over_x_inst"] = e.x_over_x_inst;
+    if (s.fused) {  // with --wall-sensors: what the members started from (null: before the observer's first sample)
+      const std::optional<sim::ObserverHistoryRow>& o = e.observer;
+      const auto value = [&o](double v) { return o ? nlohmann::ordered_json(v) : nlohmann::ordered_json(); };
+      x["sigma_x_m"] = value(o ? o->sigma_x_m : 0.0);
+      x["sigma_xd_mps"] = value(o ? o->sigma_xd_mps : 0.0);
+      x["r_estimate"] = value(o ? o->sqrt_r * o->sqrt_r : 0.0);
+      x["capacity_scale"] = value(o ? o->capacity_scale : 0.0);
+      x["stiffness_scale"] = value(o ? o->stiffness_scale : 0.0);
+    }
     if (with_alarm) {
       if (e.alarm) {
         x["alarm"] = core::alarm_level_name(*e.alarm);
@@ -140,6 +167,9 @@ std::string forecast_text(const ForecastSeries& s) {
                 s.settings.members, s.settings.horizon_s, s.every_s,
                 static_cast<unsigned long long>(s.settings.seed));
   out += buf;
+  if (s.fused) {
+    out += "  from the fused state, with the observer's sigma_x, sigma_xd, r and capacity (SPEC section 10)\n";
+  }
   if (s.entries.empty()) {
     out += "  the wall was at rest at every forecast time: no forecast\n";
     return out;

@@ -24,6 +24,9 @@ struct ForecastEntry {
   double energy_ratio_max = 0.0;          // max E/E_barrier over [t − 2 s, t] (the recalibration's feature)
   double x_over_x_inst = 0.0;             // |x|/x_inst at t
   std::optional<double> p_calibrated;     // the recalibrated P (none when the calibration is not applied)
+  // With --wall-sensors: the observer's estimates the members started from (its σ_x, σ_ẋ, √r̂, κc, κk at the end of
+  // the sample the state belongs to; SPEC §10 "State uncertainty"). None: the open loop's spread and the nominal wall.
+  std::optional<sim::ObserverHistoryRow> observer;
 };
 
 struct ForecastSeries {
@@ -33,6 +36,7 @@ struct ForecastSeries {
   std::size_t at_rest = 0;  // forecast times skipped because the wall was at rest
   sim::ForecastCalibration calibration;
   bool calibration_applied = false;  // given, or the default at its own horizon
+  bool fused = false;                // the analysis ran the wall observer (its estimates in the entries)
 };
 
 // Needs request.forecast and result.history (keep_history).

@@ -150,6 +150,15 @@ struct HistoryRow {
   int side;                             // +1 / −1
 };
 
+// The wall observer's estimates as they stood at the end of one input sample (AnalysisOptions::wall_sensors with
+// keep_history): what an ensemble forecast from the fused state needs beside it (SPEC §10 "State uncertainty").
+struct ObserverHistoryRow {
+  double t_s;                           // the sample's end (the time of the history row that ends it) [s]
+  double sigma_x_m, sigma_xd_mps;       // the fused state's standard deviations [m], [m/s]
+  double sqrt_r;                        // √r̂ [-]
+  double capacity_scale, stiffness_scale;  // κc, κk: c and k of the wall over the nominal's [-]
+};
+
 struct ImpactEvent {
   double t_s;                           // time of the impact [s]
   double v_before_mps, v_after_mps;     // ẋ⁻, ẋ⁺ [m/s]
@@ -178,6 +187,7 @@ struct AnalysisResult {
   double t_final_s = 0.0;               // where integration stopped [s]
   std::vector<ImpactEvent> impacts;     // the first max_impacts_kept impacts
   std::vector<HistoryRow> history;      // when keep_history
+  std::vector<ObserverHistoryRow> observer_history;  // when keep_history and wall_sensors: one row per input sample
   AlarmSummary alarm;                   // when evaluate_alarm
   ObserverSummary observer;             // when AnalysisOptions::wall_sensors is set
   Arithmetic arithmetic = Arithmetic::double_precision;

@@ -1,7 +1,8 @@
 // `rockwatch simulate --forecast-members N --forecast-horizon-s H [--forecast-every-s S]` (issue 29, SPEC §10): the JSON
 // `forecast` object and its series (one entry every S s while the wall moves, the alarm's level beside each with
 // --alarms), an entry equal to sim::EnsembleForecaster run in-process on sim::analyse's state, the same output on a
-// second run, a wall at rest, and out-of-range options refused naming the option.
+// second run, a wall at rest, and out-of-range options refused naming the option; with --wall-sensors, an entry equal
+// to the forecaster on the fused state with the observer's spread and estimated wall.
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -12,6 +13,7 @@
 
 #include "cli_process.hpp"
 #include "cli_test_files.hpp"
+#include "common/records_in/wall_sensors.hpp"
 #include "rockwatch/core/restitution.hpp"
 #include "rockwatch/core/wall.hpp"
 #include "rockwatch/records/record.hpp"
@@ -28,6 +30,7 @@ using rockwatch::test::kG;
 using rockwatch::test::ProcessResult;
 using rockwatch::test::record_path;
 using rockwatch::test::run_rockwatch;
+using rockwatch::test::TempDir;
 namespace sim = rockwatch::sim;
 namespace core = rockwatch::core;
 
@@ -140,6 +143,102 @@ TEST(SimulateForecast, AnEntryIsTheForecasterOnTheAnalysedState) {
   DOUBLES_EQUAL(fr.p_collapse, e["p_collapse"].get<double>(), 0.0);
   DOUBLES_EQUAL(fr.q50_max_x_over_x_inst, e["q50_max_x_over_x_inst"].get<double>(), 0.0);
   DOUBLES_EQUAL(fr.q90_max_x_over_x_inst, e["q90_max_x_over_x_inst"].get<double>(), 0.0);
+}
+
+// With --wall-sensors the members start from the fused state with the observer's σ_x, σ_ẋ, √r̂, κc and κk at that
+// time (SPEC §10 "State uncertainty"), as rockwatch-monitor --forecast passes them: a wall 10 % thinner than the
+// nominal one the monitor is told, its transducer read at the record's rate (0.5 mm noise).
+TEST(SimulateForecast, WithWallSensorsTheMembersStartFromTheObserversEstimates) {
+  TempDir dir;
+  const std::string truth_csv = dir.file("truth.csv");
+  check_ok(run_rockwatch(el_centro("0.3", {"--b", "0.09", "--sensors-out", truth_csv})));
+  std::vector<std::string> args = kForecast;
+  args.insert(args.end(), {"--wall-sensors", truth_csv, "--json"});
+  const ProcessResult r = run_rockwatch(el_centro("0.3", args));
+  check_ok(r);
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  const nlohmann::json& series = j["forecast"]["series"];
+  CHECK_TRUE(series.size() >= 4);
+
+  // The same analysis in-process, with its history and the observer's.
+  const rockwatch::records::Record rec = rockwatch::records::read_record(record_path(kElCentro180));
+  sim::GroundMotion m;
+  m.dt_s = rec.dt_s;
+  m.ug_mps2 = rec.horizontal_mps2;
+  const double factor = 0.3 * kG / sim::peak_abs(m.ug_mps2);
+  for (double& u : m.ug_mps2) u *= factor;
+  const std::vector<core::WallSensorSample> samples = rockwatch::cli::read_wall_sensor_samples(truth_csv);
+  sim::AnalysisOptions o;
+  o.keep_history = true;
+  o.wall_sensors = &samples;
+  const core::WallParameters w = core::paper_wall();
+  const sim::AnalysisResult a = sim::analyse(w, m, o);
+  CHECK_TRUE(a.observer_history.size() > 100);
+  sim::ForecastSettings fs;
+  fs.members = 20;
+  fs.horizon_s = 1.0;
+  sim::EnsembleForecaster f(w, o.model, a.r, o.kappa, fs);
+  const double open_loop_sigma_x_m = fs.default_sigma_fraction * a.x_inst_m;
+
+  int differs_from_open_loop = 0;
+  double last_capacity_scale = 1.0;
+  for (const nlohmann::json& e : series) {
+    const double t = e["t_s"].get<double>();
+    std::size_t row = 0;
+    while (row + 1 < a.history.size() && a.history[row + 1].t_s <= t + 1e-9) ++row;
+    std::size_t orow = 0;
+    while (orow + 1 < a.observer_history.size() && a.observer_history[orow + 1].t_s <= a.history[row].t_s + 1e-9) {
+      ++orow;
+    }
+    const sim::ObserverHistoryRow& est = a.observer_history[orow];
+    CHECK_TRUE(est.t_s <= a.history[row].t_s + 1e-9);
+    // What the entry says it started from: the observer's estimates at that time.
+    DOUBLES_EQUAL(est.sigma_x_m, e["sigma_x_m"].get<double>(), 0.0);
+    DOUBLES_EQUAL(est.sigma_xd_mps, e["sigma_xd_mps"].get<double>(), 0.0);
+    DOUBLES_EQUAL(est.sqrt_r * est.sqrt_r, e["r_estimate"].get<double>(), 0.0);
+    DOUBLES_EQUAL(est.capacity_scale, e["capacity_scale"].get<double>(), 0.0);
+    DOUBLES_EQUAL(est.stiffness_scale, e["stiffness_scale"].get<double>(), 0.0);
+    // A transducer of 0.5 mm pins the state far tighter than the open loop's 5 % of x_inst.
+    CHECK_TRUE(est.sigma_x_m > 0.0 && est.sigma_x_m < 0.5 * open_loop_sigma_x_m);
+    last_capacity_scale = est.capacity_scale;
+
+    sim::ForecastState st;
+    st.moving = true;
+    st.x_m = a.history[row].x_m;
+    st.xd_mps = a.history[row].xd_mps;
+    st.ug_now_mps2 = a.history[row].ug_mps2;
+    const std::size_t n = static_cast<std::size_t>(std::floor(a.history[row].t_s / m.dt_s + 1e-9)) + 1;
+    const sim::ForecastResult open = f.forecast(st, m.ug_mps2.data(), n, m.dt_s);
+    st.sigma_x_m = est.sigma_x_m;
+    st.sigma_xd_mps = est.sigma_xd_mps;
+    st.sqrt_r = est.sqrt_r;
+    st.capacity_scale = est.capacity_scale;
+    st.stiffness_scale = est.stiffness_scale;
+    const sim::ForecastResult fused = f.forecast(st, m.ug_mps2.data(), n, m.dt_s);
+    DOUBLES_EQUAL(fused.p_collapse, e["p_collapse"].get<double>(), 0.0);
+    DOUBLES_EQUAL(fused.q50_max_x_over_x_inst, e["q50_max_x_over_x_inst"].get<double>(), 0.0);
+    DOUBLES_EQUAL(fused.q90_max_x_over_x_inst, e["q90_max_x_over_x_inst"].get<double>(), 0.0);
+    if (open.p_collapse != fused.p_collapse || open.q50_max_x_over_x_inst != fused.q50_max_x_over_x_inst ||
+        open.q90_max_x_over_x_inst != fused.q90_max_x_over_x_inst) {
+      ++differs_from_open_loop;
+    }
+  }
+  // The estimates change the members (not the open loop's spread and wall under another name) ...
+  CHECK_TRUE(differs_from_open_loop * 2 > static_cast<int>(series.size()));
+  // ... and by the last forecast the observer has moved the capacity towards the thinner wall's (κc 0.9).
+  CHECK_TRUE(last_capacity_scale < 0.99);
+
+  // Without --wall-sensors the entries carry no estimates.
+  std::vector<std::string> plain = kForecast;
+  plain.push_back("--json");
+  const nlohmann::json p = nlohmann::json::parse(run_rockwatch(el_centro("0.3", plain)).out);
+  CHECK_FALSE(p["forecast"]["series"][0].contains("sigma_x_m"));
+  // The text says where the members start.
+  std::vector<std::string> text = kForecast;
+  text.insert(text.end(), {"--wall-sensors", truth_csv});
+  const ProcessResult tr = run_rockwatch(el_centro("0.3", text));
+  check_ok(tr);
+  CHECK_TEXT(tr.out.find("from the fused state, with the observer's") != std::string::npos, tr.out.c_str());
 }
 
 TEST(SimulateForecast, AWallThatNeverMovesHasNoForecastAndSaysSo) {
