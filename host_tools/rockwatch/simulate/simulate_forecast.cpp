@@ -139,13 +139,15 @@ nlohmann::ordered_json forecast_json(const ForecastSeries& s, bool with_alarm) {
     x["energy_ratio_max_2s"] = e.energy_ratio_max;
     x["x_over_x_inst"] = e.x_over_x_inst;
     if (s.fused) {  // with --wall-sensors: what the members started from (null: before the observer's first sample)
-      const std::optional<sim::ObserverHistoryRow>& o = e.observer;
-      const auto value = [&o](double v) { return o ? nlohmann::ordered_json(v) : nlohmann::ordered_json(); };
-      x["sigma_x_m"] = value(o ? o->sigma_x_m : 0.0);
-      x["sigma_xd_mps"] = value(o ? o->sigma_xd_mps : 0.0);
-      x["r_estimate"] = value(o ? o->sqrt_r * o->sqrt_r : 0.0);
-      x["capacity_scale"] = value(o ? o->capacity_scale : 0.0);
-      x["stiffness_scale"] = value(o ? o->stiffness_scale : 0.0);
+      const sim::ObserverHistoryRow v = e.observer.value_or(sim::ObserverHistoryRow{});
+      const auto put = [&](const char* key, double value) {
+        x[key] = e.observer ? nlohmann::ordered_json(value) : nlohmann::ordered_json();
+      };
+      put("sigma_x_m", v.sigma_x_m);
+      put("sigma_xd_mps", v.sigma_xd_mps);
+      put("r_estimate", v.sqrt_r * v.sqrt_r);
+      put("capacity_scale", v.capacity_scale);
+      put("stiffness_scale", v.stiffness_scale);
     }
     if (with_alarm) {
       if (e.alarm) {

@@ -47,6 +47,25 @@ std::vector<std::string> el_centro(const std::string& pga_g, const std::vector<s
 const std::vector<std::string> kForecast{"--forecast-members", "20", "--forecast-horizon-s", "1",
                                          "--forecast-every-s", "0.25"};
 
+// The record of el_centro(pga_g, ...) as simulate runs it: scaled to pga_g.
+sim::GroundMotion el_centro_motion(double pga_g) {
+  const rockwatch::records::Record rec = rockwatch::records::read_record(record_path(kElCentro180));
+  sim::GroundMotion m;
+  m.dt_s = rec.dt_s;
+  m.ug_mps2 = rec.horizontal_mps2;
+  const double factor = pga_g * kG / sim::peak_abs(m.ug_mps2);
+  for (double& u : m.ug_mps2) u *= factor;
+  return m;
+}
+
+// The last row at or before t_s (the rows in time order), as run_forecasts picks the state of a forecast time.
+template <typename Row>
+std::size_t row_at(const std::vector<Row>& rows, double t_s) {
+  std::size_t row = 0;
+  while (row + 1 < rows.size() && rows[row + 1].t_s <= t_s + 1e-9) ++row;
+  return row;
+}
+
 void check_ok(const ProcessResult& r) {
   const std::string what = describe(r);
   CHECK_EQUAL_TEXT(0, r.signal, what.c_str());
@@ -117,18 +136,12 @@ TEST(SimulateForecast, AnEntryIsTheForecasterOnTheAnalysedState) {
   const nlohmann::json e = nlohmann::json::parse(r.out)["forecast"]["series"][0];
   const double t = e["t_s"].get<double>();
 
-  const rockwatch::records::Record rec = rockwatch::records::read_record(record_path(kElCentro180));
-  sim::GroundMotion m;
-  m.dt_s = rec.dt_s;
-  m.ug_mps2 = rec.horizontal_mps2;
-  const double factor = 0.3 * kG / sim::peak_abs(m.ug_mps2);
-  for (double& u : m.ug_mps2) u *= factor;
+  const sim::GroundMotion m = el_centro_motion(0.3);
   sim::AnalysisOptions o;
   o.keep_history = true;
   const core::WallParameters w = core::paper_wall();
   const sim::AnalysisResult a = sim::analyse(w, m, o);
-  std::size_t row = 0;
-  while (row + 1 < a.history.size() && a.history[row + 1].t_s <= t + 1e-9) ++row;
+  const std::size_t row = row_at(a.history, t);
   sim::ForecastSettings s;
   s.members = 20;
   s.horizon_s = 1.0;
@@ -161,12 +174,7 @@ TEST(SimulateForecast, WithWallSensorsTheMembersStartFromTheObserversEstimates) 
   CHECK_TRUE(series.size() >= 4);
 
   // The same analysis in-process, with its history and the observer's.
-  const rockwatch::records::Record rec = rockwatch::records::read_record(record_path(kElCentro180));
-  sim::GroundMotion m;
-  m.dt_s = rec.dt_s;
-  m.ug_mps2 = rec.horizontal_mps2;
-  const double factor = 0.3 * kG / sim::peak_abs(m.ug_mps2);
-  for (double& u : m.ug_mps2) u *= factor;
+  const sim::GroundMotion m = el_centro_motion(0.3);
   const std::vector<core::WallSensorSample> samples = rockwatch::cli::read_wall_sensor_samples(truth_csv);
   sim::AnalysisOptions o;
   o.keep_history = true;
@@ -184,13 +192,8 @@ TEST(SimulateForecast, WithWallSensorsTheMembersStartFromTheObserversEstimates) 
   double last_capacity_scale = 1.0;
   for (const nlohmann::json& e : series) {
     const double t = e["t_s"].get<double>();
-    std::size_t row = 0;
-    while (row + 1 < a.history.size() && a.history[row + 1].t_s <= t + 1e-9) ++row;
-    std::size_t orow = 0;
-    while (orow + 1 < a.observer_history.size() && a.observer_history[orow + 1].t_s <= a.history[row].t_s + 1e-9) {
-      ++orow;
-    }
-    const sim::ObserverHistoryRow& est = a.observer_history[orow];
+    const std::size_t row = row_at(a.history, t);
+    const sim::ObserverHistoryRow& est = a.observer_history[row_at(a.observer_history, a.history[row].t_s)];
     CHECK_TRUE(est.t_s <= a.history[row].t_s + 1e-9);
     // What the entry says it started from: the observer's estimates at that time.
     DOUBLES_EQUAL(est.sigma_x_m, e["sigma_x_m"].get<double>(), 0.0);
