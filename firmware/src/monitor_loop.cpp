@@ -27,7 +27,8 @@ static_assert(Estimate::SENSOR_X_ACTIVE == flag::x_active && Estimate::SENSOR_A_
               Estimate::SENSOR_MISALIGNED == flag::misaligned && Estimate::SENSOR_STALE == flag::stale &&
               Estimate::SENSOR_QUEUE_OVERFLOW == flag::queue_overflow &&
               Estimate::SENSOR_REINITIALISED == flag::reinitialised && Estimate::SENSOR_FLAG == flag::sensor_flag &&
-              Estimate::SENSOR_JUMP == flag::jump && Estimate::SENSOR_ESTIMATE_CLAMPED == flag::estimate_clamped,
+              Estimate::SENSOR_JUMP == flag::jump && Estimate::SENSOR_ESTIMATE_CLAMPED == flag::estimate_clamped &&
+              Estimate::SENSOR_MODEL_DOUBT == flag::model_doubt,
               "wall_estimate_t SENSOR_* must equal core::observer_flag");
 static_assert(rockwatch::alarm_event_t::REASON_MEASURED == core::alarm_reason::measured &&
               rockwatch::alarm_event_t::REASON_PREDICTED == core::alarm_reason::predicted &&

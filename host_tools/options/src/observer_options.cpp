@@ -63,6 +63,12 @@ void add_observer_options(CLI::App& app, ObserverOptionTexts& texts, const std::
                      range_text(kMinObserverAccelInformPeakNoises, kMaxObserverAccelInformPeakNoises, "") +
                      " (default " + number_text(d.accel_inform_peak_noises) + ")")
       ->type_name("N");
+  app.add_option("--observer-doubt-nis", texts.doubt_nis,
+                 help_prefix + "model doubt: when the displacement's normalised innovation squared, averaged over " +
+                     std::to_string(d.doubt_window) + " samples, exceeds X the model is doubted (flag model_doubt; "
+                     "the capacity's and r's sigma held wide; SPEC 11); 0 turns it off, else X >= 1 (default " +
+                     number_text(d.doubt_nis) + ")")
+      ->type_name("X");
 }
 
 bool observer_option_given(const CLI::App& app) {
@@ -89,6 +95,8 @@ core::ObserverOptions parse_observer_options(const CLI::App& app, const Observer
       parse_in_range(app, "--observer-accel-inform-peak-noises", texts.accel_inform_peak_noises,
                      kMinObserverAccelInformPeakNoises, kMaxObserverAccelInformPeakNoises, "",
                      o.accel_inform_peak_noises);
+  o.doubt_nis = parse_in_range(app, "--observer-doubt-nis", texts.doubt_nis, kMinObserverDoubtNis, kMaxObserverDoubtNis,
+                               "", o.doubt_nis);
   // The core's own check, in case its ranges ever become narrower than the ones above.
   const core::ObserverError err = core::validate_observer_options(o);
   if (err != core::ObserverError::ok) throw UsageError(core::observer_error_message(err));
@@ -114,7 +122,8 @@ std::vector<std::string> observer_flag_list(std::uint32_t flags) {
                {bit::reinitialised, "reinitialised"},
                {bit::sensor_flag, "sensor_flag"},
                {bit::jump, "jump"},
-               {bit::estimate_clamped, "estimate_clamped"}};
+               {bit::estimate_clamped, "estimate_clamped"},
+               {bit::model_doubt, "model_doubt"}};
   std::vector<std::string> list;
   std::uint32_t known = 0;
   for (const auto& n : names) {

@@ -195,7 +195,8 @@ nlohmann::ordered_json observer_json(const SimulateRequest& q, const sim::Observ
                    {"process_mps2", o.process_accel_mps2},
                    {"gate_chi2", o.gate_chi2},
                    {"capacity_sigmas", o.alarm_capacity_sigmas},
-                   {"accel_inform_peak_noises", o.accel_inform_peak_noises}};
+                   {"accel_inform_peak_noises", o.accel_inform_peak_noises},
+                   {"doubt_nis", o.doubt_nis}};
   return j;
 }
 

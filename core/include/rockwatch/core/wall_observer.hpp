@@ -113,6 +113,21 @@ struct ObserverOptions {
   //   k_σ 0:   false 3.0 %, ≤ 0.03 in 10 of 16 cases; lead median 0.613 s, p05 0.359 s, ≥ 0.6 s in the same 10
   // 0 (issue 27): the cases short of 0.6 s lead (stiffer walls, which rock faster) are short at either value.
   double alarm_capacity_sigmas = 0.0;
+  // Model doubt (issue 40, SPEC §11): the wall is not the model. The displacement's normalised innovation squared
+  // y²/S (χ² with one degree of freedom: mean 1 when the model and its covariance are right), capped at the gate and
+  // averaged over about `doubt_window` samples (exponentially), above `doubt_nis` says the innovations are larger
+  // than the covariance allows: flagged (model_doubt) and counted, and while it lasts σ(κc), σ(κk) are held at least
+  // `doubt_capacity_sigma` and σ(√r) at least `doubt_r_sigma`, so that a misfit the filter cannot represent (other
+  // heights, crushed hinges, corner impacts) does not go into the capacity with full confidence. 0 turns it off.
+  double doubt_nis = 4.0;
+  std::int32_t doubt_window = 64;         // samples of the displacement's NIS average [-]
+  double doubt_capacity_sigma = 0.05;     // σ floor of κc, κk while in doubt [-]
+  double doubt_r_sigma = 0.02;            // σ floor of √r while in doubt [-]
+  // A wall that moves where the model says it cannot (issue 40): while the model rests and the ground is quiet,
+  // `reinit_after` displacement rejections in a row whose readings spread over at least this many σ of the
+  // transducer are motion, not a fault (a fault reads a constant or jumps once): the motion is re-initialised from
+  // the measurement and model doubt is raised. 0: every such reading stays a fault (before issue 40).
+  double quiet_motion_spread_noises = 8.0;
 };
 
 // Why init() refused. Values are stable: append, never renumber.
@@ -125,6 +140,8 @@ enum class ObserverError : std::uint8_t {
   timing_out_of_range = 4,    // dropout in (0, 60] s, max_age in [0, 10] s, step in (0, 0.1] s
   range_out_of_range = 5,     // x_range in (0, 2] m, a_range in (0, 128] m/s², quiet fraction in [0, 1], v_min > 0,
                               // inform_peak_noises, accel_inform_peak_noises in [0, 1000]
+  doubt_out_of_range = 6,     // doubt_nis 0 or in [1, 1000], doubt_window in [1, 100000], doubt sigmas in [0, 1],
+                              // quiet_motion_spread_noises in [0, 1000]
 };
 
 inline const char* observer_error_message(ObserverError e) {
@@ -143,6 +160,9 @@ inline const char* observer_error_message(ObserverError e) {
     case ObserverError::range_out_of_range:
       return "observer ranges invalid (x_range in (0, 2] m, a_range in (0, 128] m/s2, quiet_fraction in [0, 1], "
              "inform_peak_noises and accel_inform_peak_noises in [0, 1000])";
+    case ObserverError::doubt_out_of_range:
+      return "observer model doubt out of range (doubt_nis 0 or in [1, 1000], doubt_window in [1, 100000], "
+             "doubt_capacity_sigma and doubt_r_sigma in [0, 1], quiet_motion_spread_noises in [0, 1000])";
   }
   return "?";
 }
@@ -165,6 +185,10 @@ inline ObserverError validate_observer_options(const ObserverOptions& o) {
         in(o.quiet_fraction, 0.0, 1.0) && o.v_min_mps > 0.0 && o.v_min_mps <= 1.0 && in(o.inform_sigmas, 0.0, 100.0) &&
         in(o.inform_peak_noises, 0.0, 1000.0) && in(o.accel_inform_peak_noises, 0.0, 1000.0)))
     return ObserverError::range_out_of_range;
+  if (!((o.doubt_nis == 0.0 || in(o.doubt_nis, 1.0, 1000.0)) && o.doubt_window >= 1 && o.doubt_window <= 100000 &&
+        in(o.doubt_capacity_sigma, 0.0, 1.0) && in(o.doubt_r_sigma, 0.0, 1.0) &&
+        in(o.quiet_motion_spread_noises, 0.0, 1000.0)))
+    return ObserverError::doubt_out_of_range;
   return ObserverError::ok;
 }
 
@@ -194,6 +218,7 @@ inline constexpr std::uint32_t reinitialised = 1u << 11;    // the motion was re
 inline constexpr std::uint32_t sensor_flag = 1u << 12;      // the sensor set a status bit
 inline constexpr std::uint32_t jump = 1u << 13;             // a displacement jump (rejected) while the ground is quiet
 inline constexpr std::uint32_t estimate_clamped = 1u << 14; // an estimate (√r, κc, κk, x_inst) left its range: clamped
+inline constexpr std::uint32_t model_doubt = 1u << 15;      // the innovations say the model is wrong (NIS): σ held wide
 // Any of these is a sensor fault (never silent: the monitor flags alarms that coincide with one).
 inline constexpr std::uint32_t faults = not_finite | out_of_range | stuck | motion_while_quiet | stale |
                                         queue_overflow | sensor_flag | jump;
@@ -211,6 +236,8 @@ struct ObserverCounters {
   std::int64_t impacts_in_corrections = 0;  // impacts implied by a correction across the hinge (in `impacts` too)
   std::int64_t capacity_reopened = 0;  // the capacity's covariance re-opened (ObserverOptions::capacity_reopen_after)
   std::int64_t rest_from_accel = 0;    // the model put to rest: the accelerometer read a wall at rest (rest_from_accel_after)
+  std::int64_t model_doubt = 0;        // steps in model doubt (ObserverOptions::doubt_nis)
+  std::int64_t quiet_motion = 0;       // re-initialisations from motion while the model rested on a quiet ground
 };
 
 // Every counter with its published name, in the published order: the one list the reports (the monitor's summary,
@@ -237,6 +264,8 @@ void visit_observer_counters(const ObserverCounters& c, Visit&& visit) {
   visit("impacts_in_corrections", c.impacts_in_corrections);
   visit("capacity_reopened", c.capacity_reopened);
   visit("rest_from_accel", c.rest_from_accel);
+  visit("model_doubt", c.model_doubt);
+  visit("quiet_motion", c.quiet_motion);
 }
 
 // The end of an input sample that starts t0_s after the record's start, on the wall sensors' clock [µs]: what an
@@ -392,6 +421,11 @@ class WallObserver {
     dropout_us_ = std::int64_t(o.dropout_s * 1e6 + 0.5);
     max_age_us_ = std::int64_t(o.max_age_s * 1e6 + 0.5);
     reinit_after_ = o.reinit_after;
+    doubt_nis_ = Cov(o.doubt_nis);
+    doubt_alpha_ = Cov(1.0 / o.doubt_window);
+    doubt_c_var_ = Cov(o.doubt_capacity_sigma * o.doubt_capacity_sigma);
+    doubt_e_var_ = Cov(o.doubt_r_sigma * o.doubt_r_sigma);
+    quiet_spread_x_ = Scalar(o.quiet_motion_spread_noises * o.x_noise_m);
     reopen_after_ = o.capacity_reopen_after;
     rest_after_ = o.rest_from_accel_after;
     stuck_after_ = o.stuck_after;
@@ -433,6 +467,9 @@ class WallObserver {
     last_innovation_x_ = Scalar(0);
     last_innovation_a_ = Scalar(0);
     innovation_x_sq_sum_ = Scalar(0);
+    nis_avg_ = Cov(1);
+    doubt_ = false;
+    quiet_lo_ = quiet_hi_ = Scalar(0);
   }
 
   // The wall's motion restarted from rest (long gap, publisher restart): what was learned (ê, b̂) stays.
@@ -576,6 +613,10 @@ class WallObserver {
     }
     if (lost_) out.flags |= observer_flag::sensor_lost;
     if (a_used_recent(t_us)) out.flags |= observer_flag::a_active;
+    if (doubt_) {
+      out.flags |= observer_flag::model_doubt;
+      ++counters_.model_doubt;
+    }
     x_prev_ = Traits::x(stepper);
     return out;
   }
@@ -590,6 +631,9 @@ class WallObserver {
   }
   double sqrt_r_estimate() const { return to_d(e_); }
   double bias_m() const { return to_d(b_); }
+  // Model doubt (ObserverOptions::doubt_nis) and the displacement's running NIS average behind it.
+  bool model_doubt() const { return doubt_; }
+  double nis_average() const { return to_d(nis_avg_); }
   double sigma_x_m() const { return root(p_(X, X)); }
   double sigma_xd_mps() const { return root(p_(V, V)); }
   double sigma_r() const { return pub(Cov(2) * ec_ * root_c(p_(E, E))); }
@@ -1079,7 +1123,9 @@ class WallObserver {
     for (int a = 0; a < kStates; ++a) ph[a] = p_(a, X) + p_(a, B);
     Vec dz = Vec::Zero();
     last_innovation_x_ = y;
-    if (scalar_update(ph, ph[X] + ph[B] + r_x_, cov(y), dz, informative(x))) {
+    const Cov s_x = ph[X] + ph[B] + r_x_;
+    note_innovation(cov(y), s_x);
+    if (scalar_update(ph, s_x, cov(y), dz, informative(x))) {
       apply(stepper, dz, ug, vg);
       ++counters_.x_updates;
       ++out.x_updates;
@@ -1099,8 +1145,24 @@ class WallObserver {
     have_x_used_ = true;
     lost_ = false;
     if (quiet) {
-      // The ground is quiet: a wall does not start rocking by itself. A sensor fault, not a re-initialisation.
+      // The ground is quiet: a rigid wall does not start rocking by itself, so a reading that disagrees is a sensor
+      // fault, not a re-initialisation — unless it keeps disagreeing and moves (a fault reads a constant or jumps
+      // once): then the wall moves where the model says it cannot (a lower threshold, crushed hinges, an elastic
+      // phase), the most informative reading there is (issue 40). The run's readings' spread decides.
       if (!stepper.moving()) {
+        if (consecutive_rejections_ == 1) {
+          quiet_lo_ = quiet_hi_ = z;
+        } else {
+          if (z < quiet_lo_) quiet_lo_ = z;
+          if (z > quiet_hi_) quiet_hi_ = z;
+        }
+        if (quiet_spread_x_ > Scalar(0) && consecutive_rejections_ >= reinit_after_ &&
+            quiet_hi_ - quiet_lo_ >= quiet_spread_x_) {
+          ++counters_.quiet_motion;
+          if (doubt_nis_ > Cov(0)) doubt_ = true;
+          reinitialise(stepper, z, ug, vg, out);
+          return;
+        }
         ++counters_.motion_while_quiet;
         out.flags |= observer_flag::motion_while_quiet;
       } else {
@@ -1110,6 +1172,21 @@ class WallObserver {
       return;
     }
     if (consecutive_rejections_ >= reinit_after_) reinitialise(stepper, z, ug, vg, out);
+  }
+
+  // The displacement's innovation y and its variance s: the running NIS average, and model doubt while it is above
+  // doubt_nis (ObserverOptions): the capacity's and √r's σ held at their floors (a larger diagonal keeps P positive
+  // semi-definite).
+  void note_innovation(Cov y, Cov s) {
+    if (!(doubt_nis_ > Cov(0)) || !(s > Cov(0))) return;
+    Cov nis = y * y / s;
+    if (nis > gate_) nis = gate_;
+    nis_avg_ = nis_avg_ + (nis - nis_avg_) * doubt_alpha_;
+    doubt_ = nis_avg_ > doubt_nis_;
+    if (!doubt_) return;
+    if (p_(C, C) < doubt_c_var_) p_(C, C) = doubt_c_var_;
+    if (p_(K, K) < doubt_c_var_) p_(K, K) = doubt_c_var_;
+    if (p_(E, E) < doubt_e_var_) p_(E, E) = doubt_e_var_;
   }
 
   // Re-open the capacity: κc and κk forget their correlations and take a variance of at least (the disagreement in
@@ -1215,6 +1292,8 @@ class WallObserver {
   double x_range_ = 0.5, a_range_ = 80.0;
   std::int64_t dropout_us_ = 250000, max_age_us_ = 50000;
   std::int32_t reinit_after_ = 8, stuck_after_ = 40, reopen_after_ = 16, rest_after_ = 8;
+  Cov doubt_nis_{}, doubt_alpha_{}, doubt_c_var_{}, doubt_e_var_{};  // model doubt (ObserverOptions) [-]
+  Scalar quiet_spread_x_{};  // quiet_motion_spread_noises × x_noise [m]
   // State.
   Scalar e_{}, b_{};
   Scalar kc_{1}, kk_{1};  // κc, κk [-]
@@ -1243,6 +1322,9 @@ class WallObserver {
   bool have_x_used_ = false, have_x_accepted_ = false, have_a_used_ = false, lost_ = false;
   std::int64_t last_x_used_us_ = 0, last_x_accepted_us_ = 0, last_a_used_us_ = 0;  // sample times [µs]
   std::int32_t consecutive_rejections_ = 0, identical_run_ = 0;
+  Cov nis_avg_{1};         // the displacement's NIS, averaged over about doubt_window samples [-]
+  bool doubt_ = false;     // model doubt (nis_avg_ > doubt_nis_, or motion read on a quiet ground)
+  Scalar quiet_lo_{}, quiet_hi_{};  // the readings' range over the run of rejections while quiet [m]
   std::int32_t consecutive_a_rejections_ = 0;  // accelerations gated out in a row (informative motion, x agreeing)
   std::int32_t rest_votes_ = 0;  // accelerations in a row that read a wall at rest while the model rocked
   bool have_last_raw_ = false;

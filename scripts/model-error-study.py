@@ -1,0 +1,419 @@
+#!/usr/bin/python3
+"""The model-error study (issue 40): the monitor against walls that are not its model.
+
+Reads truths kept as data (tests/data/truths/: one folder per family and case, written by tests/truth/make_truths.py
+from engines independent of SPEC §1-§3: ground.csv, sensors.csv, snapback.csv, truth.json; layout in
+tests/truth/README.md) and runs, per case, what a user would run:
+
+  open_loop   rockwatch simulate --record ground.csv --units mps2 <wall told> --alarms
+  fused       ... --wall-sensors sensors.csv [--forecast-members N --forecast-horizon-s H]
+  identified  rockwatch identify --wall-sensors snapback.csv --wall-out W.json (a free-rocking test of the same
+              truth), then rockwatch simulate --record ground.csv --wall-file W.json --alarms
+
+and scores them per truth family (SPEC §11 "Model error" defines every figure):
+  - alarm, on robust cases only (truth.json `robust`): right = IMMINENT at least 0.2 s before the truth's collapse,
+    or never IMMINENT/COLLAPSED on a survivor; recall, false-alarm rate, lead of IMMINENT (median, p05) against the
+    truth's t_collapse and t_exceed;
+  - estimates beside the truth's equivalent values (x_inst from a static push, r from the free decay): the fused
+    observer's x_inst and r after 5 impacts and at the end, identify's, each with |error| / its stated σ;
+  - the fused run's published P(collapse within H) (raw and calibrated) against the truth's outcome in (t, t + H]:
+    Brier score, skill, reliability bins of width 0.1.
+
+    scripts/model-error-study.py [--truths tests/data/truths] [--families multibody,crushed] [--out DIR]
+                                 [--forecast-members 200] [--forecast-horizon-s 5] [--plots] [--jobs 2]
+
+Writes DIR/runs.csv (one row per case x mode), DIR/forecasts.csv (one row per forecast), DIR/summary.json (per family
+and mode), DIR/report.txt (the table printed) and with --plots DIR/reliability.png, DIR/estimates.png. Exits 2 naming
+the file and field on a malformed truth. Deterministic (every tool it runs is).
+"""
+import argparse
+import concurrent.futures
+import csv
+import json
+import math
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.normpath(os.path.join(HERE, ".."))
+MODES = ("open_loop", "fused", "identified")
+WALL_KEYS = (("b", "--b"), ("h1", "--h1"), ("h2", "--h2"), ("rho", "--rho"), ("fp", "--fp"), ("a", "--a"),
+             ("a_prime", "--a-prime"))
+MIN_LEAD_S = 0.2       # issue 40: IMMINENT at least this long before a true collapse
+BIN_MIN_COUNT = 30     # reliability bins judged when they hold at least this many forecasts
+
+
+class TruthError(Exception):
+    pass
+
+
+def run_json(cmd):
+    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    if p.returncode != 0:
+        raise RuntimeError(f"{' '.join(cmd)} failed ({p.returncode}): {p.stderr.strip()}")
+    return json.loads(p.stdout)
+
+
+def load_truth(case_dir):
+    path = os.path.join(case_dir, "truth.json")
+    try:
+        with open(path) as f:
+            t = json.load(f)
+    except (OSError, ValueError) as e:
+        raise TruthError(f"{path}: {e}")
+    for key in ("family", "case", "collapsed", "t_collapse_s", "x_inst_equiv_m", "r_equiv", "robust"):
+        if key not in t:
+            raise TruthError(f"{path}: field '{key}' missing (expected the layout of tests/truth/README.md)")
+    for name in ("ground.csv", "sensors.csv"):
+        if not os.path.isfile(os.path.join(case_dir, name)):
+            raise TruthError(f"{case_dir}: {name} missing")
+    if t["collapsed"] and not isinstance(t["t_collapse_s"], (int, float)):
+        raise TruthError(f"{path}: field 't_collapse_s': expected a number for a collapsed truth")
+    return t
+
+
+def x_inst_of(truth):
+    v = truth["x_inst_equiv_m"]
+    if isinstance(v, dict):  # per side: the smaller one is the one that decides
+        v = min(float(x) for x in v.values())
+    return float(v)
+
+
+def wall_args(truth):
+    told = truth.get("wall_told") or {}
+    args = []
+    for key, opt in WALL_KEYS:
+        if key in told:
+            args += [opt, repr(float(told[key]))]
+    return args
+
+
+def alarm_fields(res):
+    al = res.get("alarm") or {}
+    return al.get("t_first_imminent_s"), al.get("t_first_collapsed_s")
+
+
+def run_case(case_dir, a):
+    truth = load_truth(case_dir)
+    ground = os.path.join(case_dir, "ground.csv")
+    base = [a.rockwatch, "simulate", "--record", ground, "--units", "mps2"] + wall_args(truth) + a.simulate_args
+    rows, forecasts = [], []
+    results = {"open_loop": run_json(base + ["--alarms", "--json"])}
+    fused_cmd = base + ["--alarms", "--wall-sensors", os.path.join(case_dir, "sensors.csv"), "--json"]
+    if a.forecast_members > 0:
+        fused_cmd += ["--forecast-members", str(a.forecast_members), "--forecast-horizon-s",
+                      repr(a.forecast_horizon_s)]
+    results["fused"] = run_json(fused_cmd)
+    snap = os.path.join(case_dir, "snapback.csv")
+    ident = None
+    if a.identify and os.path.isfile(snap):
+        with tempfile.TemporaryDirectory(prefix="model-error-") as tmp:
+            wall_file = os.path.join(tmp, "wall.json")
+            try:
+                ident = run_json([a.rockwatch, "identify", "--wall-sensors", snap, "--wall-out", wall_file, "--json"]
+                                 + wall_args(truth))
+                results["identified"] = run_json([a.rockwatch, "simulate", "--record", ground, "--units", "mps2",
+                                                  "--wall-file", wall_file, "--alarms", "--json"])
+            except RuntimeError as e:  # identify refuses (exit 2, saying why): counted, not fatal
+                ident = {"refused": str(e).splitlines()[-1][:200]}
+    x_inst_true = x_inst_of(truth)
+    tc = float(truth["t_collapse_s"]) if truth["collapsed"] else None
+    te = truth.get("t_exceed_s")
+    for mode in MODES:
+        res = results.get(mode)
+        if res is None:
+            continue
+        imminent, collapsed_alarm = alarm_fields(res)
+        row = {"family": truth["family"], "case": truth["case"], "mode": mode, "record": truth.get("record", ""),
+               "scale_pga_g": truth.get("scale_pga_g", ""), "robust": int(bool(truth["robust"])),
+               "true_collapse": int(bool(truth["collapsed"])), "t_collapse_true_s": tc,
+               "t_exceed_true_s": te, "x_inst_true_m": x_inst_true, "r_true": truth["r_equiv"],
+               "model_collapse": int(bool(res.get("collapsed") or res.get("collapse_after_end"))),
+               "t_first_imminent_s": imminent, "t_first_collapsed_s": collapsed_alarm}
+        alarmed = imminent is not None or collapsed_alarm is not None
+        if tc is not None:
+            row["lead_s"] = tc - imminent if imminent is not None else None
+            row["lead_to_exceed_s"] = te - imminent if (imminent is not None and te is not None) else None
+            row["alarm_right"] = int(imminent is not None and tc - imminent >= MIN_LEAD_S)
+        else:
+            row["lead_s"] = row["lead_to_exceed_s"] = None
+            row["alarm_right"] = int(not alarmed)
+        est = estimates(mode, res, ident, truth, x_inst_true)
+        row.update(est)
+        rows.append(row)
+    series = ((results["fused"].get("forecast") or {}).get("series")) or []
+    for e in series:
+        y = int(tc is not None and e["t_s"] < tc <= e["t_s"] + a.forecast_horizon_s)
+        forecasts.append({"family": truth["family"], "case": truth["case"], "t_s": e["t_s"],
+                          "p_collapse": e["p_collapse"], "p_collapse_calibrated": e.get("p_collapse_calibrated"),
+                          "outcome": y})
+    return rows, forecasts
+
+
+def estimates(mode, res, ident, truth, x_inst_true):
+    """The mode's estimates of x_inst and r with their stated σ, beside the truth's equivalent values."""
+    out = {}
+    r_true = float(truth["r_equiv"]) if truth["r_equiv"] is not None else None
+    if mode == "fused":
+        o = res.get("observer") or {}
+        pairs = (("x_inst_end", o.get("x_inst_estimate_m"), o.get("sigma_x_inst_m"), x_inst_true),
+                 ("x_inst_5", o.get("x_inst_estimate_after_impacts_m"), o.get("sigma_x_inst_m"), x_inst_true),
+                 ("r_end", o.get("r_estimate"), o.get("sigma_r"), r_true),
+                 ("r_5", o.get("r_estimate_after_impacts"), o.get("sigma_r"), r_true))
+        counters = o.get("counters") or {}
+        out["model_doubt_steps"] = counters.get("model_doubt")
+        out["quiet_motion"] = counters.get("quiet_motion")
+        out["motion_while_quiet"] = counters.get("motion_while_quiet")
+    elif mode == "identified" and ident and "refused" not in ident:
+        pairs = (("x_inst_end", ident.get("x_inst_m"), ident.get("sigma_x_inst_m"), x_inst_true),
+                 ("r_end", ident.get("r"), ident.get("sigma_r"), r_true))
+        out["fit_explains_record"] = ident.get("fit_explains_record")
+    else:
+        pairs = ()
+        if mode == "identified" and ident:
+            out["identify_refused"] = ident.get("refused")
+    for name, est, sig, true in pairs:
+        out[name] = est
+        out[name + "_sigma"] = sig
+        if est is None or true is None:
+            out[name + "_error"] = out[name + "_z"] = None
+            continue
+        err = est - true
+        out[name + "_error"] = err / true if name.startswith("x_inst") else err
+        out[name + "_z"] = abs(err) / sig if sig else math.inf
+    return out
+
+
+def quantile(values, q):
+    v = sorted(values)
+    if not v:
+        return None
+    h = (len(v) - 1) * q
+    lo = math.floor(h)
+    return v[lo] + (h - lo) * (v[min(lo + 1, len(v) - 1)] - v[lo])
+
+
+def brier(rows, key):
+    pairs = [(r[key], r["outcome"]) for r in rows if r[key] is not None]
+    if not pairs:
+        return None
+    b = statistics.mean((p - o) ** 2 for p, o in pairs)
+    base = statistics.mean(o for _, o in pairs)
+    skill = 1.0 - b / (base * (1 - base)) if 0 < base < 1 else None
+    bins = []
+    for i in range(10):
+        lo, hi = i / 10, (i + 1) / 10
+        sel = [(p, o) for p, o in pairs if lo <= p < hi or (i == 9 and p == 1.0)]
+        if sel:
+            mean_p = statistics.mean(p for p, _ in sel)
+            freq = statistics.mean(o for _, o in sel)
+            bins.append({"lo": lo, "hi": hi, "count": len(sel), "mean_p": mean_p, "observed": freq,
+                         "judged": len(sel) >= BIN_MIN_COUNT})
+    judged = [b_ for b_ in bins if b_["judged"]]
+    return {"forecasts": len(pairs), "base_rate": base, "brier": b, "skill": skill, "bins": bins,
+            "calibrated": all(abs(b_["observed"] - b_["mean_p"]) <= 0.1 for b_ in judged),
+            "worst_bin_gap": max((b_["observed"] - b_["mean_p"] for b_ in judged), key=abs, default=None)}
+
+
+def summarise(rows, forecasts):
+    summary = {}
+    for fam in sorted({r["family"] for r in rows}):
+        fam_rows = [r for r in rows if r["family"] == fam]
+        s = {"cases": len({r["case"] for r in fam_rows}),
+             "robust_cases": len({r["case"] for r in fam_rows if r["robust"]})}
+        for mode in MODES:
+            m = [r for r in fam_rows if r["mode"] == mode]
+            if not m:
+                continue
+            robust = [r for r in m if r["robust"]]
+            coll = [r for r in robust if r["true_collapse"]]
+            surv = [r for r in robust if not r["true_collapse"]]
+            leads = [r["lead_s"] for r in coll if r["lead_s"] is not None]
+            leads_x = [r["lead_to_exceed_s"] for r in coll if r["lead_to_exceed_s"] is not None]
+            ms = {"robust_collapses": len(coll), "robust_survivors": len(surv),
+                  "right": sum(r["alarm_right"] for r in robust), "robust": len(robust),
+                  "recall": (sum(r["alarm_right"] for r in coll) / len(coll)) if coll else None,
+                  "caught_at_all": sum(r["lead_s"] is not None and r["lead_s"] > 0 for r in coll),
+                  "false_alarms": sum(1 - r["alarm_right"] for r in surv),
+                  "false_alarm_rate": (sum(1 - r["alarm_right"] for r in surv) / len(surv)) if surv else None,
+                  "lead_s_median": statistics.median(leads) if leads else None,
+                  "lead_s_p05": quantile(leads, 0.05),
+                  "lead_to_exceed_s_median": statistics.median(leads_x) if leads_x else None}
+            for est in ("x_inst_end", "x_inst_5", "r_end", "r_5"):
+                vals = [r for r in m if r.get(est) is not None and r.get(est + "_error") is not None]
+                if not vals:
+                    continue
+                tol = 0.05 if est.startswith("x_inst") else 0.03
+                ms[est] = {"n": len(vals),
+                           "abs_error_median": statistics.median(abs(r[est + "_error"]) for r in vals),
+                           "abs_error_max": max(abs(r[est + "_error"]) for r in vals),
+                           "within_tolerance": sum(abs(r[est + "_error"]) <= tol for r in vals),
+                           "tolerance": tol,
+                           "within_3_sigma": sum(r[est + "_z"] <= 3 for r in vals),
+                           "z_max": max(r[est + "_z"] for r in vals)}
+            if mode == "identified":
+                ms["identify_refused"] = sum(1 for r in m if r.get("identify_refused"))
+            s[mode] = ms
+        fam_fc = [f for f in forecasts if f["family"] == fam]
+        if fam_fc:
+            s["forecast"] = {"raw": brier(fam_fc, "p_collapse"), "calibrated": brier(fam_fc, "p_collapse_calibrated")}
+        summary[fam] = s
+    return summary
+
+
+def fmt(v, spec=".2f"):
+    return "-" if v is None else format(v, spec)
+
+
+def report(summary, horizon_s):
+    lines = []
+    lines.append(f"{'family':13s} {'mode':10s} {'right':>7s} {'recall':>6s} {'false':>7s} {'lead med':>8s} "
+                 f"{'p05':>5s} {'x_inst err med/max (in 3σ)':>28s} {'r err after 5 (in 3σ)':>22s}")
+    for fam, s in summary.items():
+        for mode in MODES:
+            ms = s.get(mode)
+            if not ms:
+                continue
+            xi = ms.get("x_inst_5") or ms.get("x_inst_end")
+            ri = ms.get("r_5") or ms.get("r_end")
+            xs = (f"{fmt(xi['abs_error_median'], '.3f')}/{fmt(xi['abs_error_max'], '.3f')} "
+                  f"({xi['within_3_sigma']}/{xi['n']})") if xi else "-"
+            rs = f"{fmt(ri['abs_error_median'], '.3f')} ({ri['within_3_sigma']}/{ri['n']})" if ri else "-"
+            lines.append(f"{fam:13s} {mode:10s} {ms['right']:>3d}/{ms['robust']:<3d} {fmt(ms['recall']):>6s} "
+                         f"{ms['false_alarms']:>3d}/{ms['robust_survivors']:<3d} {fmt(ms['lead_s_median']):>8s} "
+                         f"{fmt(ms['lead_s_p05']):>5s} {xs:>28s} {rs:>22s}")
+        fc = s.get("forecast")
+        if fc:
+            for kind in ("raw", "calibrated"):
+                b = fc[kind]
+                if b:
+                    lines.append(f"{fam:13s} P(collapse in {horizon_s:g} s) {kind:10s}: {b['forecasts']} forecasts, "
+                                 f"base rate {b['base_rate']:.3f}, Brier {b['brier']:.4f}, skill {fmt(b['skill'], '.3f')}"
+                                 f", worst bin gap {fmt(b['worst_bin_gap'], '+.3f')}, "
+                                 f"{'calibrated' if b['calibrated'] else 'NOT calibrated'}")
+    return "\n".join(lines)
+
+
+def plots(summary, rows, out):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fams = list(summary)
+    fig, axes = plt.subplots(1, max(1, len(fams)), figsize=(4 * max(1, len(fams)), 4), squeeze=False)
+    for ax, fam in zip(axes[0], fams):
+        fc = summary[fam].get("forecast") or {}
+        for kind, style in (("raw", "o--"), ("calibrated", "s-")):
+            b = fc.get(kind)
+            if b:
+                ax.plot([x["mean_p"] for x in b["bins"]], [x["observed"] for x in b["bins"]], style, label=kind)
+        ax.plot([0, 1], [0, 1], "k:", lw=0.8)
+        ax.set_title(fam)
+        ax.set_xlabel("published P(collapse)")
+        ax.set_ylabel("observed frequency")
+        ax.legend()
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "reliability.png"), dpi=110)
+    fig, axes = plt.subplots(1, 2, figsize=(9, 4))
+    for fam in fams:
+        fr = [r for r in rows if r["family"] == fam and r["mode"] == "fused"]
+        axes[0].errorbar([r["x_inst_true_m"] for r in fr if r.get("x_inst_end") is not None],
+                         [r["x_inst_end"] for r in fr if r.get("x_inst_end") is not None],
+                         yerr=[r["x_inst_end_sigma"] or 0 for r in fr if r.get("x_inst_end") is not None],
+                         fmt="o", label=fam)
+        axes[1].errorbar([r["r_true"] for r in fr if r.get("r_end") is not None],
+                         [r["r_end"] for r in fr if r.get("r_end") is not None],
+                         yerr=[r["r_end_sigma"] or 0 for r in fr if r.get("r_end") is not None], fmt="o", label=fam)
+    for ax, name in zip(axes, ("x_inst [m]", "r")):
+        lo, hi = ax.get_xlim()
+        ax.plot([lo, hi], [lo, hi], "k:", lw=0.8)
+        ax.set_xlabel(f"truth's equivalent {name}")
+        ax.set_ylabel(f"fused estimate {name} (±σ)")
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "estimates.png"), dpi=110)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--rockwatch", default=os.path.join(ROOT, "build", "release", "host_tools", "rockwatch"))
+    ap.add_argument("--truths", default=os.path.join(ROOT, "tests", "data", "truths"))
+    ap.add_argument("--families", help="comma-separated families (default: every folder of --truths)")
+    ap.add_argument("--cases", type=int, default=0, help="at most this many cases per family (0: all)")
+    ap.add_argument("--out", required=True)
+    ap.add_argument("--forecast-members", type=int, default=200)
+    ap.add_argument("--forecast-horizon-s", type=float, default=5.0)
+    ap.add_argument("--no-identify", dest="identify", action="store_false")
+    ap.add_argument("--simulate-args", default="", help="more options for every simulate run (e.g. observer ones)")
+    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
+    ap.add_argument("--plots", action="store_true")
+    a = ap.parse_args()
+    a.simulate_args = a.simulate_args.split()
+    if not os.path.isdir(a.truths):
+        sys.exit(f"model-error-study: --truths {a.truths}: not a directory")
+    families = a.families.split(",") if a.families else sorted(
+        d for d in os.listdir(a.truths) if os.path.isdir(os.path.join(a.truths, d)))
+    cases = []
+    for fam in families:
+        fam_dir = os.path.join(a.truths, fam)
+        if not os.path.isdir(fam_dir):
+            sys.exit(f"model-error-study: family '{fam}': no folder {fam_dir}")
+        names = sorted(c for c in os.listdir(fam_dir) if os.path.isfile(os.path.join(fam_dir, c, "truth.json")))
+        if a.cases:
+            names = names[:a.cases]
+        cases += [os.path.join(fam_dir, c) for c in names]
+    if not cases:
+        sys.exit(f"model-error-study: no truth.json under {a.truths} for families {families}")
+    os.makedirs(a.out, exist_ok=True)
+    rows, forecasts = [], []
+    done = 0
+    try:
+        with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as pool:
+            futures = {pool.submit(run_case, c, a): c for c in cases}
+            for fut in concurrent.futures.as_completed(futures):
+                r, f = fut.result()
+                rows += r
+                forecasts += f
+                done += 1
+                if sys.stderr.isatty():
+                    print(f"\r[{done}/{len(cases)}] {os.path.relpath(futures[fut], a.truths)}      ", end="",
+                          file=sys.stderr, flush=True)
+    except TruthError as e:
+        print(f"model-error-study: {e}", file=sys.stderr)
+        sys.exit(2)
+    if sys.stderr.isatty():
+        print("", file=sys.stderr)
+    key = lambda r: (r["family"], r["case"], MODES.index(r["mode"]) if "mode" in r else r["t_s"])
+    rows.sort(key=key)
+    forecasts.sort(key=lambda f: (f["family"], f["case"], f["t_s"]))
+    summary = summarise(rows, forecasts)
+    fields = []
+    for r in rows:
+        fields += [k for k in r if k not in fields]
+    with open(os.path.join(a.out, "runs.csv"), "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=fields)
+        w.writeheader()
+        w.writerows(rows)
+    if forecasts:
+        with open(os.path.join(a.out, "forecasts.csv"), "w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=list(forecasts[0]))
+            w.writeheader()
+            w.writerows(forecasts)
+    settings = {"truths": os.path.relpath(a.truths, ROOT) if a.truths.startswith(ROOT) else a.truths,
+                "families": families, "forecast_members": a.forecast_members,
+                "forecast_horizon_s": a.forecast_horizon_s, "identify": a.identify,
+                "simulate_args": a.simulate_args, "min_lead_s": MIN_LEAD_S, "bin_min_count": BIN_MIN_COUNT}
+    with open(os.path.join(a.out, "summary.json"), "w") as f:
+        json.dump({"settings": settings, "families": summary}, f, indent=1)
+    text = report(summary, a.forecast_horizon_s)
+    with open(os.path.join(a.out, "report.txt"), "w") as f:
+        f.write(text + "\n")
+    print(text)
+    if a.plots:
+        plots(summary, rows, a.out)
+
+
+if __name__ == "__main__":
+    main()
