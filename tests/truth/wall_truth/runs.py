@@ -32,9 +32,11 @@ def static_push(tp, side=1, x_end=None, v_push=0.02, engine="c"):
     x_end = 1.4 * w.b if x_end is None else x_end
     n = _nsub(0.001, h)
     hh = 0.001 / n
-    w.driver = side * v_push
     xs, fs = [], []
+    k = 0
     while abs(w.joint_centre_x()) < x_end and not w.tipped():
+        k += 1
+        w.driver = side * v_push * min(1.0, k / 200.0)  # ramped over 0.2 s
         if engine == "c":
             w.steps(hh, n, 0.0, 0.0)
         else:
@@ -150,9 +152,10 @@ def impact_energy_ratios(resp, window_s=0.01, n_max=5):
     return out
 
 
-def sensor_rows(resp, seed, offset=0.002, sx=0.0005, sa=0.05):
-    """t, x_mid = x + offset + N(0, sx), a_mid = a + N(0, sa); seeded (numpy's PCG64), 5 significant digits."""
+def sensor_rows(resp, seed, offset=0.002, sx=0.0005, sa=0.05, stride=1):
+    """Every stride-th sample: t, x_mid = x + offset + N(0, sx), a_mid = a + N(0, sa); seeded (numpy's PCG64)."""
+    t, x, a = resp.t[::stride], resp.x[::stride], resp.a[::stride]
     rng = np.random.Generator(np.random.PCG64(seed))
-    nx = rng.normal(0.0, sx, len(resp.t))
-    na = rng.normal(0.0, sa, len(resp.t))
-    return resp.t, resp.x + offset + nx, resp.a + na
+    nx = rng.normal(0.0, sx, len(t))
+    na = rng.normal(0.0, sa, len(t))
+    return t, x + offset + nx, a + na
