@@ -510,3 +510,90 @@ TEST(WallObserver, ThePerSampleCovarianceIsTheStepByStepOne) {
   // to 1.6e-4 of itself here (measured 2026-11-27; 1e-6 while it was Q10.53).
   CHECK(worst_fixed < 1e-3);
 }
+
+// Issue 40: a wall that moves where the model says it cannot. A wall 60 % thinner than the drawings starts rocking at
+// 0.4 × the nominal threshold; the ground drives it at 0.45 × (below the observer's "quiet" 0.5 ×), so the rigid model
+// rests. Before, every reading was a "motion while quiet" fault and the real wall's motion was thrown away (a collapse
+// missed on crushed hinges); now a run of rejections whose readings move re-initialises the motion, doubted.
+TEST(WallObserver, AWallThatMovesOnAQuietGroundIsFollowedAndDoubted) {
+  WallParameters thin = paper_wall();
+  thin.b_m = 0.04;
+  StepperOptions so;
+  so.dt_s = kDt;
+  const StepperSetup<double> true_setup = make_stepper_setup(thin, ModelKind::linear, 0.8, so);
+  const StepperSetup<double> nominal = setup_with_r(0.8);
+  const double th_true = threshold_mps2(true_setup.model, Side::positive, 9.81);
+  const double th_nom = threshold_mps2(nominal.model, Side::positive, 9.81);
+  CHECK(th_true < 0.45 * th_nom);
+  for (const double spread_noises : {8.0, 0.0}) {  // 0: the rule off, the behaviour before issue 40
+    RockingStepper<double> truth, model;
+    truth.init(true_setup);
+    model.init(nominal);
+    WallObserver<RockingStepper<double>> observer;
+    ObserverOptions o;
+    o.quiet_motion_spread_noises = spread_noises;
+    CHECK(observer.init(o, nominal, paper_wall()) == ObserverError::ok);
+    Noise noise(7);
+    std::int64_t t = 0;
+    std::uint32_t flags = 0;
+    bool model_moved = false;
+    for (int k = 0; k < 400; ++k) {
+      const double ug = k < 100 ? 0.0 : -0.45 * th_nom;  // a step, then held: the true wall rocks towards x > 0
+      t += kDtUs;
+      truth.step(ug, 0.0);
+      observer.push(displacement(t, truth.state().x_m + 0.5e-3 * noise.normal()));
+      const StepReport<double> r = model.step(ug, 0.0);
+      flags |= observer.after_step(model, r, ug, 0.0, t, kDtUs).flags;
+      model_moved = model_moved || model.moving();
+      if (truth.collapsed()) break;
+    }
+    CHECK(truth.moving() || truth.collapsed());
+    if (spread_noises > 0.0) {
+      CHECK(observer.counters().quiet_motion >= 1);
+      CHECK(flags & observer_flag::reinitialised);
+      CHECK(flags & observer_flag::model_doubt);
+      CHECK(observer.counters().model_doubt > 0);
+      CHECK(model_moved);
+    } else {
+      LONGS_EQUAL(0, observer.counters().quiet_motion);
+      CHECK(observer.counters().motion_while_quiet > 100);
+      CHECK_FALSE(model_moved);
+    }
+  }
+}
+
+// Issue 40: model doubt from the innovations. A true wall that rocks like the model but carries a motion the model
+// cannot represent (a 6 Hz, 4 mm elastic vibration of the hinge) gives innovations far larger than their variance: the
+// NIS average passes doubt_nis, the flag is raised and the capacity's σ is held at its floor. The same wall without the
+// vibration (the model's own world) never raises it: the NIS average stays near its expected 1.
+TEST(WallObserver, DoubtsTheModelWhenTheInnovationsSayItIsWrong) {
+  for (const double vibration_m : {0.0, 4e-3}) {
+    FreeRocking run(0.85, 0.85, 0.06);
+    std::uint32_t flags = 0;
+    double nis_max = 0.0;
+    for (int k = 0; k < 1200; ++k) {
+      run.t_us += kDtUs;
+      const StepReport<double> tr = run.truth.step(0.0, 0.0);
+      (void)tr;
+      const double t_s = double(run.t_us) * 1e-6;
+      const double elastic = vibration_m * std::sin(2.0 * 3.141592653589793 * 6.0 * t_s);
+      run.observer.push(displacement(run.t_us, run.truth.state().x_m + elastic + 0.5e-3 * run.noise.normal()));
+      const StepReport<double> mr = run.model.step(0.0, 0.0);
+      flags |= run.observer.after_step(run.model, mr, 0.0, 0.0, run.t_us, kDtUs).flags;
+      nis_max = std::fmax(nis_max, run.observer.nis_average());
+      if (run.observer.model_doubt()) {
+        CHECK(run.observer.sigma_capacity_scale() >= 0.05 - 1e-12);
+        CHECK(run.observer.sigma_stiffness_scale() >= 0.05 - 1e-12);
+      }
+    }
+    if (vibration_m > 0.0) {
+      CHECK(flags & observer_flag::model_doubt);
+      CHECK(run.observer.counters().model_doubt > 100);
+      CHECK(nis_max > 4.0);
+    } else {
+      CHECK_FALSE(flags & observer_flag::model_doubt);
+      LONGS_EQUAL(0, run.observer.counters().model_doubt);
+      CHECK(nis_max < 2.5);
+    }
+  }
+}

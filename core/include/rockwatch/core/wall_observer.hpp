@@ -616,6 +616,7 @@ class WallObserver {
     if (doubt_) {
       out.flags |= observer_flag::model_doubt;
       ++counters_.model_doubt;
+      hold_doubt_floors();
     }
     x_prev_ = Traits::x(stepper);
     return out;
@@ -1175,15 +1176,18 @@ class WallObserver {
   }
 
   // The displacement's innovation y and its variance s: the running NIS average, and model doubt while it is above
-  // doubt_nis (ObserverOptions): the capacity's and √r's σ held at their floors (a larger diagonal keeps P positive
-  // semi-definite).
+  // doubt_nis (ObserverOptions).
   void note_innovation(Cov y, Cov s) {
     if (!(doubt_nis_ > Cov(0)) || !(s > Cov(0))) return;
     Cov nis = y * y / s;
     if (nis > gate_) nis = gate_;
     nis_avg_ = nis_avg_ + (nis - nis_avg_) * doubt_alpha_;
     doubt_ = nis_avg_ > doubt_nis_;
-    if (!doubt_) return;
+  }
+  // After the step's updates, while in doubt: σ(κc), σ(κk) and σ(√r) at least their floors. The pending prediction
+  // (flush) leaves these diagonal entries as they are but for their walks; a larger diagonal keeps P positive
+  // semi-definite.
+  void hold_doubt_floors() {
     if (p_(C, C) < doubt_c_var_) p_(C, C) = doubt_c_var_;
     if (p_(K, K) < doubt_c_var_) p_(K, K) = doubt_c_var_;
     if (p_(E, E) < doubt_e_var_) p_(E, E) = doubt_e_var_;
