@@ -293,11 +293,11 @@ def regenerate(case_dir, tol=1e-9):
     for a, b, what in ((xp, tr.x_inst[0], "x_inst+"), (xn, tr.x_inst[1], "x_inst-")):
         if abs(a - b) > tol:
             problems.append("%s %.12g != %.12g" % (what, a, b))
-    tr.snap = runs.snapback(tp, j["truth_params"]["snapback_x0_m"], rate=SENSOR_RATE_HZ)
+    tr.snap_x0 = j["truth_params"]["snapback_x0_m"]
+    tr.snap = runs.snapback(tp, tr.snap_x0, rate=SENSOR_RATE_HZ)
     r_list = runs.impact_energy_ratios(tr.snap)
     tr.r_list, tr.r_equiv = r_list, (float(np.median(r_list)) if r_list else None)
     tr.f_max = (0.0, 0.0)
-    saved = FAMILIES
     info, resp, ug, dt = make_case(j["family"], tr, j["record"], j["scale_pga_g"], j["collapse_pga_boundary_g"],
                                    None, write=False)
     for key in ("collapsed",):
@@ -309,7 +309,8 @@ def regenerate(case_dir, tol=1e-9):
             problems.append("%s %r != %r" % (key, a, b))
     # the files: the same numbers to their 5 significant digits
     s = j["sensor"]
-    for name, cols in (("ground.csv", [np.arange(len(ug)) * dt, ug]), ("sensors.csv", sensor_cols(resp, s, s["seed"]))):
+    for name, cols in (("ground.csv", [np.arange(len(ug)) * dt, ug]), ("sensors.csv", sensor_cols(resp, s, s["seed"])),
+                       ("snapback.csv", sensor_cols(tr.snap, s, s["snapback_seed"]))):
         kept = np.loadtxt(os.path.join(case_dir, name), delimiter=",", skiprows=1, ndmin=2)
         new = np.array([[float(fmt(v)) for v in row] for row in zip(*cols)])
         if kept.shape != new.shape:
@@ -321,7 +322,6 @@ def regenerate(case_dir, tol=1e-9):
         ulp = 10.0 ** (np.floor(np.log10(np.maximum(np.abs(kept), 1e-300))) - 4)
         if np.any(bad & (dev > 1.01 * ulp)) or np.sum(bad) > 2:
             problems.append("%s: %d values differ (max %.3g)" % (name, int(np.sum(bad)), float(dev.max())))
-    del saved
     return problems
 
 
