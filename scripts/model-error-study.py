@@ -6,7 +6,7 @@ from engines independent of SPEC §1-§3: ground.csv, sensors.csv, snapback.csv,
 tests/truth/README.md) and runs, per case, what a user would run:
 
   open_loop   rockwatch simulate --record ground.csv --units mps2 <wall told> --alarms
-  fused       ... --wall-sensors sensors.csv [--forecast-members N --forecast-horizon-s H]
+  fused       ... --wall-sensors sensors.csv [--forecast-members N --forecast-horizon-s H] [--observer-args]
   identified  rockwatch identify --wall-sensors snapback.csv --wall-out W.json (a free-rocking test of the same
               truth), then rockwatch simulate --record ground.csv --wall-file W.json --alarms
 
@@ -40,8 +40,8 @@ import tempfile
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.normpath(os.path.join(HERE, ".."))
 MODES = ("open_loop", "fused", "identified")
-WALL_KEYS = (("b", "--b"), ("h1", "--h1"), ("h2", "--h2"), ("rho", "--rho"), ("fp", "--fp"), ("a", "--a"),
-             ("a_prime", "--a-prime"))
+WALL_KEYS = (("b", "--b"), ("h1", "--h1"), ("h2", "--h2"), ("rho", "--rho"), ("fp", "--fp"), ("Fp_N_per_m", "--fp"),
+             ("a", "--a"), ("a_prime", "--a-prime"))
 MIN_LEAD_S = 0.2       # issue 40: IMMINENT at least this long before a true collapse
 BIN_MIN_COUNT = 30     # reliability bins judged when they hold at least this many forecasts
 
@@ -102,7 +102,7 @@ def run_case(case_dir, a):
     base = [a.rockwatch, "simulate", "--record", ground, "--units", "mps2"] + wall_args(truth) + a.simulate_args
     rows, forecasts = [], []
     results = {"open_loop": run_json(base + ["--alarms", "--json"])}
-    fused_cmd = base + ["--alarms", "--wall-sensors", os.path.join(case_dir, "sensors.csv"), "--json"]
+    fused_cmd = base + ["--alarms", "--wall-sensors", os.path.join(case_dir, "sensors.csv"), "--json"] + a.observer_args
     if a.forecast_members > 0:
         fused_cmd += ["--forecast-members", str(a.forecast_members), "--forecast-horizon-s",
                       repr(a.forecast_horizon_s)]
@@ -183,7 +183,7 @@ def estimates(mode, res, ident, truth, x_inst_true):
             continue
         err = est - true
         out[name + "_error"] = err / true if name.startswith("x_inst") else err
-        out[name + "_z"] = abs(err) / sig if sig else math.inf
+        out[name + "_z"] = abs(err) / sig if sig else (0.0 if err == 0 else math.inf)
     return out
 
 
@@ -346,11 +346,13 @@ def main():
     ap.add_argument("--forecast-members", type=int, default=200)
     ap.add_argument("--forecast-horizon-s", type=float, default=5.0)
     ap.add_argument("--no-identify", dest="identify", action="store_false")
-    ap.add_argument("--simulate-args", default="", help="more options for every simulate run (e.g. observer ones)")
+    ap.add_argument("--simulate-args", default="", help="more options for every simulate run (e.g. alarm ones)")
+    ap.add_argument("--observer-args", default="", help="more options for the fused runs (the observer's)")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
     ap.add_argument("--plots", action="store_true")
     a = ap.parse_args()
     a.simulate_args = a.simulate_args.split()
+    a.observer_args = a.observer_args.split()
     if not os.path.isdir(a.truths):
         sys.exit(f"model-error-study: --truths {a.truths}: not a directory")
     families = a.families.split(",") if a.families else sorted(
@@ -367,13 +369,17 @@ def main():
     if not cases:
         sys.exit(f"model-error-study: no truth.json under {a.truths} for families {families}")
     os.makedirs(a.out, exist_ok=True)
-    rows, forecasts = [], []
+    rows, forecasts, failures = [], [], []
     done = 0
     try:
         with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as pool:
             futures = {pool.submit(run_case, c, a): c for c in cases}
             for fut in concurrent.futures.as_completed(futures):
-                r, f = fut.result()
+                try:
+                    r, f = fut.result()
+                except RuntimeError as e:  # a tool failed on this case: named, the others go on, the exit says so
+                    failures.append(f"{os.path.relpath(futures[fut], a.truths)}: {e}")
+                    continue
                 rows += r
                 forecasts += f
                 done += 1
@@ -404,7 +410,7 @@ def main():
     settings = {"truths": os.path.relpath(a.truths, ROOT) if a.truths.startswith(ROOT) else a.truths,
                 "families": families, "forecast_members": a.forecast_members,
                 "forecast_horizon_s": a.forecast_horizon_s, "identify": a.identify,
-                "simulate_args": a.simulate_args, "min_lead_s": MIN_LEAD_S, "bin_min_count": BIN_MIN_COUNT}
+                "simulate_args": a.simulate_args, "observer_args": a.observer_args, "min_lead_s": MIN_LEAD_S, "bin_min_count": BIN_MIN_COUNT}
     with open(os.path.join(a.out, "summary.json"), "w") as f:
         json.dump({"settings": settings, "families": summary}, f, indent=1)
     text = report(summary, a.forecast_horizon_s)
@@ -413,6 +419,9 @@ def main():
     print(text)
     if a.plots:
         plots(summary, rows, a.out)
+    if failures:
+        print(f"model-error-study: {len(failures)} case(s) failed:", *failures, sep="\n  ", file=sys.stderr)
+        sys.exit(1)
 
 
 if __name__ == "__main__":

@@ -69,6 +69,13 @@ void add_observer_options(CLI::App& app, ObserverOptionTexts& texts, const std::
                      "the capacity's and r's sigma held wide; SPEC 11); 0 turns it off, else X >= 1 (default " +
                      number_text(d.doubt_nis) + ")")
       ->type_name("X");
+  app.add_option("--observer-quiet-motion-noises", texts.quiet_motion_noises,
+                 help_prefix + "while the model rests on a quiet ground, rejected displacement readings that spread "
+                     "over N x the transducer's sigma are motion, not a fault: the motion is re-initialised from them "
+                     "(SPEC 11); 0: always a fault (before issue 40), " +
+                     range_text(kMinObserverQuietMotionNoises, kMaxObserverQuietMotionNoises, "") + " (default " +
+                     number_text(d.quiet_motion_spread_noises) + ")")
+      ->type_name("N");
 }
 
 bool observer_option_given(const CLI::App& app) {
@@ -97,6 +104,9 @@ core::ObserverOptions parse_observer_options(const CLI::App& app, const Observer
                      o.accel_inform_peak_noises);
   o.doubt_nis = parse_in_range(app, "--observer-doubt-nis", texts.doubt_nis, kMinObserverDoubtNis, kMaxObserverDoubtNis,
                                "", o.doubt_nis);
+  o.quiet_motion_spread_noises =
+      parse_in_range(app, "--observer-quiet-motion-noises", texts.quiet_motion_noises, kMinObserverQuietMotionNoises,
+                     kMaxObserverQuietMotionNoises, "", o.quiet_motion_spread_noises);
   // The core's own check, in case its ranges ever become narrower than the ones above.
   const core::ObserverError err = core::validate_observer_options(o);
   if (err != core::ObserverError::ok) throw UsageError(core::observer_error_message(err));

@@ -196,7 +196,8 @@ nlohmann::ordered_json observer_json(const SimulateRequest& q, const sim::Observ
                    {"gate_chi2", o.gate_chi2},
                    {"capacity_sigmas", o.alarm_capacity_sigmas},
                    {"accel_inform_peak_noises", o.accel_inform_peak_noises},
-                   {"doubt_nis", o.doubt_nis}};
+                   {"doubt_nis", o.doubt_nis},
+                   {"quiet_motion_spread_noises", o.quiet_motion_spread_noises}};
   return j;
 }
 

@@ -1,6 +1,6 @@
 // The wall observer's settings on a command line (core::ObserverOptions, core/wall_observer.hpp): --observer-x-noise-m,
 // --observer-a-noise-mps2, --observer-process-mps2, --observer-gate-chi2, --observer-capacity-sigmas and
-// --observer-accel-inform-peak-noises, --observer-doubt-nis, with the defaults of core::ObserverOptions in their help and one range check
+// --observer-accel-inform-peak-noises, --observer-doubt-nis, --observer-quiet-motion-noises, with the defaults of core::ObserverOptions in their help and one range check
 // each, whose message names the option. `rockwatch simulate --wall-sensors` and `rockwatch study --observer` use them;
 // the monitor can register the same options.
 #pragma once
@@ -16,7 +16,7 @@
 namespace rockwatch::options {
 
 struct ObserverOptionTexts {
-  std::string x_noise, a_noise, process, gate, capacity_sigmas, accel_inform_peak_noises, doubt_nis;
+  std::string x_noise, a_noise, process, gate, capacity_sigmas, accel_inform_peak_noises, doubt_nis, quiet_motion_noises;
 };
 
 // The ranges core::validate_observer_options accepts.
@@ -27,13 +27,14 @@ inline constexpr double kMinObserverGateChi2 = 1.0, kMaxObserverGateChi2 = 1000.
 inline constexpr double kMinObserverCapacitySigmas = 0.0, kMaxObserverCapacitySigmas = 10.0;
 inline constexpr double kMinObserverAccelInformPeakNoises = 0.0, kMaxObserverAccelInformPeakNoises = 1000.0;
 inline constexpr double kMinObserverDoubtNis = 0.0, kMaxObserverDoubtNis = 1000.0;  // 0 = off; else ≥ 1 (core)
+inline constexpr double kMinObserverQuietMotionNoises = 0.0, kMaxObserverQuietMotionNoises = 1000.0;
 
 // The option names, in registration order.
 inline constexpr const char* kObserverOptionNames[] = {"--observer-x-noise-m", "--observer-a-noise-mps2",
                                                        "--observer-process-mps2", "--observer-gate-chi2",
                                                        "--observer-capacity-sigmas",
                                                        "--observer-accel-inform-peak-noises",
-                                                       "--observer-doubt-nis"};
+                                                       "--observer-doubt-nis", "--observer-quiet-motion-noises"};
 
 // Registers the options; each help starts with `help_prefix` (e.g. "With --wall-sensors: ").
 void add_observer_options(CLI::App& app, ObserverOptionTexts& texts, const std::string& help_prefix);
