@@ -99,7 +99,11 @@ def quick():
     # 4. the C kernel is the Python engine
     dev = c_vs_python(0.3)
     check(dev < 1e-9, "C kernel = Python engine over 0.3 s of forced rocking: max |Δq| %.2e" % dev)
-    # 5. a kept case regenerates
+    # 5. the kept data keep their layout (the contract with the studies that read them)
+    problems = layout_problems()
+    check(not problems, "tests/data/truths layout: index.csv, 4 files and the truth.json keys per case%s" % (
+        "" if not problems else ": " + "; ".join(problems[:5])))
+    # 6. a kept case regenerates
     case = kept_case()
     if case is None:
         check(False, "a kept case regenerates: no tests/data/truths/index.csv")
@@ -125,6 +129,50 @@ def c_vs_python(t_end, h=2.5e-4, itf=None):
             for k in range(int(t_end / h)):
                 w.step(h, 2.5 * math.sin(2 * math.pi * 2.0 * k * h))
         out = max(out, float(np.max(np.abs(ws[0].q - ws[1].q))))
+    return out
+
+
+TRUTH_KEYS = ["family", "case", "engine", "truth_params", "wall_told", "record", "scale_pga_g", "collapsed",
+              "t_collapse_s", "t_exceed_s", "max_abs_x_m", "x_inst_equiv_m", "r_equiv", "robust", "sensor"]
+
+
+def layout_problems():
+    import csv
+    root = os.path.join(ROOT, "tests", "data", "truths")
+    idx = os.path.join(root, "index.csv")
+    if not os.path.exists(idx):
+        return ["no index.csv"]
+    out = []
+    rows = list(csv.DictReader(open(idx)))
+    if not rows or list(rows[0].keys()) != make_truths.INDEX_COLS:
+        out.append("index.csv columns")
+    listed = set()
+    for r in rows:
+        d = os.path.join(root, r["family"], r["case"])
+        listed.add((r["family"], r["case"]))
+        for f in ("ground.csv", "sensors.csv", "snapback.csv", "truth.json"):
+            if not os.path.exists(os.path.join(d, f)):
+                out.append("%s/%s: no %s" % (r["family"], r["case"], f))
+        if not os.path.exists(os.path.join(d, "truth.json")):
+            continue
+        j = json.load(open(os.path.join(d, "truth.json")))
+        miss = [k for k in TRUTH_KEYS if k not in j]
+        if miss:
+            out.append("%s/%s: truth.json lacks %s" % (r["family"], r["case"], ", ".join(miss)))
+        if not os.path.exists(os.path.join(ROOT, "tests", "data", "records", j.get("record", ""))):
+            out.append("%s/%s: record %s not in tests/data/records" % (r["family"], r["case"], j.get("record")))
+        with open(os.path.join(d, "ground.csv")) as f:
+            if f.readline().strip() != "t_s,ug_mps2":
+                out.append("%s/%s: ground.csv header" % (r["family"], r["case"]))
+        for name in ("sensors.csv", "snapback.csv"):
+            with open(os.path.join(d, name)) as f:
+                if f.readline().strip() != "t_s,x_mid_m,a_mid_mps2":
+                    out.append("%s/%s: %s header" % (r["family"], r["case"], name))
+    for fam in os.listdir(root):
+        if os.path.isdir(os.path.join(root, fam)):
+            for case in os.listdir(os.path.join(root, fam)):
+                if (fam, case) not in listed:
+                    out.append("%s/%s not in index.csv" % (fam, case))
     return out
 
 
