@@ -12,8 +12,8 @@
 // removed the over-confidence of the first calibration at P 0.5-0.9, docs/BENCHMARKS.md); ρ_max is capped at 2 in
 // it so that the few forecasts far over the barrier (0.3 % of the default study's) do not lever it. Four
 // coefficients (the first calibration's) mean c4 = 0. The coefficients are fitted by maximum likelihood
-// (fit_logistic_regression); in `rockwatch study --forecast` leave one record out, for the live monitor and `simulate` on the whole shipped suite
-// (default_forecast_calibration; an option overrides them). They hold for the horizon they were fitted at.
+// (fit_logistic_regression); in `rockwatch study --forecast` leave one record out, for the live monitor and `simulate` on real
+// records (default_forecast_calibration, issue 40; an option overrides them). They hold for the horizon they were fitted at.
 #pragma once
 
 #include <array>
@@ -38,9 +38,9 @@ struct ForecastCalibration {
   std::string source;                             // where they come from (for reports)
 };
 
-// The shipped coefficients (SPEC §10) for a horizon: fitted on every forecast of the default study (`rockwatch study
-// --forecast [--forecast-horizon-s 5]`: suite sets 1-11, r_ana and r_exp, 0.11-0.30 g; 100 members) at H = 3 s and
-// H = 5 s; none for another horizon (the coefficients hold for the horizon they were fitted at).
+// The shipped coefficients (SPEC §10) for a horizon: fitted on every forecast of the fit events of real records
+// (scripts/forecast-real-records.py --sets fit --refit: 13 records of 6 earthquakes, r_ana and r_exp, 0.8-1.6 x each
+// record's collapse PGA; 200 members; issue 40) at H = 3 s and H = 5 s; none for another horizon.
 std::optional<ForecastCalibration> default_forecast_calibration(double horizon_s);
 // The horizons default_forecast_calibration has coefficients for, as text ("3 s and 5 s"), for messages.
 const char* shipped_calibration_horizons();
