@@ -18,8 +18,14 @@ The records are split by *earthquake event* (never a component of one event in b
 The calibration shipped for real records is fitted on `fit` only; `validation` is held out from every choice.
 
     scripts/forecast-real-records.py [--rockwatch build/release/host_tools/rockwatch] [--out DIR] [--jobs 2]
-        [--horizon 5] [--members 200] [--sets fit,validation] [--r exp,ana] [--factors 0.8,...]
-        [--calibration c0,c1,c2,c3,c4] [--simulate-arg ARG ...] [--refit] [--wall-sensors]
+        [--horizon 5] [--members 200] [--sets fit,validation] [--records NAME,...] [--r exp,ana] [--factors 0.8:1.6:0.1]
+        [--calibration c0,c1,c2,c3,c4] [--simulate-arg ARG ...] [--refit] [--wall-sensors] [--fresh]
+        [--study [--forecast-setting NAME=VALUE ...]] [--check-under-statement 0.1]
+
+--study runs the same forecasts through `rockwatch study --records --forecast` (one study per record and r), which
+takes the forecaster's settings (--forecast-setting, SPEC section 10): how the ground continuation was compared
+without rebuilding (it publishes no calibrated P: use --refit). --check-under-statement D exits 1 when the published
+P is under-stated by more than D in a bin of >= 30 forecasts (the ctest forecast_real_records_not_understated).
 
 --refit also fits the calibration (SPEC section 10's five coefficients, maximum likelihood) on the `fit` forecasts and
 scores it on both sets (on `fit`: leave one event out). --wall-sensors runs each level twice: the true wall's
