@@ -350,6 +350,8 @@ def main():
     ap.add_argument("--observer-args", default="", help="more options for the fused runs (the observer's)")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
     ap.add_argument("--plots", action="store_true")
+    ap.add_argument("--check-fused-alarm", action="store_true",
+                    help="exit 1 naming the case when the fused alarm is not right on a robust case (the ctest)")
     a = ap.parse_args()
     a.simulate_args = a.simulate_args.split()
     a.observer_args = a.observer_args.split()
@@ -422,6 +424,18 @@ def main():
     if failures:
         print(f"model-error-study: {len(failures)} case(s) failed:", *failures, sep="\n  ", file=sys.stderr)
         sys.exit(1)
+    if a.check_fused_alarm:
+        wrong = [r for r in rows if r["mode"] == "fused" and r["robust"] and not r["alarm_right"]]
+        for r in wrong:
+            what = (f"IMMINENT {fmt(r['lead_s'])} s before the true collapse at {r['t_collapse_true_s']:.3f} s "
+                    f"(needed >= {MIN_LEAD_S} s)" if r["true_collapse"] else
+                    f"IMMINENT at {r['t_first_imminent_s']} s / COLLAPSED at {r['t_first_collapsed_s']} s on a "
+                    f"true survivor")
+            print(f"model-error-study: fused alarm wrong on {r['family']}/{r['case']}: {what}", file=sys.stderr)
+        if wrong:
+            sys.exit(1)
+        n = sum(1 for r in rows if r["mode"] == "fused" and r["robust"])
+        print(f"model-error-study: the fused alarm is right on all {n} robust cases")
 
 
 if __name__ == "__main__":
