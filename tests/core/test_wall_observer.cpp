@@ -24,6 +24,15 @@ StepperSetup<double> setup_with_r(double r) {
   return make_stepper_setup(paper_wall(), ModelKind::linear, r, o);
 }
 
+// The paper wall of thickness b_m (the nominal one is 0.10 m) at r 0.8: a true wall the nominal observer misjudges.
+StepperSetup<double> thinner_setup(double b_m) {
+  WallParameters thin = paper_wall();
+  thin.b_m = b_m;
+  StepperOptions o;
+  o.dt_s = kDt;
+  return make_stepper_setup(thin, ModelKind::linear, 0.8, o);
+}
+
 // Deterministic N(0, 1) draws (xorshift + Box–Muller): the tests do not depend on a library's generator.
 class Noise {
  public:
@@ -296,11 +305,7 @@ TEST(WallObserver, FixedPointObserverFollowsTheDoubleOne) {
 
 TEST(WallObserver, ReinitialisesWhenTheRealWallRocksAndTheModelDoesNot) {
   // The real wall is 10 % thinner: it starts rocking under a ground push that the nominal wall resists.
-  WallParameters thin = paper_wall();
-  thin.b_m = 0.09;
-  StepperOptions so;
-  so.dt_s = kDt;
-  const StepperSetup<double> true_setup = make_stepper_setup(thin, ModelKind::linear, 0.8, so);
+  const StepperSetup<double> true_setup = thinner_setup(0.09);
   const StepperSetup<double> nominal = setup_with_r(0.8);
   const double th_true = threshold_mps2(true_setup.model, Side::positive, 9.81);
   const double th_nom = threshold_mps2(nominal.model, Side::positive, 9.81);
@@ -516,11 +521,7 @@ TEST(WallObserver, ThePerSampleCovarianceIsTheStepByStepOne) {
 // rests. Before, every reading was a "motion while quiet" fault and the real wall's motion was thrown away (a collapse
 // missed on crushed hinges); now a run of rejections whose readings move re-initialises the motion, doubted.
 TEST(WallObserver, AWallThatMovesOnAQuietGroundIsFollowedAndDoubted) {
-  WallParameters thin = paper_wall();
-  thin.b_m = 0.04;
-  StepperOptions so;
-  so.dt_s = kDt;
-  const StepperSetup<double> true_setup = make_stepper_setup(thin, ModelKind::linear, 0.8, so);
+  const StepperSetup<double> true_setup = thinner_setup(0.04);
   const StepperSetup<double> nominal = setup_with_r(0.8);
   const double th_true = threshold_mps2(true_setup.model, Side::positive, 9.81);
   const double th_nom = threshold_mps2(nominal.model, Side::positive, 9.81);
