@@ -302,16 +302,9 @@ void MonitorLoop::process_sample(std::int64_t utime, std::int64_t seq, double ug
     }
   }
 
-  // Bridge a short gap: the last good input held for each missing sample (≤ max_bridge_samples steps).
-  if (missing > 0) {
-    for (std::int64_t k = 1; k <= missing; ++k) {
-      ++counters_.samples_bridged;
-      step_and_publish(sat_add(last_utime_, k * period_us_), last_seq_ + k, last_ug_, last_vg_,
-                       Status::QUALITY_GAP_BRIDGED, false, true, last_time_trusted_);
-    }
-  }
-
-  // The values: NaN/Inf and out-of-range components replaced by the last good value of that component.
+  // The values: NaN/Inf and out-of-range components replaced by the last good value of that component. Cleaned
+  // before a gap is bridged: the bridge ends at this sample's (cleaned) value.
+  const double before_ug = last_ug_, before_vg = last_vg_;  // the last good input before the gap [m/s²]
   if (sensor_status != 0) {
     ++counters_.sensor_flags;
     quality |= Status::QUALITY_SENSOR_FLAG;
@@ -337,6 +330,20 @@ void MonitorLoop::process_sample(std::int64_t utime, std::int64_t seq, double ug
   } else {
     vg = last_vg_;
   }
+  // Bridge a short gap (≤ max_bridge_samples steps; SPEC §12): the missing inputs interpolated linearly between the
+  // last good input before the gap and this sample's, which has arrived when the gap is found. Holding the last value
+  // instead shifts the ground's impulse by up to half the gap and, near instability, delays or loses the alarm.
+  if (missing > 0) {
+    const double span = static_cast<double>(missing + 1);
+    for (std::int64_t k = 1; k <= missing; ++k) {
+      ++counters_.samples_bridged;
+      const double w = static_cast<double>(k) / span;  // (0, 1): the missing sample's place in the gap
+      step_and_publish(sat_add(last_utime_, k * period_us_), last_seq_ + k, before_ug + w * (ug - before_ug),
+                       before_vg + w * (vg - before_vg), Status::QUALITY_GAP_BRIDGED, false, true,
+                       last_time_trusted_);
+    }
+  }
+
   if (!(settings_.engine.wall.g_mps2 + vg > 0.0)) quality |= Status::QUALITY_LIFT_OFF;
   if (delay_us > late_limit_us_) {
     ++counters_.late;

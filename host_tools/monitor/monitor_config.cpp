@@ -6,6 +6,7 @@ static_assert(rockwatch::sim::kCalibrationFeatures == 5, "MonitorConfig::forecas
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -336,7 +337,11 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
                   std::string(config.rate_origin) + " gives the rate)",
               max_step.value);
   engine.max_step_s = max_step.value;
-  if (file.max_bridge_samples) s.max_bridge_samples = *file.max_bridge_samples;
+  // The bridge: the file's, or about kDefaultBridge_s of samples at this rate (SPEC §12), within [10, 1000].
+  s.max_bridge_samples = file.max_bridge_samples
+                             ? *file.max_bridge_samples
+                             : static_cast<std::int32_t>(
+                                   std::clamp(std::lround(firmware::kDefaultBridge_s * rate.value), 10L, 1000L));
   if (file.sensor_range_mps2) {
     check_range(*file.sensor_range_mps2 > 0.0 && *file.sensor_range_mps2 <= 80.0, file_label("sensor_range_mps2"),
                 "in (0, 80] m/s2 (80: the fixed-point engine's input limit)", *file.sensor_range_mps2);

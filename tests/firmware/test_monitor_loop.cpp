@@ -408,14 +408,22 @@ TEST(MonitorLoop, TheFixedPointEngineRefusesTheFullModel) {
   CHECK_TRUE(loop.init(s, engines(s), t) == fw::MonitorError::arithmetic_invalid);
 }
 
-TEST(MonitorLoop, ShortGapBridgedByHoldingTheLastInput) {
+// The input of missing sample k of a gap from seq a to seq b (SPEC §12): linear between the last good input before the
+// gap and the input that ends it.
+static double bridged_input(double before, double after, std::int64_t a, std::int64_t b, std::int64_t k) {
+  const double w = static_cast<double>(k - a) / static_cast<double>(b - a);
+  return before + w * (after - before);
+}
+
+TEST(MonitorLoop, ShortGapBridgedByInterpolatingBetweenTheSamplesOnEitherSide) {
   Rig rig;
   rig.stream(0, 150);
   CHECK_TRUE(rig.ref.stepper().moving());
-  // 151..153 missing (3 ≤ max_bridge_samples = 10): held at the input of 150, then 154.
-  const double held = rocking_ug(150);
+  // 151..153 missing (3 ≤ max_bridge_samples = 10): interpolated between the inputs of 150 and 154.
   rig.send(accel(154, rocking_ug(154)));
-  for (int i = 0; i < 3; ++i) rig.ref.process_wall(q(held), q(0.0));
+  for (std::int64_t k = 151; k <= 153; ++k) {
+    rig.ref.process_wall(q(bridged_input(rocking_ug(150), rocking_ug(154), 150, 154, k)), q(0.0));
+  }
   rig.ref.process_wall(q(rocking_ug(154)), q(0.0));
   rig.check_matches_reference();
   const std::vector<wall_state_t> states = rig.transport.states();
@@ -439,13 +447,51 @@ TEST(MonitorLoop, ShortGapBridgedByHoldingTheLastInput) {
   rig.check_matches_reference();
   LONGS_EQUAL(0, rig.last_state().data_quality);
   rig.send(accel(166, rocking_ug(166)));
-  for (int i = 0; i < 10; ++i) rig.ref.process_wall(q(rocking_ug(155)), q(0.0));
+  for (std::int64_t k = 156; k <= 165; ++k) {
+    rig.ref.process_wall(q(bridged_input(rocking_ug(155), rocking_ug(166), 155, 166, k)), q(0.0));
+  }
   rig.ref.process_wall(q(rocking_ug(166)), q(0.0));
   rig.check_matches_reference();
   LONGS_EQUAL(13, rig.loop.counters().samples_bridged);
   LONGS_EQUAL(2, rig.loop.counters().gaps);
   LONGS_EQUAL(0, rig.loop.counters().state_resets);
   check_alarm_events_consistent(rig);
+}
+
+// A ground that is linear across the gap is restored exactly: the bridged wall is the wall that lost nothing, state for
+// state (the inputs are exact binary fractions, so the interpolation is exact). Holding the last input would not be.
+TEST(MonitorLoop, GapInALinearGroundIsBridgedExactly) {
+  const auto ramp = [](std::int64_t seq) { return 1.0 + 0.125 * static_cast<double>(seq); };  // [m/s²]
+  Rig lossless, lossy;
+  for (std::int64_t k = 0; k <= 20; ++k) lossless.send(accel(k, ramp(k)));
+  for (std::int64_t k = 0; k <= 20; ++k) {
+    if (k < 9 || k > 15) lossy.send(accel(k, ramp(k)));  // 9..15 lost: 7 ≤ max_bridge_samples
+  }
+  const std::vector<wall_state_t> a = lossless.transport.states(), b = lossy.transport.states();
+  LONGS_EQUAL(21, static_cast<long>(a.size()));
+  LONGS_EQUAL(21, static_cast<long>(b.size()));
+  CHECK_TRUE(lossless.loop.counters().samples_bridged == 0);
+  LONGS_EQUAL(7, lossy.loop.counters().samples_bridged);
+  bool moved = false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    LONGS_EQUAL(a[i].input_seq, b[i].input_seq);
+    CHECK_TRUE(a[i].x_m == b[i].x_m);
+    CHECK_TRUE(a[i].xd_mps == b[i].xd_mps);
+    moved = moved || a[i].x_m != 0.0;
+  }
+  CHECK_TRUE(moved);  // the ramp (1.0 to 3.5 m/s², above the threshold 1.12) rocks the wall: the states say something
+}
+
+// A gap ended by a sample whose value is rejected (NaN) is bridged towards the last good value: held, since nothing
+// better is known.
+TEST(MonitorLoop, GapEndedByARejectedValueIsBridgedTowardsTheLastGoodInput) {
+  Rig rig;
+  rig.stream(0, 150);
+  rig.send(accel(153, std::numeric_limits<double>::quiet_NaN()));
+  for (int i = 0; i < 3; ++i) rig.ref.process_wall(q(rocking_ug(150)), q(0.0));
+  rig.check_matches_reference();
+  LONGS_EQUAL(2, rig.loop.counters().samples_bridged);
+  LONGS_EQUAL(1, rig.loop.counters().rejected_not_finite);
 }
 
 TEST(MonitorLoop, LongGapDeclaresTheStateUnknownAndRestartsFromRest) {
@@ -502,9 +548,9 @@ TEST(MonitorLoop, DuplicatesAreDropped) {
 TEST(MonitorLoop, OutOfOrderSamplesAreDropped) {
   Rig rig;
   rig.stream(0, 20);
-  // 22 before 21: 21 is bridged, then arrives too late to be used.
+  // 22 before 21: 21 is bridged (halfway between 20 and 22), then arrives too late to be used.
   rig.send(accel(22, rocking_ug(22)));
-  rig.ref.process_wall(q(rocking_ug(20)), q(0.0));
+  rig.ref.process_wall(q(bridged_input(rocking_ug(20), rocking_ug(22), 20, 22, 21)), q(0.0));
   rig.ref.process_wall(q(rocking_ug(22)), q(0.0));
   rig.send(accel(21, rocking_ug(21)));
   rig.check_matches_reference();

@@ -15,10 +15,10 @@
 //   from rest at this sample and the sequence follows the new numbering.
 // - otherwise seq == last, or seq < last and received before (the last 64 seqs are remembered): duplicate, dropped.
 //   Other seq < last (never received: bridged over or older than the remembered 64): out of order, dropped.
-// - seq > last + 1: a gap of (seq − last − 1) samples. Up to max_bridge_samples: bridged by holding the last good
-//   input for the missing samples (each one engine step and one published state with input_seq = the missing seq;
-//   counted in samples_bridged, flagged QUALITY_GAP_BRIDGED, as is the sample that ends the gap), then the sample is
-//   processed. Longer: the state is unknown — the engine restarts from rest at this sample (QUALITY_STATE_UNKNOWN,
+// - seq > last + 1: a gap of (seq − last − 1) samples. Up to max_bridge_samples: bridged from both sides (SPEC §12):
+//   the missing inputs interpolated linearly between the last good input and this sample's (after its value checks
+//   below), each one engine step and one published state with input_seq = the missing seq; counted in
+//   samples_bridged, flagged QUALITY_GAP_BRIDGED, as is the sample that ends the gap; then the sample is processed. Longer: the state is unknown — the engine restarts from rest at this sample (QUALITY_STATE_UNKNOWN,
 //   counted in state_resets). At most max_bridge_samples bridged steps per message: bounded work.
 // - NaN/Inf (rejected_not_finite) or |value| > sensor_range_mps2 (rejected_out_of_range): counted once per sample,
 //   flagged; each bad component is replaced by the last good value of that component (0 before any).
@@ -71,6 +71,10 @@ inline constexpr std::size_t kChannelNameMax = 64;  // bytes including the termi
 // The default of MonitorSettings::clock_tolerance_us (10 s), and its largest accepted value (one day).
 inline constexpr std::int64_t kDefaultClockTolerance_us = 10000000;
 inline constexpr std::int64_t kMaxClockTolerance_us = 86400000000;
+// The host's default bridge (rockwatch-monitor without max_bridge_samples): gaps up to this long are interpolated,
+// round(kDefaultBridge_s × rate) samples, at least 10, at most 1000 (SPEC §12: a burst of 50 lost datagrams at 1 kHz
+// is bridged, not a restart from rest).
+inline constexpr double kDefaultBridge_s = 0.1;
 
 struct MonitorChannels {
   char accel[kChannelNameMax] = "ROCKWATCH_ACCEL";
@@ -87,7 +91,9 @@ struct MonitorSettings {
   WallEngineConfig engine{};           // wall, r, κ, model, alarm; engine.dt_s is set from sample_rate_hz by init()
   MonitorArithmetic arithmetic = MonitorArithmetic::fixed_point;  // the engine handed to init() must run this
   double sample_rate_hz = 200.0;       // expected input rate [Hz]; the engine steps once per sample
-  std::int32_t max_bridge_samples = 10;  // longest gap bridged by holding the input [samples]
+  // Longest gap bridged by interpolation [samples]. The host's default is rate-dependent (kDefaultBridge_s below);
+  // this one is the firmware's fixed default.
+  std::int32_t max_bridge_samples = 10;
   double sensor_range_mps2 = 80.0;     // |ü|, |v̈| above this are out of range [m/s²] (≤ 80: the engine's input limit)
   double late_limit_s = 0.05;          // received later than this after the sample time: late [s]
   std::int64_t restart_window = 1000;  // seq this far below the last one: the publisher restarted [samples]
