@@ -30,7 +30,7 @@ const char* multi_wall_error_message(MultiWallError e) {
   switch (e) {
     case MultiWallError::ok: return "ok";
     case MultiWallError::wall: return "a wall's monitor loop refused its settings";
-    case MultiWallError::wall_count_out_of_range: return "the number of walls must be from 1 to kMaxMonitorWalls (16)";
+    case MultiWallError::wall_count_out_of_range: return "the number of walls must be from 1 to kMaxMonitorWalls";
     case MultiWallError::output_channel_shared: return "two walls publish on the same channel";
     case MultiWallError::input_is_output: return "a wall reads a channel another wall publishes on";
   }

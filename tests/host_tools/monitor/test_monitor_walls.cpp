@@ -23,6 +23,7 @@
 #include "monitor_output.hpp"
 #include "monitor_test_support.hpp"
 #include "rockwatch/alarm_event_t.hpp"
+#include "rockwatch/firmware/multi_wall_monitor.hpp"
 #include "rockwatch/monitor_status_t.hpp"
 #include "rockwatch/process/child_process.hpp"
 #include "rockwatch/wall_state_t.hpp"
@@ -209,12 +210,13 @@ TEST(MonitorWalls, WallMistakesAreRefusedNamingTheWall) {
     std::string walls;
     std::string mentions;
   };
-  std::string seventeen = "[";
-  for (int i = 0; i < 17; ++i) seventeen += std::string(i ? "," : "") + "{\"name\":\"w" + std::to_string(i) + "\"}";
-  seventeen += "]";
+  const std::size_t max = rockwatch::firmware::kMaxMonitorWalls;  // 64 on hosts
+  std::string too_many = "[";
+  for (std::size_t i = 0; i <= max; ++i) too_many += std::string(i ? "," : "") + "{\"name\":\"w" + std::to_string(i) + "\"}";
+  too_many += "]";
   const std::vector<Case> cases{
-      {"[]", "walls: expected an array of 1 to 16"},
-      {seventeen, "17 walls: one monitor follows at most 16"},
+      {"[]", "walls: expected an array of 1 to " + std::to_string(max)},
+      {too_many, std::to_string(max + 1) + " walls: one monitor follows at most " + std::to_string(max)},
       {"[{\"wall\":{}}]", "walls[0].name: expected a name"},
       {"[{\"name\":\"a b\"}]", "walls[0].name: expected a name"},
       {"[{\"name\":\"a\"},{\"name\":\"a\"}]", "walls[1].name: \"a\" is the name of an earlier wall"},

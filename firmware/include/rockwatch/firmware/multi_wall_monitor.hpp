@@ -15,9 +15,16 @@
 
 namespace rockwatch::firmware {
 
-// The most walls one monitor follows. One MonitorLoop is ~1.5 kB plus its engine (the host allocates the engines):
-// 16 fit a Cortex-M4's RAM beside everything else, and one core follows them at 1 kHz (docs/BENCHMARKS.md).
-inline constexpr std::size_t kMaxMonitorWalls = 16;
+// The most walls one monitor follows: the array of loops is part of the object, so every MultiWallMonitor costs
+// kMaxMonitorWalls × sizeof(MonitorLoop) (4.2 kB each on x86-64, plus each wall's engine, allocated by the host).
+// 16 by default, what a Cortex-M4's RAM holds beside everything else (67 kB); the host build (firmware/CMakeLists.txt)
+// sets ROCKWATCH_MAX_MONITOR_WALLS=64 (266 kB), which one host core follows at 1 kHz (docs/BENCHMARKS.md, "Load: 64
+// walls and 50 viewers"). The embedded builds compile this file without it: the M4 image never holds 64.
+#ifndef ROCKWATCH_MAX_MONITOR_WALLS
+#define ROCKWATCH_MAX_MONITOR_WALLS 16
+#endif
+inline constexpr std::size_t kMaxMonitorWalls = ROCKWATCH_MAX_MONITOR_WALLS;
+static_assert(kMaxMonitorWalls >= 1 && kMaxMonitorWalls <= 1024, "ROCKWATCH_MAX_MONITOR_WALLS: 1 to 1024");
 
 // Why init() refused. Values are stable: append, never renumber.
 enum class MultiWallError : std::uint8_t {
