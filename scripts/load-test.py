@@ -8,8 +8,8 @@
 What runs (real parts only, on this machine, UDP multicast on loopback, a random group and port of 239.255.76.151+):
   - rockwatch-monitor with a `walls` array of --walls walls (w00, w01, ...; the paper wall) on one shared ground
     channel, --rate Hz, and --log on a tmpfs (/dev/shm) — the log is the measuring instrument (below);
-  - rockwatch dashboard on the same group, and --viewers WebSocket clients (this script, threads: the RFC 6455
-    handshake on /ws, then every frame read and counted) for the whole run;
+  - rockwatch dashboard on the same group, and --viewers WebSocket clients (this script, one thread with a selector:
+    the RFC 6455 handshake on /ws, then every frame read and counted) for the whole run;
   - rockwatch replay of suite npr9998-2015 set 1 X scaled to --pga g at --rate Hz, cut after --seconds s (SIGINT):
     at 0.3 g every wall rocks (up to WARNING), none collapses, so every wall's engine works all along.
 
@@ -37,6 +37,7 @@ import base64
 import json
 import os
 import random
+import selectors
 import re
 import shutil
 import signal
@@ -85,87 +86,95 @@ def builds_running():
     return False
 
 
-class Viewer(threading.Thread):
-    """One dashboard page: the WebSocket handshake on /ws, then read every frame until told to stop."""
+class Viewer:
+    """One dashboard page: the RFC 6455 handshake on /ws (blocking), then its frames, read by Viewers' loop."""
 
-    def __init__(self, port, stop):
-        super().__init__(daemon=True)
-        self.port, self.stop = port, stop
+    def __init__(self, port):
         self.frames = self.bytes = 0
         self.connected = False
         self.error = ""
-        self.first_frame = None
+        self.buf = bytearray()
+        self.sock = socket.create_connection(("127.0.0.1", port), timeout=10)
+        key = base64.b64encode(os.urandom(16)).decode()
+        self.sock.sendall((f"GET /ws HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nUpgrade: websocket\r\n"
+                           f"Connection: Upgrade\r\nSec-WebSocket-Key: {key}\r\nSec-WebSocket-Version: 13\r\n\r\n")
+                          .encode())
+        head = b""
+        while b"\r\n\r\n" not in head:
+            chunk = self.sock.recv(4096)
+            if not chunk:
+                raise ConnectionError("closed during the handshake")
+            head += chunk
+        head, rest = head.split(b"\r\n\r\n", 1)
+        if not head.startswith(b"HTTP/1.1 101"):
+            raise ConnectionError(head.split(b"\r\n")[0].decode(errors="replace"))
+        self.buf += rest
+        self.connected = True
+        self.sock.setblocking(False)
 
-    def run(self):
-        try:
-            s = socket.create_connection(("127.0.0.1", self.port), timeout=10)
-            key = base64.b64encode(os.urandom(16)).decode()
-            s.sendall((f"GET /ws HTTP/1.1\r\nHost: 127.0.0.1:{self.port}\r\nUpgrade: websocket\r\n"
-                       f"Connection: Upgrade\r\nSec-WebSocket-Key: {key}\r\nSec-WebSocket-Version: 13\r\n\r\n").encode())
-            buf = b""
-            while b"\r\n\r\n" not in buf:
-                chunk = s.recv(4096)
-                if not chunk:
-                    raise ConnectionError("closed during the handshake")
-                buf += chunk
-            head, buf = buf.split(b"\r\n\r\n", 1)
-            if not head.startswith(b"HTTP/1.1 101"):
-                raise ConnectionError(head.split(b"\r\n")[0].decode(errors="replace"))
-            self.connected = True
-            s.settimeout(0.5)
-            while not self.stop.is_set():
-                # a frame: 2 header bytes, 16- or 64-bit length, no mask (server to client)
-                while len(buf) < 2 or len(buf) < self._header_len(buf):
-                    buf += self._recv(s)
-                n, h = self._payload_len(buf), self._header_len(buf)
-                while len(buf) < h + n:
-                    buf += self._recv(s)
-                opcode = buf[0] & 0x0F
-                payload, buf = buf[h:h + n], buf[h + n:]
-                if opcode == 0x8:
-                    raise ConnectionError("closed by the dashboard")
-                if opcode == 0x9:  # ping: answer with a masked pong
-                    s.sendall(bytes([0x8A, 0x80 | len(payload)]) + b"\0\0\0\0" + payload)
-                    continue
-                if self.first_frame is None:
-                    self.first_frame = time.monotonic()
+    def feed(self, chunk):
+        """Counts the whole frames in the buffer (server frames: unmasked; 7-, 16- or 64-bit length)."""
+        b = self.buf
+        b += chunk
+        at = 0
+        while len(b) - at >= 2:
+            n = b[at + 1] & 0x7F
+            h = 2
+            if n == 126:
+                if len(b) - at < 4:
+                    break
+                n, h = struct.unpack_from(">H", b, at + 2)[0], 4
+            elif n == 127:
+                if len(b) - at < 10:
+                    break
+                n, h = struct.unpack_from(">Q", b, at + 2)[0], 10
+            if len(b) - at < h + n:
+                break
+            opcode = b[at] & 0x0F
+            if opcode == 0x8:
+                raise ConnectionError("closed by the dashboard")
+            if opcode == 0x9:  # ping: a masked pong with the same payload
+                payload = bytes(b[at + h:at + h + n])
+                self.sock.sendall(bytes([0x8A, 0x80 | len(payload)]) + b"\0\0\0\0" + payload)
+            else:
                 self.frames += 1
                 self.bytes += n
-        except _Stopped:
-            pass
-        except Exception as e:  # noqa: BLE001 — reported per viewer
-            self.error = str(e) or type(e).__name__
-            self.connected = False
+            at += h + n
+        del b[:at]
 
-    def _recv(self, s):
-        while True:
-            if self.stop.is_set():
-                raise _Stopped()
+
+class Viewers(threading.Thread):
+    """Every viewer's socket in one thread (selectors): cheaper than a thread each, and fair."""
+
+    def __init__(self, port, count):
+        super().__init__(daemon=True)
+        self.viewers, self.stop = [], threading.Event()
+        self.refused = []
+        for _ in range(count):
             try:
-                chunk = s.recv(65536)
-            except socket.timeout:
-                continue
-            if not chunk:
-                raise ConnectionError("connection closed")
-            return chunk
+                self.viewers.append(Viewer(port))
+            except Exception as e:  # noqa: BLE001 — a refused page is a result
+                self.refused.append(str(e) or type(e).__name__)
 
-    @staticmethod
-    def _header_len(b):
-        n = b[1] & 0x7F
-        return 2 + (2 if n == 126 else 8 if n == 127 else 0)
-
-    @staticmethod
-    def _payload_len(b):
-        n = b[1] & 0x7F
-        if n == 126:
-            return struct.unpack(">H", b[2:4])[0]
-        if n == 127:
-            return struct.unpack(">Q", b[2:10])[0]
-        return n
-
-
-class _Stopped(Exception):
-    pass
+    def run(self):
+        sel = selectors.DefaultSelector()
+        for v in self.viewers:
+            sel.register(v.sock, selectors.EVENT_READ, v)
+        while not self.stop.is_set():
+            for key, _ in sel.select(timeout=0.2):
+                v = key.data
+                try:
+                    chunk = v.sock.recv(262144)
+                    if not chunk:
+                        raise ConnectionError("connection closed")
+                    v.feed(chunk)
+                except BlockingIOError:
+                    continue
+                except Exception as e:  # noqa: BLE001 — reported per viewer
+                    v.error, v.connected = str(e) or type(e).__name__, False
+                    sel.unregister(v.sock)
+        for v in self.viewers:
+            v.sock.close()
 
 
 def read_log(path, state_prefix, accel_channel):
@@ -255,7 +264,7 @@ def main():
         procs.append(p)
         return p
 
-    stop = threading.Event()
+    group = None
     viewers = []
     try:
         mon = start([monitor, "--config", os.path.join(work, "walls.json"), "--lcm-url", url, "--log", log_path],
@@ -272,10 +281,9 @@ def main():
             if port is None:
                 print("load-test: the dashboard did not say its port", file=sys.stderr)
                 return 2
-            for _ in range(o.viewers):
-                v = Viewer(port, stop)
-                v.start()
-                viewers.append(v)
+            group = Viewers(port, o.viewers)
+            viewers = group.viewers
+            group.start()
         time.sleep(2.0)  # the monitor's start-up, the viewers' handshakes
         if mon.poll() is not None:
             print("load-test: the monitor stopped at start:\n" + open(os.path.join(work, "monitor.err")).read(),
@@ -305,9 +313,9 @@ def main():
         cpu1["viewers (this script)"] = self1.user + self1.system
         cpu0["viewers (this script)"] = self0.user + self0.system
         connected = sum(1 for v in viewers if v.connected)
-        stop.set()
-        for v in viewers:
-            v.join(timeout=5)
+        if group:
+            group.stop.set()
+            group.join(timeout=5)
         mon.send_signal(signal.SIGTERM)
         if dash:
             dash.send_signal(signal.SIGTERM)
@@ -315,7 +323,8 @@ def main():
         if dash:
             dash.wait(timeout=30)
     finally:
-        stop.set()
+        if group:
+            group.stop.set()
         for p in procs:
             if p.poll() is None:
                 p.kill()
@@ -373,7 +382,7 @@ def main():
         "viewer_frames_min": min((v.frames for v in viewers), default=0),
         "viewer_frames_total": sum(v.frames for v in viewers),
         "viewer_bytes_total": sum(v.bytes for v in viewers),
-        "viewer_errors": sorted({v.error for v in viewers if v.error}),
+        "viewer_errors": sorted({v.error for v in viewers if v.error} | set(group.refused if group else [])),
         "dashboard": dash_line,
     }
     if dash:

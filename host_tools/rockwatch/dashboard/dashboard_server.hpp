@@ -24,7 +24,7 @@ struct ServerSettings {
   unsigned short port = 8080;      // 0: any free port (DashboardServer::port() says which)
   bool loopback_only = true;       // check the Host header (dashboard_http.hpp)
   std::size_t max_connections = 128;
-  std::size_t max_ws_clients = 32;
+  std::size_t max_ws_clients = 64;  // a control room's screens and a few phones (50 measured: docs/BENCHMARKS.md)
   std::size_t ws_queue = 64;       // messages per WebSocket client
   int idle_timeout_s = 30;         // an HTTP connection with no complete request for this long is closed
   int send_buffer_bytes = 0;       // SO_SNDBUF of each connection; 0: the system's (the tests make it small)
