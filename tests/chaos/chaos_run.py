@@ -52,7 +52,7 @@ SKIP = 77
 # The records (tests/data/records, SOURCES.md) and scales of the runs: at 1 kHz the paper wall survives the first
 # (highest level ROCKING) and collapses under the second (IMMINENT, then COLLAPSED; times from the clean log).
 SURVIVOR = ("RSN1690_NORTH151_SYL090-hor1.AT2", 0.2)
-COLLAPSE = ("RSN960_NORTHR_LOS270.AT2", 0.4)
+COLLAPSE = ("RSN753_LOMAP_CLS000-hor1.AT2", 0.3)
 
 
 class Failure(Exception):
@@ -88,14 +88,19 @@ def prepare_record(rockwatch, work, record, scale, seconds, wall_sensors):
     if r.returncode != 0:
         raise ValueError(f"rockwatch replay --record {record}: {r.stderr.strip()}")
     cut = os.path.join(work, "record.csv")
-    rows = 0
-    with open(full) as f, open(cut, "w") as g:
+    rows = []
+    with open(full) as f:
         for line in f:
-            if not line.startswith("#") and not line.startswith("t_s"):
-                rows += 1
-                if seconds and rows > seconds * 1000 + 1:
-                    break
-            g.write(line)
+            if line[:1].isdigit() or line[:1] == "-":
+                rows.append(line.split("#")[0].strip().split(",")[1:])
+    if not rows:
+        raise ValueError(f"rockwatch replay --samples-out wrote no samples for {record}")
+    # The first `seconds` of the record; a longer run repeats it (the wall comes to rest at a survivor's end).
+    n = int(round(seconds * 1000)) + 1 if seconds else len(rows)
+    with open(cut, "w") as g:
+        g.write("t_s,ug_mps2,vg_mps2\n")
+        for k in range(n):
+            g.write(f"{k / 1000!r},{','.join(rows[k % len(rows)])}\n")
     sensors = None
     if wall_sensors:
         sensors = os.path.join(work, "wall_sensors.csv")
@@ -198,7 +203,10 @@ def compare_counters(model, summary, problems, skip=()):
     walls = summary.get("walls") or [dict(summary, name="wall")]
     table = []
     for w, mw in zip(walls, model.walls):
-        got = w["counters"]
+        got = dict(w["counters"])
+        for k in chaos_model.SENSOR_COUNTERS:  # with the observer: in the wall's "observer" object
+            if k in w.get("observer", {}):
+                got[k] = w["observer"][k]
         for k, v in mw.c.items():
             if k in skip:
                 continue
@@ -248,6 +256,9 @@ def _live_run(a, record, work):
     rec, sensors = prepare_record(a.rockwatch, work, record, scale, a.seconds, a.observer)
     mon_log = os.path.join(work, "monitor.lcmlog")
     relay_log = os.path.join(work, "relay.jsonl")
+    for stale in (mon_log, relay_log, os.path.join(work, "relay.ready")):  # a kept directory used again
+        if os.path.exists(stale):
+            os.remove(stale)
     replay_cmd = [a.rockwatch, "replay", "--record", rec, "--units", "mps2", "--rate", "1000", "--lcm-url", in_url,
                   "--json"]
     if a.batch:
@@ -270,6 +281,9 @@ def _live_run(a, record, work):
     try:
         def listening():
             if monitor.poll() is not None:
+                err = open(os.path.join(work, "monitor.err")).read()
+                if monitor.returncode == 2 and ("multicast" in err or "LCM could not start" in err):
+                    raise SkipRun(err.strip())
                 raise Failure(f"exit: the monitor exited at start ({monitor.returncode}): "
                               + open(os.path.join(work, "monitor.err")).read().strip())
             return "listening on" in open(os.path.join(work, "monitor.err")).read()
@@ -325,16 +339,29 @@ def _live_run(a, record, work):
         raise Failure("exit: no {\"summary\"} line on the monitor's stdout; " + " ".join(problems))
     alarms = [x for x in lines if "summary" not in x]
 
-    # The relay's log: sends in order.
-    rlog = read_jsonl(relay_log)
-    sends = [bytes.fromhex(x["hex"]) for x in rlog if "send" in x]
-    end = [x["end"] for x in rlog if "end" in x]
-    arrivals = [x for x in rlog if "actions" in x]
-    # The monitor's log: inputs and outputs.
-    events = relay.read_lcm_log(mon_log)
+    # The relay's log: the datagrams sent, in order.
+    sends, end, n_arrivals = [], [], 0
+    with open(relay_log) as f:
+        for line in f:
+            x = json.loads(line)
+            if "send" in x:
+                sends.append(bytes.fromhex(x["hex"]))
+            elif "actions" in x:
+                n_arrivals += 1
+            elif "end" in x:
+                end.append(x["end"])
+    # The monitor's log: its inputs (with their receive times) and its outputs (status ones kept).
     model0 = chaos_model.MonitorModel(settings)
-    inputs = [(ch, data, ts) for _, ts, ch, data in events if ch in model0.inputs]
-    outputs = [(ch, data, ts) for _, ts, ch, data in events if ch not in model0.inputs]
+    walls = settings.get("walls") or [{"name": "wall", "channels": settings["channels"]}]
+    status_channels = {w["channels"]["status"] for w in walls}
+    inputs, statuses, n_outputs = [], [], 0
+    for _, ts, ch, data in relay.iter_lcm_log(mon_log):
+        if ch in model0.inputs:
+            inputs.append((ch, data, ts))
+        else:
+            n_outputs += 1
+            if ch in status_channels:
+                statuses.append((ch, data, ts))
     model, predicted = derive(settings, sends, [t for _, _, t in inputs])
     # delivery
     if drops:
@@ -364,9 +391,9 @@ def _live_run(a, record, work):
     # each wall, and the states of samples finished at stop).
     own = dg.get("other_channels", 0) - model.d["other_channels"]
     n_walls = len(model.walls)
-    if not len(outputs) - 2 * n_walls <= own <= len(outputs):
+    if not n_outputs - 2 * n_walls <= own <= n_outputs:
         problems.append(f"counters: datagrams.other_channels = {dg.get('other_channels')}: "
-                        f"{model.d['other_channels']} from the relay and {own} of its own {len(outputs)} outputs")
+                        f"{model.d['other_channels']} from the relay and {own} of its own {n_outputs} outputs")
     if dg.get("received") != model.d["received"] + own:
         problems.append(f"counters: datagrams.received = {dg.get('received')}, the relay sent "
                         f"{model.d['received']} and {own} of its own came back")
@@ -374,12 +401,11 @@ def _live_run(a, record, work):
         problems.append("counters: fragments counted, but the relay never sends an LC03 datagram")
     # status
     types = chaos_model.LcmTypes(os.path.join(SOURCE_DIR, "firmware", "lcmtypes"))
-    walls = settings.get("walls") or [{"name": "wall", "channels": settings["channels"]}]
     run_s = summary.get("run_time_s", 0)
     status_gaps = {}
     for w in walls:
         ch = w["channels"]["status"]
-        ts = [t for c, _, t in outputs if c == ch]
+        ts = [t for c, _, t in statuses if c == ch]
         gaps = [(b - a_) * 1e-6 for a_, b in zip(ts, ts[1:])]
         worst = max(gaps) if gaps else None
         status_gaps[w["name"]] = worst
@@ -388,7 +414,7 @@ def _live_run(a, record, work):
         elif worst > 1.5:
             problems.append(f"status: wall {w['name']}: {worst:.2f} s without a status message (stall)")
         if ts:
-            last = types.decode("monitor_status_t", [d for c, d, _ in outputs if c == ch][-1])
+            last = types.decode("monitor_status_t", [d for c, d, _ in statuses if c == ch][-1])
             sw = next((x for x in (summary.get("walls") or [dict(summary, name="wall")]) if x["name"] == w["name"]),
                       None)
             if last is None:
@@ -412,9 +438,27 @@ def _live_run(a, record, work):
         max_levels[w["name"]] = w.get("max_alarm_level")
         if a.expect == "survivor" and LEVELS.index(w.get("max_alarm_level", "QUIET")) > 1:
             problems.append(f"alarm: wall {w['name']} reached {w.get('max_alarm_level')} on a survivor record")
-    result = {"seed": a.seed, "record": os.path.basename(record), "scale_pga": scale, "walls": len(model.walls),
+    timing = None
+    if a.expect == "collapse":
+        clean_alarms, _ = offline_monitor(a.monitor, mon_args_offline(mon_args), os.path.join(work, "record_1khz.lcmlog"),
+                                          os.path.join(work, "clean.out.lcmlog"))
+        first_wall = (settings.get("walls") or [{"name": "wall"}])[0]["name"]
+        live_alarms = [x for x in alarms if x.get("wall", "wall") == first_wall]
+        ref, got = first_seqs(clean_alarms), first_seqs(live_alarms)
+        timing = {"clean_input_seq": ref, "live_input_seq": got}
+        if "IMMINENT" not in ref or "COLLAPSED" not in ref:
+            problems.append(f"alarm: the clean record does not collapse the wall ({ref}): choose another record")
+        else:
+            for level in ("IMMINENT", "COLLAPSED"):
+                if level not in got:
+                    problems.append(f"alarm: no {level} (clean: at sample {ref[level]})")
+                elif abs(got[level] - ref[level]) / 1000.0 > a.tolerance_s:
+                    problems.append(f"alarm: {level} {(got[level] - ref[level]) / 1000.0:+.3f} s from the clean run's")
+            if "IMMINENT" in got and "COLLAPSED" in got and got["IMMINENT"] > got["COLLAPSED"]:
+                problems.append("alarm: COLLAPSED before IMMINENT")
+    result = {"seed": a.seed, "alarm_timing": timing, "record": os.path.basename(record), "scale_pga": scale, "walls": len(model.walls),
               "observer": a.observer, "batch": a.batch, "faults": schedule.params(),
-              "relay": end[0] if end else None, "arrivals": len(arrivals), "sent": len(sends),
+              "relay": end[0] if end else None, "arrivals": n_arrivals, "sent": len(sends),
               "run_time_s": run_s, "status_worst_gap_s": status_gaps, "rss_kib": [v for _, v in rss],
               "rss_growth_kib": rss_growth, "kernel_drops": drops, "max_alarm_level": max_levels,
               "alarm_lines": len(alarms), "datagrams": {k: dg.get(k) for k in ("received", "rejected", "input_messages",
@@ -430,11 +474,12 @@ def _live_run(a, record, work):
         f"{c['out_of_order']} out of order, {c['decode_errors']} decode errors, {dg.get('rejected')} rejected, "
         f"{c['rejected_not_finite']} not finite, {c['rejected_out_of_range']} out of range, {c['late']} late; "
         f"status gap max {max((v or 0) for v in status_gaps.values()):.2f} s; RSS +{rss_growth} KiB; "
-        f"alarm {max_levels}")
+        f"alarm {max_levels}{'; alarm timing ' + json.dumps(timing) if timing else ''}")
     if problems:
         for p in problems:
             log("FAIL " + p)
-        log(f"FAILED with seed {a.seed}; replay: {shlex.join(this_cmd)} --keep DIR")
+        log(f"FAILED with seed {a.seed}; replay: {shlex.join(this_cmd)}"
+            f"{'' if '--keep' in this_cmd else ' --keep DIR'}")
         return 1
     log(f"seed {a.seed}: pass ({run_s:.1f} s)")
     return 0
@@ -454,6 +499,28 @@ def first_times(alarm_lines):
         if x.get("level") in ("IMMINENT", "COLLAPSED") and x["level"] not in t:
             t[x["level"]] = x["utime"]
     return t
+
+
+def first_seqs(alarm_lines):
+    t = {}
+    for x in alarm_lines:
+        if x.get("level") in ("IMMINENT", "COLLAPSED") and x["level"] not in t:
+            t[x["level"]] = x["input_seq"]
+    return t
+
+
+def mon_args_offline(mon_args):
+    """The live monitor's options without --lcm-url."""
+    out, skip = [], False
+    for x in mon_args:
+        if skip:
+            skip = False
+            continue
+        if x == "--lcm-url":
+            skip = True
+            continue
+        out.append(x)
+    return out
 
 
 def offline_monitor(monitor, mon_args, log_in, log_out):
@@ -612,7 +679,11 @@ def build_parser():
             q.add_argument("--walls", type=int, default=1, help="walls in the monitor's configuration (1-16)")
             q.add_argument("--observer", action="store_true", help="the observer, and the wall's sensor stream")
             q.add_argument("--batch", type=int, default=0, help="replay --batch N")
-            q.add_argument("--expect", choices=("survivor", "any"), default="survivor")
+            q.add_argument("--expect", choices=("survivor", "collapse", "any"), default="survivor",
+                           help="survivor: no wall above ROCKING; collapse: the first wall's IMMINENT before "
+                                "COLLAPSED, each within --tolerance-s of the clean record's (the monitor offline on "
+                                "it, compared by input seq)")
+            q.add_argument("--tolerance-s", type=float, default=0.1)
             q.add_argument("--in-url", help="the relay's input URL (default: a random group and port)")
             q.add_argument("--out-url", help="the monitor's URL (default: a random group and port)")
             q.add_argument("--warmup-s", type=float, default=3.0)
@@ -639,14 +710,28 @@ def main(argv=None):
             raise ValueError(f"--walls {a.walls}: 1 to 16")
         if a.mode == "live":
             return live_run(a)
-        # ci: one wall through every fault; three walls with the observer's sensor stream and batches.
-        rc = live_run(a)
-        if rc != 0:
-            return rc
-        b = argparse.Namespace(**vars(a))
-        b.walls, b.observer, b.batch, b.seed = 3, True, 10, a.seed + 1
-        b.argv_for_replay = argv + ["--walls", "3", "--observer", "--batch", "10", "--seed", str(b.seed)]
-        return live_run(b)
+        # ci: one wall through every fault; three walls with the observer's sensor stream in batches; the collapse
+        # record through loss, bursts, duplication and reordering (no corruption: a corrupted value within the
+        # sensor's range is ground motion to the monitor) with a burst of 50 in its rocking phase.
+        runs = [([], {})]
+        runs.append((["--walls", "3", "--observer", "--batch", "10", "--seed", str(a.seed + 1)],
+                     {"walls": 3, "observer": True, "batch": 10, "seed": a.seed + 1}))
+        runs.append((["--record", os.path.join(RECORDS, COLLAPSE[0]), "--scale-pga", str(COLLAPSE[1]), "--seconds",
+                      "7", "--expect", "collapse", "--corrupt", "0", "--truncate", "0", "--burst-at", "3500",
+                      "--seed", str(a.seed + 2)],
+                     {"record": os.path.join(RECORDS, COLLAPSE[0]), "scale_pga": COLLAPSE[1], "seconds": 7.0,
+                      "expect": "collapse", "corrupt": 0.0, "truncate": 0.0, "burst_at": [3500], "seed": a.seed + 2}))
+        worst = 0
+        for extra, changes in runs:
+            b = argparse.Namespace(**vars(a))
+            for k, v in changes.items():
+                setattr(b, k, v)
+            b.argv_for_replay = ["live"] + argv[1:] + extra
+            rc = live_run(b)
+            if rc == SKIP:
+                return SKIP
+            worst = max(worst, rc)
+        return worst
     except ValueError as e:
         log(f"error: {e}")
         return 2

@@ -179,22 +179,29 @@ def describe(b):
     return lcm_seq, channel, seq
 
 
+def iter_lcm_log(path):
+    """Events of an LCM log, streamed: (event_number, timestamp_us, channel, data). A torn last event ends it."""
+    with open(path, "rb") as f:
+        pos = 0
+        while True:
+            head = f.read(28)
+            if len(head) < 28:
+                return
+            sync, num, ts, clen, dlen = struct.unpack(">IqqiI", head)
+            if sync != LOG_SYNC:
+                raise ValueError(f"{path}: not an LCM log (no sync word at byte {pos})")
+            if clen < 0:
+                return
+            body = f.read(clen + dlen)
+            if len(body) < clen + dlen:
+                return
+            pos += 28 + clen + dlen
+            yield num, ts, body[:clen].decode("latin-1"), body[clen:]
+
+
 def read_lcm_log(path):
     """Events of an LCM log: [(event_number, timestamp_us, channel, data)]. A torn last event ends the list."""
-    with open(path, "rb") as f:
-        raw = f.read()
-    out, pos = [], 0
-    while pos + 28 <= len(raw):
-        sync, num, ts, clen, dlen = struct.unpack_from(">IqqiI", raw, pos)
-        if sync != LOG_SYNC:
-            raise ValueError(f"{path}: not an LCM log (no sync word at byte {pos})")
-        end = pos + 28 + clen + dlen
-        if clen < 0 or end > len(raw):
-            break
-        channel = raw[pos + 28:pos + 28 + clen].decode("latin-1")
-        out.append((num, ts, channel, raw[pos + 28 + clen:end]))
-        pos = end
-    return out
+    return list(iter_lcm_log(path))
 
 
 def write_lcm_log(path, events):
