@@ -411,9 +411,21 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
   }
   TrafficLog log;
   if (config.log_path && !log.open(*config.log_path)) {
-    err << kPrefix << "error: --log " << options::quoted(*config.log_path) << ": cannot create the log (" << log.error()
+    err << kPrefix << "error: --log " << options::quoted(*config.log_path) << ": cannot open the log (" << log.error()
         << ")\n";
     return kExitUsage;
+  }
+  if (config.log_path) {
+    const TrafficLogResume& r = log.resume();
+    if (!r.rotated_to.empty()) {
+      err << kPrefix << "warning: --log " << options::quoted(*config.log_path) << ": the existing log is damaged before "
+          << "its end; kept unchanged as " << options::quoted(r.rotated_to) << ", a new log started\n";
+    } else if (r.events_kept > 0 || r.torn_bytes_cut > 0) {
+      err << kPrefix << "note: --log " << options::quoted(*config.log_path) << ": appending after its " << r.events_kept
+          << " events (next event number " << r.next_event_number << ")";
+      if (r.torn_bytes_cut > 0) err << "; cut " << r.torn_bytes_cut << " bytes of a torn last event";
+      err << "\n";
+    }
   }
   LcmTransport lcm_transport(lcm);
   LoggedTransport logged_transport(lcm_transport, log);
@@ -549,9 +561,18 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
   if (!via_liblcm) s["datagrams"] = datagram_summary(receiver, input);
   if (config.timing.any()) s["timing"] = timing_report;
   if (config.log_path) {
-    s["log"] = {{"path", *config.log_path},          {"events_written", log.events_written()},
-                {"events_lost", log.events_lost()}, {"write_failures", log.write_failures()},
-                {"bytes", log.bytes_written()},     {"complete", log_ok && log.events_lost() == 0}};
+    const TrafficLogResume& r = log.resume();
+    s["log"] = {{"path", *config.log_path},
+                {"events_written", log.events_written()},
+                {"events_lost", log.events_lost()},
+                {"events_not_durable", log.events_not_durable()},
+                {"write_failures", log.write_failures()},
+                {"bytes", log.bytes_written()},
+                {"events_kept", r.events_kept},
+                {"first_event_number", r.next_event_number},
+                {"torn_bytes_cut", r.torn_bytes_cut},
+                {"complete", log_ok && log.events_lost() == 0 && log.events_not_durable() == 0}};
+    if (!r.rotated_to.empty()) s["log"]["rotated_to"] = r.rotated_to;
     if (!log.error().empty()) s["log"]["last_error"] = log.error();
     if (!log_ok) {
       err << kPrefix << "warning: --log " << options::quoted(*config.log_path) << ": the final write failed ("

@@ -337,6 +337,6 @@ TEST(MonitorLive, ALogThatCannotBeCreatedIsRefusedAtStart) {
   const rockwatch::test::ProcessResult r =
       rockwatch::test::run_monitor({"--log", "/nonexistent-dir/traffic.lcmlog", "--lcm-url", test_url(0)});
   LONGS_EQUAL_TEXT(2, r.exit_status, r.err.c_str());
-  CHECK_TEXT(r.err.find("--log '/nonexistent-dir/traffic.lcmlog': cannot create the log") != std::string::npos,
+  CHECK_TEXT(r.err.find("--log '/nonexistent-dir/traffic.lcmlog': cannot open the log") != std::string::npos,
              r.err.c_str());
 }
