@@ -3,7 +3,7 @@
 
     scripts/load-test.py [--walls 64] [--rate 1000] [--viewers 50] [--pga 0.3] [--seconds 20]
                          [--build build/release] [--monitor PATH] [--rockwatch PATH] [--lcm-url URL]
-                         [--keep DIR] [--json FILE] [--no-wait-idle]
+                         [--monitor-args '--realtime 50'] [--keep DIR] [--json FILE] [--no-wait-idle]
 
 What runs (real parts only, on this machine, UDP multicast on loopback, a random group and port of 239.255.76.151+):
   - rockwatch-monitor with a `walls` array of --walls walls (w00, w01, ...; the paper wall) on one shared ground
@@ -227,6 +227,7 @@ def main():
     ap.add_argument("--monitor", help="rockwatch-monitor (default BUILD/host_tools/rockwatch-monitor)")
     ap.add_argument("--rockwatch", help="rockwatch (default BUILD/host_tools/rockwatch)")
     ap.add_argument("--lcm-url", help="LCM URL (default: a random group and port, ttl=0)")
+    ap.add_argument("--monitor-args", default="", help="more options for rockwatch-monitor, e.g. '--realtime 50'")
     ap.add_argument("--keep", help="keep the files (config, log, outputs) in this directory")
     ap.add_argument("--json", help="write the figures as JSON to this file")
     ap.add_argument("--no-wait-idle", action="store_true", help="do not wait for running compilers to finish")
@@ -267,8 +268,8 @@ def main():
     group = None
     viewers = []
     try:
-        mon = start([monitor, "--config", os.path.join(work, "walls.json"), "--lcm-url", url, "--log", log_path],
-                    "monitor")
+        mon = start([monitor, "--config", os.path.join(work, "walls.json"), "--lcm-url", url, "--log", log_path]
+                    + o.monitor_args.split(), "monitor")
         dash = None
         port = None
         if o.viewers > 0:
@@ -364,6 +365,7 @@ def main():
         dash_line = m.group(0) if m else ""
     result = {
         "walls": o.walls, "rate_hz": o.rate, "viewers": o.viewers, "pga_g": o.pga, "lcm_url": url,
+        "monitor_args": o.monitor_args,
         "replay_seconds": round(elapsed, 2), "load_average_before": [round(x, 2) for x in load_before],
         "samples_sent": sent,
         "walls_in_summary": len(walls),
