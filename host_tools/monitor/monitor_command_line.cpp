@@ -58,7 +58,7 @@ const char* const kFooter =
     "  lcm_url (--lcm-url; default $LCM_DEFAULT_URL, else udpm://239.255.76.67:7667?ttl=0)\n"
     "  accept_from [\"ADDR\" or \"ADDR/PREFIX\", ...]   (--accept-from; sources of input datagrams, default any)\n"
     "  realtime_priority (--realtime)   cpu (--cpu)   busy_poll_us (--busy-poll-us)   live mode, not in the digest\n"
-    "  walls [{name, wall {...}, r, channels {accel, accel_batch, wall_sensor}}, ...]   one monitor, up to 16 walls:\n"
+    "  walls [{name, wall {...}, r, channels {accel, accel_batch, wall_sensor}}, ...]   one monitor, up to 64 walls:\n"
     "    each the settings above with its own wall fields (replacing the top-level ones) and r; it publishes on the\n"
     "    output channels suffixed _NAME (ROCKWATCH_WALL_STATE_north, ROCKWATCH_ALARM_north, ROCKWATCH_STATUS_north;\n"
     "    the wall named \"wall\": unsuffixed) and reads the top-level ground channels (shared) unless given its own;\n"
