@@ -575,12 +575,41 @@ def _alarm_timing(a, record, scale, work):
     patterns = []
     for k in range(a.patterns):
         patterns.append(relay.FaultSchedule(a.first_seed + k, loss=a.loss))
+    # The bursts start at an index drawn from the seed in the rocking phase, from --burst-from-s (record time; not
+    # before the clean ROCKING) to the clean IMMINENT. The default record's strong motion (2.3-3.1 s) is left out: a
+    # burst of 50 there moves the alarm by more than 0.1 s whatever the bridge (--burst-sweep measures it).
+    i_from = max(i_rock, next((k for k, e in enumerate(events) if e[1] - t_start >= a.burst_from_s * 1e6), i_rock))
+    i_imm = next(k for k, e in enumerate(events) if e[1] >= ref["IMMINENT"])
+    if a.burst_patterns and i_imm - a.burst_len <= i_from:
+        raise ValueError(f"--burst-from-s {a.burst_from_s}: no room for a burst of {a.burst_len} before the clean "
+                         f"IMMINENT at {(ref['IMMINENT'] - t_start) / 1e6:.3f} s")
     for k in range(a.burst_patterns):
         seed = a.first_seed + a.patterns + k
-        s0 = relay.FaultSchedule(seed)
-        # The burst starts at an index drawn from the seed in the rocking phase, before the clean collapse.
-        at = i_rock + s0.draw(0, "burst-at", max(1, i_coll - i_rock - a.burst_len))
+        at = i_from + relay.FaultSchedule(seed).draw(0, "burst-at", i_imm - a.burst_len - i_from)
         patterns.append(relay.FaultSchedule(seed, loss=a.loss, burst_len=a.burst_len, burst_at=[at]))
+    if a.burst_sweep:
+        # Measurement only (no failure): one burst, no other loss, at every --burst-sweep samples from ROCKING to
+        # the clean COLLAPSED.
+        sweep = []
+        for at in range(i_rock, i_coll, a.burst_sweep):
+            s = relay.FaultSchedule(a.first_seed, burst_len=a.burst_len, burst_at=[at])
+            out, _, _ = relay.apply_offline(s, events)
+            faulty = os.path.join(work, "sweep.lcmlog")
+            relay.write_lcm_log(faulty, out)
+            got = first_times(offline_monitor(a.monitor, mon_args, faulty, faulty + ".out")[0])
+            d = {lv: (got[lv] - ref[lv]) / 1e6 if lv in got else None for lv in ("IMMINENT", "COLLAPSED")}
+            ok = all(v is not None and abs(v) <= a.tolerance_s for v in d.values())
+            sweep.append({"burst_at_s": (events[at][1] - t_start) / 1e6, "d_imminent_s": d["IMMINENT"],
+                          "d_collapsed_s": d["COLLAPSED"], "within": ok})
+            log(f"burst of {a.burst_len} at {(events[at][1] - t_start) / 1e6:.3f} s: dIMMINENT {d['IMMINENT']}, "
+                f"dCOLLAPSED {d['COLLAPSED']}{'' if ok else '  (beyond ' + str(a.tolerance_s) + ' s)'}")
+        n_ok = sum(x["within"] for x in sweep)
+        log(f"burst sweep: {n_ok} of {len(sweep)} positions within {a.tolerance_s} s")
+        if a.json:
+            with open(a.json, "a") as f:
+                f.write(json.dumps({"burst_sweep": sweep, "burst_len": a.burst_len,
+                                    "record": os.path.basename(record), "scale_pga": scale}) + "\n")
+        return 0
     results, failed = [], []
     for s in patterns:
         out, _, counts = relay.apply_offline(s, events)
@@ -673,6 +702,12 @@ def build_parser():
             q.add_argument("--loss", type=float, default=0.05)
             q.add_argument("--burst-len", type=int, default=50)
             q.add_argument("--tolerance-s", type=float, default=0.1)
+            q.add_argument("--burst-from-s", type=float, default=3.125,
+                           help="bursts start from this record time [s] (not before the clean ROCKING) to the clean "
+                                "IMMINENT (default 3.125: after the default record's strong motion)")
+            q.add_argument("--burst-sweep", type=int, default=0, metavar="STEP",
+                           help="measure instead: one burst (no other loss) at every STEP samples from the clean "
+                                "ROCKING to COLLAPSED, and the alarm times; never fails")
             q.add_argument("--monitor-arg", action="append", help="one more argument for the monitor (repeatable)")
         else:
             q.add_argument("--seconds", type=float, default=15.0, help="the first S seconds of the record (0: all)")
