@@ -158,7 +158,6 @@ class LogFlusher {
   LogFlusher(TrafficLog& log, std::string path, std::ostream& err) : log_(log), path_(std::move(path)), err_(err) {}
   void flush(firmware::MultiWallMonitor& loop) {
     if (!log_.is_open()) return;
-    const std::int64_t lost_before = log_.events_lost();
     if (log_.flush()) {
       if (failing_) {
         err_ << kPrefix << "note: --log " << options::quoted(path_) << ": writing again ("
@@ -167,13 +166,22 @@ class LogFlusher {
       }
       return;
     }
-    loop.note_log_write_failure();
+    // One count per failed write or sync, so the status's log_write_failures is the log's write_failures.
+    const std::int64_t failures = log_.write_failures();
+    for (; failures_noted_ < failures; ++failures_noted_) loop.note_log_write_failure();
     if (!failing_) {
       err_ << kPrefix << "warning: --log " << options::quoted(path_) << ": write failed (" << log_.error() << "); "
-           << (log_.events_lost() - lost_before) << " events lost; monitoring goes on, the log is retried every "
+           << (log_.events_lost() - lost_reported_) << " events lost; monitoring goes on, the log is retried every "
            << "second" << std::endl;
       failing_ = true;
+      lost_reported_ = log_.events_lost();
     }
+  }
+  // At shutdown: everything handed to the disk and waited for, so the last status counts every failure.
+  void drain(firmware::MultiWallMonitor& loop) {
+    if (!log_.is_open()) return;
+    (void)log_.drain();  // failures are reported by the flush below
+    flush(loop);
   }
 
  private:
@@ -181,6 +189,8 @@ class LogFlusher {
   std::string path_;
   std::ostream& err_;
   bool failing_ = false;
+  std::int64_t lost_reported_ = 0;  // events lost when the last warning was written
+  std::int64_t failures_noted_ = 0;  // failures counted by the loop
 };
 
 // The engines the monitor can run: the loop is handed the one --arith selects.
@@ -546,7 +556,7 @@ int run_live(const MonitorConfig& config, std::ostream& out, std::ostream& err) 
   service.stopping();
   if (forecast_thread) forecast_thread->stop();
   loop->finish_pending();  // samples the engine still worked on (carry-over) are published before the last status
-  flusher.flush(*loop);
+  flusher.drain(*loop);
   loop->publish_status(realtime_utime());
   ++statuses;
   const bool log_ok = log.close();
@@ -608,12 +618,13 @@ int run_offline(const MonitorConfig& config, std::ostream& out, std::ostream& er
     err << kPrefix << "error: --offline-in " << options::quoted(in_path) << ": not a regular file\n";
     return kExitUsage;
   }
-  lcm::LogFile in(in_path, "r");
-  if (!in.good()) {
-    err << kPrefix << "error: --offline-in " << options::quoted(in_path) << ": cannot open the log\n";
+  LcmLogReader in;
+  if (!in.open(in_path)) {
+    err << kPrefix << "error: --offline-in " << options::quoted(in_path) << ": cannot open the log (" << in.error()
+        << ")\n";
     return kExitUsage;
   }
-  const lcm::LogEvent* event = in.readNextEvent();
+  const LcmLogReader::Event* event = in.next();
   if (event == nullptr && in_stat.st_size > 0) {
     err << kPrefix << "error: --offline-in " << options::quoted(in_path) << ": not an LCM log (no event found in "
         << in_stat.st_size << " bytes)\n";
@@ -657,10 +668,9 @@ int run_offline(const MonitorConfig& config, std::ostream& out, std::ostream& er
   };
   // The reader stops at the end of the file or at an event it cannot read (a log cut off while being written): the
   // position after the last event read tells them apart.
-  FILE* const in_file = in.getFilePtr();
-  long read_end = event != nullptr && in_file != nullptr ? std::ftell(in_file) : 0;
-  for (; event != nullptr && !StopSignals::stopped(); event = in.readNextEvent()) {
-    const std::int64_t ts = event->timestamp;
+  std::int64_t read_end = in.read_end();
+  for (; event != nullptr && !StopSignals::stopped(); event = in.next()) {
+    const std::int64_t ts = event->utime;
     if (events == 0) {
       status_at(ts);
       next_status_us = ts + kSecondUs;
@@ -687,14 +697,14 @@ int run_offline(const MonitorConfig& config, std::ostream& out, std::ostream& er
     }
     if (loop->reads(event->channel.c_str())) {
       transport.set_event_time(ts);
-      const auto size = event->datalen > 0 ? static_cast<std::size_t>(event->datalen) : std::size_t{0};
-      if (feed) feed->on_input(event->channel.c_str(), static_cast<const std::uint8_t*>(event->data), size);
-      loop->on_message(event->channel.c_str(), static_cast<const std::uint8_t*>(event->data), size, ts);
+      const std::size_t size = event->data.size();
+      if (feed) feed->on_input(event->channel.c_str(), event->data.data(), size);
+      loop->on_message(event->channel.c_str(), event->data.data(), size, ts);
       ++fed;
     } else {
       ++skipped;  // as live: the monitor subscribes to its input channels only
     }
-    if (in_file != nullptr) read_end = std::ftell(in_file);  // before the next read (the event stays valid till then)
+    read_end = in.read_end();
   }
   if (events > 0) {
     transport.set_event_time(last_us);

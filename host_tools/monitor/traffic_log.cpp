@@ -124,6 +124,61 @@ LcmLogScan scan_lcm_log(int fd) {
   return s;
 }
 
+LcmLogReader::~LcmLogReader() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+bool LcmLogReader::open(const std::string& path) {
+  if (fd_ >= 0) ::close(fd_);
+  fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  struct stat st {};
+  if (fd_ < 0 || ::fstat(fd_, &st) != 0) {
+    error_ = std::strerror(errno);
+    return false;
+  }
+  file_bytes_ = static_cast<std::int64_t>(st.st_size);
+  at_ = buffer_at_ = buffer_bytes_ = 0;
+  buffer_.assign(std::size_t{1} << 20, 0);
+  return true;
+}
+
+bool LcmLogReader::read(std::int64_t at, std::uint8_t* p, std::size_t n) {
+  if (at + static_cast<std::int64_t>(n) > file_bytes_) return false;
+  if (n > buffer_.size()) return read_at(fd_, p, n, at) == static_cast<ssize_t>(n);
+  if (at < buffer_at_ || at + static_cast<std::int64_t>(n) > buffer_at_ + buffer_bytes_) {
+    const ssize_t r = read_at(fd_, buffer_.data(), buffer_.size(), at);
+    if (r < 0) {
+      error_ = std::strerror(errno);
+      return false;
+    }
+    buffer_at_ = at;
+    buffer_bytes_ = r;
+    if (buffer_bytes_ < static_cast<std::int64_t>(n)) return false;
+  }
+  std::memcpy(p, buffer_.data() + (at - buffer_at_), n);
+  return true;
+}
+
+const LcmLogReader::Event* LcmLogReader::next() {
+  if (fd_ < 0) return nullptr;
+  std::uint8_t h[kHeaderBytes];
+  if (!read(at_, h, kHeaderBytes)) return nullptr;
+  const std::int64_t length = event_length(h, at_, file_bytes_);
+  if (length == 0) return nullptr;
+  const std::size_t channel = static_cast<std::size_t>(get_be(h + 20, 4)), data = static_cast<std::size_t>(get_be(h + 24, 4));
+  event_.channel.resize(channel);
+  event_.data.resize(data);
+  if (!read(at_ + static_cast<std::int64_t>(kHeaderBytes), reinterpret_cast<std::uint8_t*>(&event_.channel[0]),
+            channel) ||
+      (data > 0 && !read(at_ + static_cast<std::int64_t>(kHeaderBytes + channel), event_.data.data(), data))) {
+    return nullptr;
+  }
+  event_.number = static_cast<std::int64_t>(get_be(h + 4, 8));
+  event_.utime = static_cast<std::int64_t>(get_be(h + 12, 8));
+  at_ += length;
+  return &event_;
+}
+
 TrafficLog::~TrafficLog() { close(); }
 
 bool TrafficLog::open(const std::string& path, std::size_t buffer_bytes) {
@@ -252,6 +307,7 @@ void TrafficLog::writer_main() {
     lock.unlock();
     std::size_t done = 0;
     int write_errno = 0;
+    bool refused = false;  // a write that wrote nothing without an error
     while (done < b.used) {
       const ssize_t n = ::pwrite(fd_, b.bytes.data() + done, b.used - done, static_cast<off_t>(at) + done);
       if (n > 0) {
@@ -260,6 +316,7 @@ void TrafficLog::writer_main() {
       }
       if (n < 0 && errno == EINTR) continue;
       write_errno = n < 0 ? errno : ENOSPC;
+      refused = n == 0;
       break;
     }
     int sync_errno = 0;
@@ -272,7 +329,7 @@ void TrafficLog::writer_main() {
     }
     lock.lock();
     if (write_errno != 0) {
-      error_ = write_errno == ENOSPC && done > 0 ? "the file accepted no more bytes" : std::strerror(write_errno);
+      error_ = refused ? "the file accepted no more bytes" : std::strerror(write_errno);
       ++write_failures_;
       events_lost_ += b.events;
     } else {
@@ -310,11 +367,9 @@ bool TrafficLog::drain() {
     }
     if (blocks_[active_].used > 0) (void)hand_over();
   }
-  {
-    std::unique_lock<std::mutex> lock(mutex_);
-    cv_.wait(lock, [this] { return !pending_; });
-  }
-  return flush();
+  std::unique_lock<std::mutex> lock(mutex_);
+  cv_.wait(lock, [this] { return !pending_; });
+  return write_failures_ == failures_reported_;  // not consumed: the next flush() reports them
 }
 
 bool TrafficLog::close() {

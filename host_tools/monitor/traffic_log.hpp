@@ -53,6 +53,37 @@ struct LcmLogScan {
 };
 LcmLogScan scan_lcm_log(int fd);
 
+// Reads an LCM log's events in order by the same rule (the monitor's offline mode, tests): it stops at the end of the
+// file or at the first event that is not complete, so a log whose write was cut (SIGKILL, power cut) reads to its last
+// complete event. (lcm::LogFile 1.3.1 also drops the last complete event when bytes other than an event follow it.)
+class LcmLogReader {
+ public:
+  struct Event {
+    std::int64_t number = 0, utime = 0;
+    std::string channel;
+    std::vector<std::uint8_t> data;
+  };
+  LcmLogReader() = default;
+  ~LcmLogReader();
+  LcmLogReader(const LcmLogReader&) = delete;
+  LcmLogReader& operator=(const LcmLogReader&) = delete;
+  bool open(const std::string& path);  // false with error() set
+  // The next event (valid until the next call), or null at the end or at an event that is not complete.
+  const Event* next();
+  std::int64_t read_end() const { return at_; }         // the byte after the last event read
+  std::int64_t file_bytes() const { return file_bytes_; }  // the file's size when opened
+  const std::string& error() const { return error_; }
+
+ private:
+  int fd_ = -1;
+  std::int64_t at_ = 0, file_bytes_ = 0;
+  Event event_;
+  std::vector<std::uint8_t> buffer_;
+  std::int64_t buffer_at_ = 0, buffer_bytes_ = 0;
+  bool read(std::int64_t at, std::uint8_t* p, std::size_t n);  // through the buffer; false at the file's end
+  std::string error_;
+};
+
 class TrafficLog {
  public:
   TrafficLog() = default;
@@ -75,7 +106,8 @@ class TrafficLog {
   bool flush();
 
   // Hands the events so far to the writer and waits until they are written and synced (tests, shutdown: it waits for
-  // the disk, so never on the sample path). False as flush().
+  // the disk, so never on the sample path). False when a write or sync has failed since the last flush(), which
+  // still reports it.
   bool drain();
 
   // Writes and syncs everything, stops the writer and closes. False when a write or sync failed since the last flush().

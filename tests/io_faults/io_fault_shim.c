@@ -12,6 +12,9 @@
  *   fsync-EIO         writes pass; fsync and fdatasync fail with EIO (nothing written is lost here: the page cache
  *                     keeps it, as after a transient device error)
  *
+ * $ROCKWATCH_IOFAULT_DURABLE (power-loss test, tests/io_faults/power_loss.py): after each fsync or fdatasync of the
+ * file under test that succeeded, one line "<file size>" is appended to that file: the bytes a power cut cannot take.
+ *
  * Each injected failure appends one line to $ROCKWATCH_IOFAULT_RECORD: "<call> <errno name>" for a failed call,
  * "<call> short <written> of <asked>" for a short write — so the test reconciles the monitor's counters with exactly
  * what was done. Other descriptors (stdout, stderr, sockets) are never touched.
@@ -23,6 +26,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <sys/types.h>
 #include <sys/uio.h>
 #include <unistd.h>
@@ -174,8 +178,30 @@ static int sync_call(int fd, sync_fn real, const char* call) {
     errno = EIO;
     return -1;
   }
-  return real(fd);
+  const int rc = real(fd);
+  const char* durable = getenv("ROCKWATCH_IOFAULT_DURABLE");
+  if (rc == 0 && durable != NULL && targeted(fd)) {
+    struct stat st;
+    if (fstat(fd, &st) == 0) {
+      const int out = open(durable, O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+      if (out >= 0) {
+        char line[32];
+        snprintf(line, sizeof line, "%lld\n", (long long)st.st_size);
+        (void)real_write(out, line, strlen(line));
+        close(out);
+      }
+    }
+  }
+  return rc;
 }
 
-int fsync(int fd) { return sync_call(fd, real_fsync, "fsync"); }
-int fdatasync(int fd) { return sync_call(fd, real_fdatasync, "fdatasync"); }
+/* resolve() before reading real_*: a sync may be the first call the shim sees (a restarted monitor cuts a torn log
+ * and syncs before it writes anything). */
+int fsync(int fd) {
+  resolve();
+  return sync_call(fd, real_fsync, "fsync");
+}
+int fdatasync(int fd) {
+  resolve();
+  return sync_call(fd, real_fdatasync, "fdatasync");
+}
