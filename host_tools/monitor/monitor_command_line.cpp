@@ -122,7 +122,8 @@ void add_options(CLI::App& app, RawOptions& raw) {
       ->type_name("LOG");
   app.add_option("--log", raw.log,
                  "Live mode: record every input message received and every message published to this LCM log "
-                 "(written once per second; a full disk is reported and counted, monitoring goes on)")
+                 "(written and synced once per second by its own thread; a full disk is reported and counted, "
+                 "monitoring goes on; an existing log is appended to after its last complete event)")
       ->type_name("FILE");
   app.add_option("--accept-from", raw.accept_from,
                  "Live mode: accept input datagrams only from this IPv4 address or network (ADDR or ADDR/PREFIX; "
