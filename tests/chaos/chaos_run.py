@@ -8,9 +8,9 @@
       it are printed), 2 bad options, 77 skipped (no multicast on this machine).
   chaos_run.py alarm-timing --monitor M --rockwatch R [--patterns N] [--burst-patterns N] [--first-seed S]
       a collapse record at 1 kHz written by `rockwatch replay --log`, the relay's schedule applied offline (5 %
-      random loss; 5 % loss and a burst of 50 samples placed by the seed in the rocking phase), the monitor offline
-      on each: IMMINENT before COLLAPSED, each within --tolerance-s (0.1) of the clean log's times, every counter
-      as the model derives it.
+      random loss; 5 % loss and a burst of 50 samples placed by the seed in the rocking phase from --burst-from-s
+      to the clean IMMINENT), the monitor offline on each: IMMINENT before COLLAPSED, each within --tolerance-s
+      (0.1) of the clean log's times, every counter as the model derives it. --burst-sweep STEP measures instead.
   chaos_run.py ci --monitor M --rockwatch R     the CI's short live runs (one wall; three walls with the observer's
       sensor stream), or with --alarm-timing the offline patterns.
 
@@ -610,6 +610,9 @@ def _alarm_timing(a, record, scale, work):
                 f.write(json.dumps({"burst_sweep": sweep, "burst_len": a.burst_len,
                                     "record": os.path.basename(record), "scale_pga": scale}) + "\n")
         return 0
+    # The schedule is a pure function of (seed, index, datagram): the first pattern, applied twice, gives the same bytes.
+    if patterns and relay.apply_offline(patterns[0], events)[0] != relay.apply_offline(patterns[0], events)[0]:
+        raise Failure(f"the relay's schedule is not deterministic (seed {patterns[0].seed})")
     results, failed = [], []
     for s in patterns:
         out, _, counts = relay.apply_offline(s, events)
