@@ -3,9 +3,17 @@
 # AddressSanitizer + UndefinedBehaviorSanitizer; then the fuzzing smoke run (clang build of the libFuzzer targets,
 # the kept regression inputs, about a minute of fuzzing: scripts/fuzz.sh, docs/RELIABILITY.md).
 # Prints how long each stage took at the end (docs/BENCHMARKS.md, "The test loop"). Exits non-zero on any failure.
+# Ends, pass or fail, with a line of the suites run and skipped per preset (scripts/ctest-summary.py). Under CI=true
+# a test that would skip for a missing tool or service fails instead (tests/support/no_skip_in_ci.sh, ci_skip.hpp),
+# and any skip left fails the run: CI expects 0 skipped.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 stage_times=()
+suites_line=()
+print_suites() {
+  echo "== suites run and skipped: ${suites_line[*]:-no ctest run finished}"
+}
+trap print_suites EXIT
 # CPU seconds (user + system) of this shell's finished child processes so far: cutime + cstime of /proc/PID/stat.
 ticks=$(getconf CLK_TCK)
 child_cpu() {
@@ -27,11 +35,22 @@ for preset in release debug; do
   stage "$preset: build"
   ./scripts/build.sh "$preset"
   stage_done
-  # The end-to-end tests run LCM over real UDP multicast on loopback (they skip, saying why, when it is unavailable);
-  # after the build, which installs iproute2.
+  # The end-to-end tests run LCM over real UDP multicast on loopback (they skip, saying why, when it is unavailable,
+  # and fail under CI=true); after the build, which installs iproute2.
   source scripts/multicast-route.sh
   stage "$preset: test"
-  ctest --preset "$preset" -j "$(nproc)"
+  junit="$PWD/build/$preset/ctest-junit.xml"
+  rm -f "$junit"
+  ctest_status=0
+  ctest --preset "$preset" -j "$(nproc)" --output-junit "$junit" || ctest_status=$?
+  summary=$(/usr/bin/python3 scripts/ctest-summary.py "$preset" "$junit")
+  suites_line+=("$summary;")
+  echo "$summary"
+  [ "$ctest_status" -eq 0 ] || exit "$ctest_status"
+  if [ "${CI:-}" = true ] && ! grep -q ", 0 skipped" <<<"$summary"; then
+    echo "FAILED: tests skipped under CI=true: $summary" >&2
+    exit 1
+  fi
   stage_done
 done
 stage "fuzz: build"

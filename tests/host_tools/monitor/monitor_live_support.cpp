@@ -10,6 +10,7 @@
 #include <lcm/lcm-cpp.hpp>
 #include <nlohmann/json.hpp>
 
+#include "ci_skip.hpp"
 #include "lcm_transport.hpp"
 #include "monitor_test_support.hpp"
 
@@ -62,8 +63,8 @@ bool skip_without_multicast(const std::string& url) {
   } else {
     why = "LCM could not start with " + url;
   }
-  UT_PRINT(("SKIPPED (multicast unavailable): " + why).c_str());
-  return true;
+  // Fails the test under CI=true (ci_skip.hpp, issue 42); skips, saying why, elsewhere.
+  return skip_or_fail_in_ci("multicast unavailable: " + why);
 }
 
 std::string write_channels_config(const TempDir& dir, const LiveChannels& c, const std::string& file_name) {

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "ci_skip.hpp"
 #include "cli_process.hpp"
 #include "cli_test_files.hpp"
 #include "common/plots/python_plot.hpp"
@@ -33,8 +34,7 @@ TEST(PythonPlot, RockwatchPythonComesFirst) {
   const EnvOverride unset("ROCKWATCH_PYTHON", nullptr);
   const std::optional<std::string> system_python = find_matplotlib_python();
   if (!system_python) {
-    std::printf("\nnote: no Python with matplotlib on this machine: PythonPlot.RockwatchPythonComesFirst skipped\n");
-    return;
+    if (rockwatch::test::skip_or_fail_in_ci("no Python with matplotlib on this machine")) return;
   }
   // A link to the same interpreter under another name is found by that name: the variable was used first.
   const TempDir dir;
@@ -64,8 +64,7 @@ TEST(PythonPlot, UnknownScriptNamesTheEmbeddedOnes) {
 
 TEST(PythonPlot, ScriptFailureCarriesItsStderrAndLeavesNoFiles) {
   if (!find_matplotlib_python()) {
-    std::printf("\nnote: no Python with matplotlib on this machine: PythonPlot script tests skipped\n");
-    return;
+    if (rockwatch::test::skip_or_fail_in_ci("no Python with matplotlib on this machine")) return;
   }
   const TempDir scratch;
   const EnvOverride tmpdir("TMPDIR", scratch.path().c_str());

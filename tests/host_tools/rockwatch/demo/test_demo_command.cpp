@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "ci_skip.hpp"
 #include "cli_process.hpp"
 #include "cli_test_files.hpp"
 #include "common/replay_out/lcm_multicast.hpp"
@@ -60,11 +61,8 @@ TEST(DemoCommand, MonitorTimelinesMatchTheOfflineSimulation) {
   const std::string url = private_url();
   const rockwatch::cli::MulticastProbe probe = rockwatch::cli::probe_multicast(url, 1000);
   if (!probe.ok) {
-    std::printf(
-        "\nnote: LCM multicast does not work on this machine (%s): DemoCommand.MonitorTimelinesMatch "
-        "skipped\n",
-        probe.problem.c_str());
-    return;
+    if (rockwatch::test::skip_or_fail_in_ci("LCM multicast does not work on this machine (" + probe.problem + ")"))
+      return;
   }
   const EnvOverride monitor("ROCKWATCH_MONITOR", ROCKWATCH_MONITOR_PATH);
   // The dashboard's own refusal comes through, before any record is replayed.
@@ -110,9 +108,7 @@ TEST(DemoCommand, OneMonitorManyWallsFromItsConfig) {
   const std::string url = private_url();
   const rockwatch::cli::MulticastProbe probe = rockwatch::cli::probe_multicast(url, 1000);
   if (!probe.ok) {
-    std::printf("\nnote: LCM multicast does not work here (%s): DemoCommand.OneMonitorManyWalls skipped\n",
-                probe.problem.c_str());
-    return;
+    if (rockwatch::test::skip_or_fail_in_ci("LCM multicast does not work here (" + probe.problem + ")")) return;
   }
   const rockwatch::test::TempDir tmp;
   const std::string config = tmp.file("walls.json");

@@ -26,6 +26,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "ci_skip.hpp"
 #include "cli_process.hpp"
 #include "cli_test_files.hpp"
 #include "common/plots/python_plot.hpp"
@@ -363,8 +364,7 @@ TEST(StudyCommand, DtCheckComparesWithTheReferenceStepAndReportsTheConvergence) 
 
 TEST(StudyCommand, PlotsTheFiguresPerCase) {
   if (!rockwatch::cli::find_matplotlib_python()) {
-    std::printf("\nnote: no Python with matplotlib on this machine: StudyCommand.PlotsTheFiguresPerCase skipped\n");
-    return;
+    if (rockwatch::test::skip_or_fail_in_ci("no Python with matplotlib on this machine")) return;
   }
   const TempDir tmp;
   const std::string dir = tmp.file("study");

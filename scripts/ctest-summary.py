@@ -1,0 +1,35 @@
+#!/usr/bin/env python3
+"""ctest-summary.py LABEL JUNIT_XML: one line of what a ctest run ran and skipped (scripts/test.sh, issue 42).
+
+Reads the JUnit file of `ctest --output-junit`: a test is run (status "run" or "fail") or skipped ("notrun": ctest's
+SKIP_RETURN_CODE, or not run at all). A test that ran but printed "SKIPPED: <what>" (a test case of a suite skipped
+inside it, tests/support/ci_skip.hpp) is named too. Prints e.g.
+  release: 212 run (210 passed, 2 failed), 1 skipped: test_python_module; skipped inside: PythonPlot.X
+"""
+import sys
+import xml.etree.ElementTree as ET
+
+label, path = sys.argv[1], sys.argv[2]
+try:
+    cases = ET.parse(path).getroot().iter("testcase")
+except (OSError, ET.ParseError) as e:
+    print(f"{label}: no ctest results ({e})")
+    sys.exit(0)
+run, failed, skipped, inside = 0, [], [], []
+for c in cases:
+    name, status = c.get("name"), c.get("status")
+    if status in ("run", "fail"):
+        run += 1
+        if status == "fail":
+            failed.append(name)
+        out = c.findtext("system-out") or ""
+        inside += [f"{name} ({line.strip()[len('SKIPPED: '):][:80]})" for line in out.splitlines()
+                   if line.strip().startswith("SKIPPED: ")]
+    else:
+        skipped.append(name)
+line = f"{label}: {run} run ({run - len(failed)} passed, {len(failed)} failed), {len(skipped)} skipped"
+if skipped:
+    line += ": " + ", ".join(skipped)
+if inside:
+    line += f"; {len(inside)} skipped inside a suite: " + "; ".join(inside)
+print(line)
