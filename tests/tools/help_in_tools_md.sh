@@ -21,6 +21,11 @@ help_options() {
        }' | grep -v -x -e '--help' -e '--version' | sort -u
 }
 
+# Independent of help_options: how many distinct option lines a help has (their first word), --help/--version aside.
+option_lines() {
+  grep -E '^  -' | awk '{ print $1 }' | grep -v -E '^(-[a-zA-Z],)?--(help|version)$' | sort -u | wc -l
+}
+
 # The subcommands of a command (e.g. `study merge`): the words W its help names as "rockwatch COMMAND W" whose own
 # help says "Usage: rockwatch COMMAND W".
 subcommands() {  # subcommands ROCKWATCH COMMAND
@@ -101,6 +106,23 @@ self_test() {  # self_test ROCKWATCH MONITOR TOOLS_MD
   work=$(mktemp -d)
   trap 'rm -rf "$work"' EXIT
   out=$(check "$rockwatch" "$monitor" "$tools_md") || { echo "FAIL: the check fails on TOOLS.md as it is:"; echo "$out"; return 1; }
+  # 0. The parser against an independent count (issue 42): in every help text, the distinct first words of the option
+  #    lines (a line starting "  -"), less --help/--version, must be as many as the options help_options finds, so
+  #    an option the parser cannot read (a name outside its pattern, a line format it misses) fails here. Shown on a
+  #    help with such an option added.
+  local c h counted listed total=0
+  for c in $("$rockwatch" --help | awk '/^Commands:/ { on = 1; next } on && /^  [a-z]/ { print $1; next } { on = 0 }') \
+           rockwatch-monitor; do
+    if [ "$c" = rockwatch-monitor ]; then h=$("$monitor" --help 2>&1); else h=$("$rockwatch" "$c" --help 2>&1); fi
+    counted=$(option_lines <<<"$h")
+    listed=$(help_options <<<"$h" | wc -l)
+    [ "$counted" -eq "$listed" ] && [ "$counted" -gt 0 ] ||
+      { echo "FAIL (self-test): $c --help has $counted option lines, the parser reads $listed options"; return 1; }
+    total=$((total + counted))
+  done
+  h=$(printf '%s\n' "$("$rockwatch" simulate --help)" "  --Not_Read_By-The-Parser X    an option outside its pattern")
+  [ "$(option_lines <<<"$h")" -ne "$(help_options <<<"$h" | wc -l)" ] ||
+    { echo "FAIL (self-test): the independent count does not see an option the parser misses"; return 1; }
   # 1. An option of `simulate` (the longest name its help lists: no other contains it) taken out of its section:
   #    the check must name it, and nothing else.
   local opt
@@ -125,7 +147,8 @@ self_test() {  # self_test ROCKWATCH MONITOR TOOLS_MD
   fi
   grep -q -F -- 'no section "## `rockwatch-monitor`"' <<<"$out" ||
     { echo "FAIL (self-test): the failure does not name the missing section:"; echo "$out"; return 1; }
-  echo "OK (self-test): the check names an undocumented option ($opt) and a missing section, and passes on TOOLS.md"
+  echo "OK (self-test): the parser reads all $total option lines of the help texts; the check names an undocumented" \
+       "option ($opt) and a missing section, and passes on TOOLS.md"
 }
 
 if [ "${1-}" = --self-test ]; then
