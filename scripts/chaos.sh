@@ -5,7 +5,8 @@
 # 0.2 % truncation, 1 ms delay with 0.5 ms jitter) for SECONDS of record (default 120), one wall and then three walls
 # with the observer's sensor stream in batches of 10, and checks the invariants of tests/chaos/chaos_run.py (no crash
 # or stall, every counter reconciled with the relay's log, VmRSS flat, no alarm above ROCKING on the survivor
-# record); then the alarm timing on a collapse record under 100 random-loss patterns and 50 with a burst of 50 samples.
+# record); then the alarm timing on a collapse record under 100 random-loss patterns and 50 with a burst of 10 samples
+# anywhere (pass/fail), and 50 with a burst of 50 samples after the strongest shaking (measured only: SPEC §12).
 # CI runs the short version (ctest -R monitor_chaos).
 #
 #   scripts/chaos.sh [SECONDS] [--seed S] [chaos_run.py live options...]   e.g. scripts/chaos.sh 600 --seed 7
@@ -55,6 +56,12 @@ status=0
 [[ $status -eq 77 ]] && exit 77
 "${run[@]}" live "${tools[@]}" --seconds "$seconds" --seed "$((seed + 1))" --walls 3 --observer --batch 10 \
   --keep "$out/run2" --json "$out/results.jsonl" "${args[@]}" || { s=$?; status=$((status > s ? status : s)); }
-"${run[@]}" alarm-timing "${tools[@]}" --patterns 100 --burst-patterns 50 --first-seed "$((seed * 1000))" \
-  --json "$out/results.jsonl" || { s=$?; status=$((status > s ? status : s)); }
+# Promised (SPEC §12): 5 % random loss, and a burst of 10 samples anywhere up to the clean IMMINENT.
+"${run[@]}" alarm-timing "${tools[@]}" --patterns 100 --burst-patterns 50 --burst-len 10 --burst-from-s 0 \
+  --first-seed "$((seed * 1000))" --json "$out/results.jsonl" || { s=$?; status=$((status > s ? status : s)); }
+# Measured, not promised (SPEC §12: 50 ms of the strongest shaking lost cannot be bridged): a burst of 50 samples
+# after 3.125 s. Printed; does not fail the run.
+echo "chaos.sh: bursts of 50 samples (measured, not a pass/fail check: docs/SPEC.md §12):"
+"${run[@]}" alarm-timing "${tools[@]}" --patterns 0 --burst-patterns 50 --first-seed "$((seed * 1000 + 500))" \
+  --json "$out/results.jsonl" || true
 exit "$status"
