@@ -13,6 +13,10 @@
 #       (firmware/embedded/m4_replay/: vector table, start-up, semihosting, WallEngine over an engine-input file;
 #       the same compiler flags) as OUT_DIR/rockwatch_m4_replay.elf, and its arm-none-eabi-size; run by
 #       scripts/m4-replay.sh. Compiles only wall_engine.cpp of the firmware sources.
+#   scripts/embedded-build.sh --m4-monitor [OUT_DIR]     the monitor image on the wire for QEMU's mps2-an386
+#       (firmware/embedded/m4_monitor/: MonitorLoop + WallEngine + LcmDatagramReassembler behind a LAN9118 driver and
+#       the image's own IPv4/UDP path; the replay image's linker script, semihosting and instruction clock) as
+#       OUT_DIR/rockwatch_m4_monitor.elf, and its arm-none-eabi-size; run by scripts/m4-monitor.sh.
 # Exit status: 0 built; 1 compile/link failure; 77 arm-none-eabi-g++ not installed (ctest SKIP_RETURN_CODE).
 # Environment: ARM_GXX, ARM_SIZE, ARM_NM, LCM_GEN override the tools; ROCKWATCH_M4_OPT the optimisation flag (default
 # -O2: the 128-bit fixed-point helpers inline: 1.5 x fewer M4 instructions per sample than -Os, measured on set 1 X;
@@ -20,12 +24,15 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 
-objects_only=0 m4_replay=0
+objects_only=0 m4_replay=0 m4_monitor=0
 if [[ ${1:-} == --objects-only ]]; then
   objects_only=1
   shift
 elif [[ ${1:-} == --m4-replay ]]; then
   m4_replay=1
+  shift
+elif [[ ${1:-} == --m4-monitor ]]; then
+  m4_monitor=1
   shift
 fi
 out_dir=${1:-$root/build/embedded}
@@ -119,6 +126,36 @@ if [[ $m4_replay -eq 1 ]]; then
   echo "embedded-build: link ${image#"$root"/}"
   "$gxx" "${target_flags[@]}" -Os --specs=nano.specs -nostartfiles -T "$replay_dir/mps2_an386.ld" -Wl,--gc-sections \
     -Wl,-Map="$out_dir/rockwatch_m4_replay.map" "${objects[@]}" -o "$image"
+  echo
+  echo "== arm-none-eabi-size (image; .text = code + constants + vector table, flash; .data + .bss + the 16 KiB stack, RAM)"
+  "$size_tool" -A "$image" | awk '$1 ~ /^\.(text|ARM\.exidx|data|bss|stack)$/'
+  "$size_tool" "$image" | sed "s|$out_dir/||"
+  exit 0
+fi
+
+if [[ $m4_monitor -eq 1 ]]; then
+  # The monitor image: the replay image's start-up conventions (its own startup.S with the Ethernet and SysTick wake
+  # vectors), linker script, semihosting and instruction clock (included from m4_replay/).
+  monitor_dir=$root/firmware/embedded/m4_monitor
+  replay_dir=$root/firmware/embedded/m4_replay
+  obj_dir=$out_dir/m4_monitor
+  rm -rf "$obj_dir"
+  mkdir -p "$obj_dir"
+  cxx_flags+=(-I"$replay_dir")
+  objects=()
+  for src in "$root/firmware/src/wall_engine.cpp" "$root/firmware/src/monitor_loop.cpp" \
+             "$root/firmware/src/lcm_datagram.cpp" "$monitor_dir"/*.cpp; do
+    obj=$obj_dir/$(basename "${src%.cpp}").o
+    compile "$src" "$obj"
+    objects+=("$obj")
+  done
+  echo "embedded-build: assemble ${monitor_dir#"$root"/}/startup.S"
+  "$gxx" "${target_flags[@]}" -c "$monitor_dir/startup.S" -o "$obj_dir/startup.o"
+  objects+=("$obj_dir/startup.o")
+  image=$out_dir/rockwatch_m4_monitor.elf
+  echo "embedded-build: link ${image#"$root"/}"
+  "$gxx" "${target_flags[@]}" -Os --specs=nano.specs -nostartfiles -T "$replay_dir/mps2_an386.ld" -Wl,--gc-sections \
+    -Wl,-Map="$out_dir/rockwatch_m4_monitor.map" "${objects[@]}" -o "$image"
   echo
   echo "== arm-none-eabi-size (image; .text = code + constants + vector table, flash; .data + .bss + the 16 KiB stack, RAM)"
   "$size_tool" -A "$image" | awk '$1 ~ /^\.(text|ARM\.exidx|data|bss|stack)$/'
