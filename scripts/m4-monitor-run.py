@@ -1,0 +1,300 @@
+#!/usr/bin/env python3
+"""The host side of scripts/m4-monitor.sh: writes the image's configuration from `rockwatch-monitor --print-config`,
+boots the monitor image in QEMU (mps2-an386, -icount) with its LAN9118 on a QEMU socket network (`-nic socket,udp=`:
+each Ethernet frame one UDP datagram between QEMU and this process on 127.0.0.1), bridges that network to the LCM
+URL's UDP multicast group (LCM datagrams from the group -> Ethernet/IPv4/UDP frames to the image; the image's frames
+-> their UDP payload to the group), prints `lcm-url: URL` once the image listens, and on SIGINT/SIGTERM stops QEMU and
+prints one JSON object (see scripts/m4-monitor.sh).
+
+  m4-monitor-run.py --image ELF --qemu QEMU --print-config FILE.json --lcm-url URL --work DIR [--timeout S]
+"""
+import argparse, json, math, os, select, signal, socket, struct, subprocess, sys, time
+from urllib.parse import urlparse, parse_qs
+
+LEVELS = ["QUIET", "ROCKING", "WARNING", "IMMINENT", "COLLAPSED"]
+SHIFT = 10               # -icount shift: 1024 ns of virtual time per instruction
+NS_PER_TICK = 40.0       # the board's 25 MHz TIMER0
+IMAGE_IP = "192.168.76.2"
+BRIDGE_MAC = bytes([0x02, 0x52, 0x57, 0x00, 0x00, 0x01])
+IMAGE_MAC = bytes([0x02, 0x52, 0x57, 0x00, 0x00, 0x02])
+
+
+def fail(message, status=1):
+    sys.stderr.write("m4-monitor: " + message + "\n")
+    sys.exit(status)
+
+
+# --- configuration file (firmware/embedded/m4_monitor/monitor_main.cpp, "CONFIG") ---
+ENGINE_KEYS = {  # EngineInputKey (rockwatch/firmware/engine_input_format.hpp)
+    ("wall", "b"): 1, ("wall", "h1"): 2, ("wall", "h2"): 3, ("wall", "rho"): 4, ("wall", "fp"): 5,
+    ("wall", "a"): 6, ("wall", "a_prime"): 7, ("wall", "g"): 8, ("r_energy_ratio",): 9, ("kappa",): 10,
+    ("alarm", "lambda_w"): 13, ("alarm", "hold_s"): 14, ("alarm", "energy_margin"): 15, ("max_step_s",): 16,
+    ("observer", "x_noise_m"): 18, ("observer", "a_noise_mps2"): 19, ("observer", "process_accel_mps2"): 20,
+    ("observer", "gate_chi2"): 25, ("observer", "dropout_s"): 27, ("observer", "max_age_s"): 28,
+    ("observer", "capacity_sigmas"): 35, ("observer", "accel_inform_peak_noises"): 36,
+}
+CHANNELS = ["accel", "accel_batch", "wall_state", "alarm", "status", "wall_sensor", "wall_estimate"]
+CHANNEL_DEFAULTS = ["ROCKWATCH_ACCEL", "ROCKWATCH_ACCEL_BATCH", "ROCKWATCH_WALL_STATE", "ROCKWATCH_ALARM",
+                    "ROCKWATCH_STATUS", "ROCKWATCH_WALL_SENSOR", "ROCKWATCH_WALL_ESTIMATE"]
+
+
+def ipv4_number(text):
+    return struct.unpack("!I", socket.inet_aton(text))[0]
+
+
+def write_config(printed, group, port, path):
+    s = printed["settings"]
+    for key in ("walls", "forecast", "accept_from"):
+        if key in s:
+            fail("the monitor image runs one wall without --forecast or accept_from (the settings have '%s')" % key, 2)
+    if s.get("arith") != "fixed":
+        fail("the Cortex-M4 image runs the fixed-point engine: --arith must be fixed", 2)
+    if s.get("model") != "linear":
+        fail("the fixed-point engine runs the linear model only (--model linear)", 2)
+    pairs = []
+    for path_keys, key in ENGINE_KEYS.items():
+        v = s
+        for k in path_keys:
+            v = v.get(k) if isinstance(v, dict) else None
+        if v is not None:
+            pairs.append((key, struct.pack("<d", float(v))))
+    pairs.append((11, struct.pack("<d", 0.0)))  # model: linear
+    observer = bool(s.get("observer", {}).get("enabled", False))
+    pairs.append((17, struct.pack("<d", 1.0 if observer else 0.0)))
+    if "work_overflow" in s:
+        pairs.append((34, struct.pack("<d", 1.0 if s["work_overflow"] == "finish" else 0.0)))
+    tolerance_us = round(s.get("clock_tolerance_s", 10.0) * 1e6)
+    digest = int(printed["config_digest"], 16)
+    monitor = [(1001, float(s["sample_rate_hz"])), (1002, float(s["max_bridge_samples"])),
+               (1003, float(s["sensor_range_mps2"])), (1004, float(s["late_limit_s"])),
+               (1005, float(s["restart_window"])), (1006, float(tolerance_us)),
+               (1008, float(s.get("work_budget_units", 0))), (1009, float(ipv4_number(group))),
+               (1010, float(port)), (1011, float(ipv4_number(IMAGE_IP)))]
+    pairs += [(k, struct.pack("<d", v)) for k, v in monitor]
+    pairs.append((1007, struct.pack("<Q", digest)))
+    with open(path, "wb") as f:
+        f.write(b"RWMONCF1" + struct.pack("<Q", len(pairs)))
+        for k, v in pairs:
+            f.write(struct.pack("<Q", k) + v)
+        channels = s.get("channels", {})
+        for name, default in zip(CHANNELS, CHANNEL_DEFAULTS):
+            text = channels.get(name, default).encode()
+            f.write(text + b"\0" * (64 - len(text)))
+    return observer
+
+
+# --- frames ---
+def checksum(data):
+    if len(data) % 2:
+        data += b"\0"
+    s = sum(struct.unpack("!%dH" % (len(data) // 2), data))
+    while s >> 16:
+        s = (s & 0xFFFF) + (s >> 16)
+    return (~s) & 0xFFFF
+
+
+def frame_for(payload, src_ip, src_port, group, port, ip_id):
+    g = socket.inet_aton(group)
+    dst_mac = bytes([0x01, 0x00, 0x5E, g[1] & 0x7F, g[2], g[3]])
+    udp_len = 8 + len(payload)
+    src = socket.inet_aton(src_ip)
+    pseudo = src + g + struct.pack("!BBH", 0, 17, udp_len)
+    udp = struct.pack("!HHHH", src_port, port, udp_len, 0) + payload
+    c = checksum(pseudo + udp) or 0xFFFF
+    udp = udp[:6] + struct.pack("!H", c) + udp[8:]
+    ip = struct.pack("!BBHHHBBH4s4s", 0x45, 0, 20 + udp_len, ip_id & 0xFFFF, 0x4000, 1, 17, 0, src, g)
+    ip = ip[:10] + struct.pack("!H", checksum(ip)) + ip[12:]
+    return dst_mac + BRIDGE_MAC + b"\x08\x00" + ip + udp
+
+
+def payload_of(frame, group, port):
+    """The UDP payload of a frame the image sent to the group's port, or None."""
+    if len(frame) < 42 or frame[12:14] != b"\x08\x00" or frame[14] != 0x45 or frame[23] != 17:
+        return None
+    total = struct.unpack("!H", frame[16:18])[0]
+    if frame[30:34] != socket.inet_aton(group) or struct.unpack("!H", frame[36:38])[0] != port:
+        return None
+    udp_len = struct.unpack("!H", frame[38:40])[0]
+    if udp_len < 8 or 14 + 20 + udp_len > len(frame) or 20 + udp_len > total:
+        return None
+    return frame[42:34 + udp_len]
+
+
+# --- statistics ---
+def stats(values):
+    if not values:
+        return {"median": 0, "p99": 0, "max": 0}
+    s = sorted(values)
+    n = len(s)
+    return {"median": s[(n + 1) // 2 - 1], "p99": s[max(0, math.ceil(0.99 * n) - 1)], "max": s[-1]}
+
+
+def insns(ticks, overhead=0):
+    return round(ticks * NS_PER_TICK / (1 << SHIFT)) - overhead
+
+
+def summarise(output_path, qemu_version, observer, bridge):
+    lines = open(output_path).read().splitlines() if os.path.exists(output_path) else []
+    if not lines or lines[0] != "rockwatch-m4-monitor 1":
+        fail("the image wrote no output")
+    overhead = 0
+    counters = {}
+    transitions = []
+    per = {"g": [], "s": [], "o": [], "r": [], "f": [], "n": []}
+    receive = []
+    for line in lines[1:]:
+        f = line.split()
+        if not f:
+            continue
+        if f[0] == "overhead":
+            overhead = insns(int(f[1]))
+        elif f[0] == "d" and len(f) == 5 and f[1] in per:
+            total, rx = insns(int(f[2]), overhead), insns(int(f[3]), overhead)
+            per[f[1]].append(total)
+            if f[1] == "g":
+                receive.append(rx)
+        elif f[0] == "a" and len(f) == 3:
+            transitions.append({"input_seq": int(f[1]), "level": LEVELS[int(f[2])]})
+        elif f[0] == "c":
+            counters = {f[i]: int(f[i + 1]) for i in range(1, len(f) - 1, 2)}
+    c = counters
+    result = {
+        "machine": "mps2-an386 (Cortex-M4F, qemu-system-arm %s, -icount shift=%d), LAN9118 on a QEMU socket network"
+                   % (qemu_version, SHIFT),
+        "observer": observer,
+        "frames_received": c.get("frames", 0),
+        "datagrams_received": c.get("datagrams", 0),
+        "samples_received": c.get("samples_received", 0),
+        "samples_processed": c.get("samples_processed", 0),
+        "gaps": c.get("gaps", 0),
+        "duplicates": c.get("duplicates", 0),
+        "out_of_order": c.get("out_of_order", 0),
+        "transitions": transitions,
+        "insn_per_sample": stats(per["g"]),
+        "receive_insn_per_sample": stats(receive),
+        "insn_per_sensor_datagram": stats(per["s"]),
+        "insn_per_other_datagram": stats(per["o"] + per["r"] + per["f"] + per["n"]),
+        "overhead_insn": overhead,
+        "counters": counters,
+        "bridge": bridge,
+    }
+    return result
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--image", required=True)
+    ap.add_argument("--qemu", required=True)
+    ap.add_argument("--print-config", required=True)
+    ap.add_argument("--lcm-url", required=True)
+    ap.add_argument("--work", required=True)
+    ap.add_argument("--timeout", type=float, default=0)
+    a = ap.parse_args()
+
+    url = urlparse(a.lcm_url)
+    if url.scheme != "udpm" or not url.hostname or not url.port:
+        fail("--lcm-url must be udpm://GROUP:PORT[?ttl=0] (got %r)" % a.lcm_url, 2)
+    group, port = url.hostname, url.port
+    try:
+        if (ipv4_number(group) >> 28) != 0xE:
+            raise OSError
+    except OSError:
+        fail("--lcm-url: %s is not an IPv4 multicast group (224.0.0.0/4)" % group, 2)
+    printed = json.load(open(a.print_config))
+    config = os.path.join(a.work, "monitor.cfg")
+    observer = write_config(printed, group, port, config)
+
+    # The QEMU side of the socket network: QEMU sends its frames to our port, and receives on its own.
+    frames = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    frames.bind(("127.0.0.1", 0))
+    bridge_port = frames.getsockname()[1]
+    probe = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    probe.bind(("127.0.0.1", 0))
+    qemu_port = probe.getsockname()[1]
+    probe.close()
+    # The LCM side: the group (as liblcm joins it), and a sender whose own datagrams are not bridged back.
+    lcm_in = socket.socket(socket.AF_INET, socket.SOCK_DGRAM, socket.IPPROTO_UDP)
+    lcm_in.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+    if hasattr(socket, "SO_REUSEPORT"):
+        lcm_in.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEPORT, 1)
+    lcm_in.bind(("", port))
+    lcm_in.setsockopt(socket.IPPROTO_IP, socket.IP_ADD_MEMBERSHIP, socket.inet_aton(group) + socket.inet_aton("0.0.0.0"))
+    lcm_in.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4 << 20)
+    lcm_out = socket.socket(socket.AF_INET, socket.SOCK_DGRAM, socket.IPPROTO_UDP)
+    ttl = int(parse_qs(url.query).get("ttl", ["0"])[0])
+    lcm_out.setsockopt(socket.IPPROTO_IP, socket.IP_MULTICAST_TTL, ttl)
+    lcm_out.setsockopt(socket.IPPROTO_IP, socket.IP_MULTICAST_LOOP, 1)
+    lcm_out.bind(("", 0))
+    own_port = lcm_out.getsockname()[1]
+
+    output = os.path.join(a.work, "output.txt")
+    qemu_version = subprocess.run([a.qemu, "--version"], capture_output=True, text=True).stdout.split("version ")[-1].split()[0]
+    cmd = [a.qemu, "-M", "mps2-an386", "-cpu", "cortex-m4", "-nographic", "-monitor", "none", "-serial", "none",
+           "-semihosting-config", "enable=on,target=native", "-icount", "shift=%d" % SHIFT,
+           "-nic", "socket,model=lan9118,udp=127.0.0.1:%d,localaddr=127.0.0.1:%d" % (bridge_port, qemu_port),
+           "-kernel", os.path.abspath(a.image), "-append", "output.txt monitor.cfg"]
+    log = open(os.path.join(a.work, "qemu.log"), "w")
+    qemu = subprocess.Popen(cmd, cwd=a.work, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
+
+    stop = {"flag": False}
+    def on_signal(signum, frame):
+        stop["flag"] = True
+    signal.signal(signal.SIGINT, on_signal)
+    signal.signal(signal.SIGTERM, on_signal)
+
+    bridge = {"to_image": 0, "from_image": 0, "from_image_not_lcm": 0}
+    started = time.monotonic()
+    ready = False
+    ip_id = 0
+    status = 0
+    while not stop["flag"]:
+        if qemu.poll() is not None:
+            log.close()
+            sys.stderr.write(open(os.path.join(a.work, "qemu.log")).read())
+            reasons = {3: "the image did not get its command line", 4: "the image could not read its configuration",
+                       5: "the configuration is invalid for the image", 6: "MonitorLoop::init refused the settings",
+                       7: "no LAN9118 answered", 8: "the image could not write its output", 9: "the image faulted"}
+            fail("QEMU exited with status %d: %s" % (qemu.returncode, reasons.get(qemu.returncode, "?")))
+        if not ready and os.path.exists(output) and "\nready " in open(output).read():
+            ready = True
+            print("lcm-url: %s" % a.lcm_url, flush=True)
+        if not ready and time.monotonic() - started > 60:
+            qemu.kill()
+            fail("the image did not start listening within 60 s")
+        if a.timeout and time.monotonic() - started > a.timeout:
+            break
+        try:
+            readable, _, _ = select.select([frames, lcm_in], [], [], 0.1)
+        except InterruptedError:
+            continue
+        for s in readable:
+            if s is frames:
+                data, _ = frames.recvfrom(65536)
+                payload = payload_of(data, group, port)
+                if payload is None:
+                    bridge["from_image_not_lcm"] += 1
+                else:
+                    lcm_out.sendto(payload, (group, port))
+                    bridge["from_image"] += 1
+            else:
+                data, (src_ip, src_port) = lcm_in.recvfrom(65536)
+                if src_port == own_port:
+                    continue  # the image's own publications, looped back by the host
+                if ready and len(data) <= 1472:
+                    ip_id += 1
+                    frames.sendto(frame_for(data, src_ip, src_port, group, port, ip_id), ("127.0.0.1", qemu_port))
+                    bridge["to_image"] += 1
+    # Let the image finish what it received (its output is flushed whenever it is idle).
+    time.sleep(0.3)
+    os.killpg(qemu.pid, signal.SIGTERM)
+    try:
+        qemu.wait(10)
+    except subprocess.TimeoutExpired:
+        os.killpg(qemu.pid, signal.SIGKILL)
+        qemu.wait()
+    print(json.dumps(summarise(output, qemu_version, observer, bridge), indent=2), flush=True)
+    return status
+
+
+if __name__ == "__main__":
+    sys.exit(main())
