@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# Mutation check of the tests (issue 42, item 3): applies each named mutant (a patch under tests/mutants/) to a copy
+# of the committed tree, one at a time, builds only the targets it touches, runs the ctest entries that must catch
+# it, and prints which mutants survived. Every mutant must be killed. Run on demand and before a release, not in CI.
+#
+#   scripts/mutants.sh [NAME...]        (default: every mutant below); exit 0 every mutant killed, 1 otherwise
+# WORK_DIR (default: a fresh temporary directory) holds the copy (git archive HEAD) and its release build, reused
+# between mutants: each patch is reversed after its run, so only what it touched is rebuilt.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$PWD
+# name|build targets|ctest regex of the entries that must fail|environment
+mutants=(
+  "observer_never_learns_r|test_sim|^test_sim_observer_consistency$|"
+  "bootstrap_sigma_x3|test_identification_bootstrap|^test_identification_bootstrap$|"
+  "extension_keeps_gil|rockwatch_python rockwatch|^test_python_module$|"
+  "browser_test_skips|rockwatch rockwatch-monitor|^test_rockwatch_dashboard_browser$|CI=true"
+)
+selected=("$@")
+work=${WORK_DIR:-$(mktemp -d)}
+mkdir -p "$work/src"
+git archive HEAD | tar -x -C "$work/src"
+[ -e "$work/src/node_modules" ] || ln -s "$root/node_modules" "$work/src/node_modules"
+cmake -S "$work/src" -B "$work/build" -G Ninja -DCMAKE_BUILD_TYPE=Release >"$work/configure.log"
+survived=() killed=()
+for m in "${mutants[@]}"; do
+  IFS='|' read -r name targets regex env <<<"$m"
+  if [ ${#selected[@]} -gt 0 ] && [[ " ${selected[*]} " != *" $name "* ]]; then continue; fi
+  patch=$root/tests/mutants/$name.patch
+  echo "== $name: $(grep -c '^+[^+]' "$patch") lines changed; build $targets; run $regex ${env:+($env)}"
+  (cd "$work/src" && patch -s -p1 <"$patch")
+  status=0
+  # shellcheck disable=SC2086  # the targets are words
+  if ! cmake --build "$work/build" -j "$(nproc)" $(printf -- '--target %s ' $targets) >"$work/$name.build.log" 2>&1; then
+    echo "   build failed (see $work/$name.build.log): counted as killed"
+    status=1
+    : >"$work/$name.ctest.log"
+  else
+    (cd "$work/build" && env $env ctest -R "$regex" --output-on-failure >"$work/$name.ctest.log" 2>&1) || status=$?
+  fi
+  (cd "$work/src" && patch -s -R -p1 <"$patch")
+  if [ "$status" -ne 0 ]; then
+    killed+=("$name")
+    echo "   killed: $(grep -E 'Failed|Timeout' "$work/$name.ctest.log" | head -3 | tr -s ' ' | paste -sd ';' -)"
+  else
+    survived+=("$name")
+    echo "   SURVIVED: $regex passed with the mutant"
+  fi
+done
+echo "== mutants killed: ${#killed[@]} (${killed[*]:-}); survived: ${#survived[@]} (${survived[*]:-})"
+[ ${#survived[@]} -eq 0 ]
