@@ -9,7 +9,9 @@ import json
 import os
 import pathlib
 import subprocess
+import sys
 import threading
+import time
 
 import numpy as np
 import pytest
@@ -291,23 +293,39 @@ def _still_wall_sensors(tmp_path):
 
 
 def test_the_engine_runs_without_the_gil():
+    # A spinner thread stamps the time (perf_counter, at most once per 0.5 ms) while the main thread is inside one long
+    # call; stamps from the middle of the call, away from its ends by more than the interpreter's switch interval,
+    # can only come from a spinner that ran DURING the call: none when the extension holds the GIL (issue 42: counting
+    # the spinner's iterations between two reads around the call also counted those before and after it).
     rec = rockwatch.read_record(ELC)
-    count = [0]
+    stamps = []
     stop = threading.Event()
+    started = threading.Event()
 
     def spin():
+        last = 0.0
+        started.set()
         while not stop.is_set():
-            count[0] += 1
+            now = time.perf_counter()
+            if now - last >= 0.0005:
+                stamps.append(now)
+                last = now
 
     t = threading.Thread(target=spin)
     t.start()
+    started.wait()
     try:
-        during = 0
-        for _ in range(5):  # the other thread counts while the engine runs (it would stand still under the GIL)
-            before = count[0]
-            rockwatch.simulate(rec.accel_mps2, rec.dt_s, scale_pga_g=0.2, max_step_s=0.0002, history=False)
-            during += count[0] - before
+        t0 = time.perf_counter()
+        # A spectrum of 1000 periods of the record 20 times over: ~0.5 s in the engine (one pass of 100 periods: 2.5 ms).
+        rockwatch.response_spectrum(np.tile(rec.accel_mps2, 20), rec.dt_s, "0.02:4:1000")
+        t1 = time.perf_counter()
     finally:
         stop.set()
         t.join()
-    assert during > 0
+    margin = 4 * sys.getswitchinterval() + 0.01
+    middle = t1 - t0 - 2 * margin
+    assert middle >= 0.1, f"the call took {t1 - t0:.3f} s: too short to tell"
+    inside = sum(1 for s in stamps if t0 + margin < s < t1 - margin)
+    # Running freely the spinner stamps ~2 per ms; a tenth of that on a loaded machine is plenty.
+    assert inside >= 0.2 * middle / 0.001, (
+        f"the spinner stamped {inside} times in the middle {middle:.3f} s of the call: the extension held the GIL")
