@@ -1,0 +1,87 @@
+#!/usr/bin/env bash
+# ctest m4_monitor_wire (issue 43): the monitor image on the wire (scripts/m4-monitor.sh) against rockwatch-monitor,
+# both listening on one LCM URL to one `rockwatch replay` stream (at 4 x real time; both with --clock-tolerance 3600,
+# so that the replay's future-stamped samples are trusted by both alike): the same alarm transitions at the same input
+# samples, the same counters, every wall_state_t the same bytes (m4_monitor_wire_check.py). Cases: a collapse
+# (set 1 X 0.40 g) and a survivor (0.20 g) open loop, the survivor followed by hostile datagrams of the fuzz corpus
+# (tests/fuzz/corpus/monitor_datagrams: liblcm's crash pair, short channel names) that both must survive and count
+# alike; and with the wall's sensors (--observer, `simulate --sensors-out` sent by replay --wall-sensors).
+#
+#   m4_monitor_wire.sh ROCKWATCH ROCKWATCH_MONITOR WORK_DIR
+# Exit status: 0 equal; 1 a difference or failure; 77 arm-none-eabi-g++ or qemu-system-arm missing (SKIP).
+set -euo pipefail
+root=$(cd "$(dirname "$0")/../../.." && pwd)
+here=$root/tests/firmware/m4
+[[ $# -eq 3 ]] || { echo "usage: $0 ROCKWATCH ROCKWATCH_MONITOR WORK_DIR" >&2; exit 2; }
+rockwatch=$1 monitor=$2 work=$3
+python=/usr/bin/python3
+for tool in "${ARM_GXX:-arm-none-eabi-g++}" "${QEMU_SYSTEM_ARM:-qemu-system-arm}"; do
+  if ! command -v "$tool" >/dev/null; then
+    echo "m4_monitor_wire: SKIPPED: $tool not found (scripts/install-deps.sh installs gcc-arm-none-eabi and qemu-system-arm)"
+    exit 77
+  fi
+done
+rm -rf "$work"
+mkdir -p "$work"
+"$root/scripts/embedded-build.sh" --m4-monitor "$work/image" >"$work/build.log" 2>&1 || { cat "$work/build.log"; exit 1; }
+image=$work/image/rockwatch_m4_monitor.elf
+suite=$root/sim/suites/npr9998-2015
+corpus=$root/tests/fuzz/corpus/monitor_datagrams
+"$rockwatch" simulate --suite "$suite" --set 1 --component X --scale-pga 0.25 --r exp \
+  --sensors-out "$work/sensors.csv" >/dev/null
+
+pids=()
+cleanup() { for p in "${pids[@]}"; do kill -TERM "$p" 2>/dev/null || true; done; }
+trap cleanup EXIT
+
+failed=0
+run_case() {  # NAME "MONITOR OPTIONS" "REPLAY OPTIONS" HOSTILE(0|1)
+  local name=$1 mon_opts=$2 replay_opts=$3 hostile=$4 dir=$work/$1
+  mkdir -p "$dir"
+  # shellcheck disable=SC2086
+  ROCKWATCH_MONITOR=$monitor "$root/scripts/m4-monitor.sh" --m4-image "$image" --m4-work "$dir/m4" \
+    $mon_opts --clock-tolerance 3600 >"$dir/image.out" 2>"$dir/image.err" &
+  local m4=$!
+  pids=("$m4")
+  local url=""
+  for _ in $(seq 1 300); do
+    url=$(sed -n 's/^lcm-url: //p' "$dir/image.out")
+    [[ -n $url ]] && break
+    kill -0 "$m4" 2>/dev/null || break
+    sleep 0.1
+  done
+  if [[ -z $url ]]; then
+    cat "$dir/image.err"
+    echo "FAILED $name: the image did not listen"
+    failed=1
+    return
+  fi
+  # shellcheck disable=SC2086
+  "$monitor" $mon_opts --clock-tolerance 3600 --lcm-url "$url" >"$dir/host.jsonl" 2>"$dir/host.err" &
+  local host=$!
+  pids+=("$host")
+  "$python" "$here/m4_monitor_wire_check.py" listen "$url" "$dir/states.json" 9 &
+  local listener=$!
+  sleep 1
+  # shellcheck disable=SC2086
+  "$rockwatch" replay --suite "$suite" --set 1 --component X --speed 4 --lcm-url "$url" $replay_opts >/dev/null
+  if [[ $hostile -eq 1 ]]; then
+    "$python" "$here/m4_monitor_wire_check.py" hostile "$url" "$corpus/liblcm_crash_pair" "$corpus/short_channel_names"
+  fi
+  wait "$listener" || true
+  sleep 0.5
+  kill -INT "$host"
+  kill -TERM "$m4"  # SIGINT is ignored by background jobs of a script: TERM (m4-monitor.sh treats both alike)
+  wait "$host" || true
+  wait "$m4" || { cat "$dir/image.err"; echo "FAILED $name: m4-monitor.sh"; failed=1; return; }
+  pids=()
+  sed -n '/^{/,$p' "$dir/image.out" >"$dir/image.json"
+  "$python" "$here/m4_monitor_wire_check.py" compare "$dir/image.json" "$dir/host.jsonl" "$dir/states.json" "$name" ||
+    failed=1
+}
+
+run_case collapse "" "--scale-pga 0.40" 0
+run_case survivor "" "--scale-pga 0.20" 1
+run_case sensors "--observer --r exp" "--scale-pga 0.25 --wall-sensors $work/sensors.csv" 0
+[[ $failed -eq 0 ]] && echo "m4_monitor_wire: the image and rockwatch-monitor agree" || echo "m4_monitor_wire: FAILED"
+exit $failed
