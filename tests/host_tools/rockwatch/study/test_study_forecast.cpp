@@ -161,6 +161,35 @@ TEST(StudyForecast, SummaryFiguresAreThoseOfTheForecastsInTheCsv) {
   // The calibrated P (SPEC §10 "Calibrated P") beside the raw one, judged by `goals`.
   const nlohmann::json& c = f["calibrated"];
   CHECK(c["brier"].is_number());
+  // Its figures recomputed from forecast.csv's p_calibrated (issue 42: only is_number before): Brier, skill against
+  // the base rate and the baseline, the reliability bins.
+  {
+    double brier_c = 0.0;
+    std::vector<std::size_t> nc(10, 0);
+    std::vector<double> pc_sum(10, 0.0), oc_sum(10, 0.0);
+    for (const auto& row : rows) {
+      const double pc = std::stod(row.at("p_calibrated"));
+      const int o = std::stoi(row.at("outcome"));
+      CHECK(pc > 0.0 && pc < 1.0);
+      brier_c += (pc - o) * (pc - o);
+      const auto bin = static_cast<std::size_t>(std::min(9, static_cast<int>(std::floor(pc * 10.0 + 1e-12))));
+      ++nc[bin];
+      pc_sum[bin] += pc;
+      oc_sum[bin] += o;
+    }
+    DOUBLES_EQUAL(brier_c / count, c["brier"].get<double>(), 1e-9);
+    DOUBLES_EQUAL(1.0 - (brier_c / count) / (base * (1.0 - base)), c["brier_skill"].get<double>(), 1e-9);
+    DOUBLES_EQUAL(1.0 - brier_c / brier_b, c["brier_skill_vs_baseline"].get<double>(), 1e-9);
+    std::size_t kc = 0;
+    for (std::size_t bin = 0; bin < 10; ++bin) {
+      if (nc[bin] == 0) continue;
+      const nlohmann::json& jb = c["reliability"][kc++];
+      LONGS_EQUAL(static_cast<long>(nc[bin]), jb["n"].get<long>());
+      DOUBLES_EQUAL(pc_sum[bin] / double(nc[bin]), jb["mean_p"].get<double>(), 1e-9);
+      DOUBLES_EQUAL(oc_sum[bin] / double(nc[bin]), jb["observed"].get<double>(), 1e-12);
+    }
+    LONGS_EQUAL(static_cast<long>(kc), static_cast<long>(c["reliability"].size()));
+  }
   CHECK_EQUAL(f["goals"]["calibrated"].get<bool>(), c["calibration"]["calibrated"].get<bool>());
   CHECK_EQUAL(f["goals"]["skill_above_baseline"].get<bool>(),
               c["brier_skill"].get<double>() > f["baseline"]["brier_skill"].get<double>());
@@ -287,7 +316,8 @@ TEST(StudyForecast, CalibrationNeverSeesTheRecordScored) {
   plan.restitutions.resize(1);
   plan.vertical = {false};
   // Run order: record, level: runs 0-1 record a, 2-3 b, 4-5 c. Forecasts on a grid with mixed outcomes.
-  auto make_runs = [](bool flip_a) {
+  // Runs 2g and 2g + 1 are record g's; flip_record g flips their outcomes (-1: none).
+  auto make_runs = [](int flip_record) {
     std::vector<study::ForecastRunResult> runs(6);
     for (std::size_t r = 0; r < runs.size(); ++r) {
       runs[r].done = true;
@@ -296,41 +326,55 @@ TEST(StudyForecast, CalibrationNeverSeesTheRecordScored) {
         const double e = double((k * 3 + int(r)) % 11) / 5.0;
         const double xr = double((k * 5 + int(r) * 2) % 9) / 9.0;
         bool outcome = (k * 13 + int(r) * 5) % 7 < int(1 + 5 * p);
-        if (flip_a && r < 2) outcome = !outcome;
+        if (int(r) / 2 == flip_record) outcome = !outcome;
         runs[r].points.push_back(point(0.1 * k, p, outcome, e, xr));
       }
     }
     return runs;
   };
-  const std::vector<study::ForecastRunResult> runs = make_runs(false), flipped = make_runs(true);
+  const std::vector<study::ForecastRunResult> runs = make_runs(-1);
   const cli::ForecastOutcome o = cli::forecast_outcome(plan, runs, 100);
-  const cli::ForecastOutcome f = cli::forecast_outcome(plan, flipped, 100);
   const cli::CalibratedForecast& c = o.calibrated_forecast;
   CHECK(c.fitted);
   LONGS_EQUAL(3, static_cast<long>(c.folds));
   LONGS_EQUAL(240, static_cast<long>(c.p.size()));
   LONGS_EQUAL(240, static_cast<long>(c.fold_rows_checked));
-  // Record a's forecasts are the first 80 (forecast.csv order).
-  for (std::size_t i = 0; i < 80; ++i) DOUBLES_EQUAL(c.p[i], f.calibrated_forecast.p[i], 0.0);
-  std::size_t changed = 0;
-  for (std::size_t i = 80; i < 240; ++i) changed += c.p[i] != f.calibrated_forecast.p[i] ? 1 : 0;
-  CHECK(changed > 100);
-  // Fold of record b: the fit on a's and c's forecasts only.
-  std::vector<double> x;
-  std::vector<std::uint8_t> y;
-  for (std::size_t r : {0u, 1u, 4u, 5u}) {
-    for (const study::ForecastPoint& p : runs[r].points) {
-      const auto feat = rockwatch::sim::calibration_features(p.p_collapse, 100, p.energy_ratio_max, p.x_over_x_inst);
-      x.insert(x.end(), feat.begin(), feat.end());
-      y.push_back(p.outcome ? 1 : 0);
+  // Every fold, the last included (issue 42: one record flipped and one point of one other fold were checked).
+  // Record g's forecasts are 80g .. 80g + 79 (forecast.csv order).
+  for (int g = 0; g < 3; ++g) {
+    const std::string fold = "fold of record " + std::to_string(g);
+    // g's outcomes flipped: g's calibrated P unchanged to the bit, the other records' changed.
+    const cli::ForecastOutcome f = cli::forecast_outcome(plan, make_runs(g), 100);
+    std::size_t changed = 0;
+    for (std::size_t i = 0; i < 240; ++i) {
+      if (i / 80 == std::size_t(g)) {
+        DOUBLES_EQUAL_TEXT(c.p[i], f.calibrated_forecast.p[i], 0.0, fold.c_str());
+      } else {
+        changed += c.p[i] != f.calibrated_forecast.p[i] ? 1 : 0;
+      }
+    }
+    CHECK_TEXT(changed > 100, fold.c_str());
+    // Every one of g's forecasts: the fit on the other two records' forecasts only.
+    std::vector<double> x;
+    std::vector<std::uint8_t> y;
+    for (std::size_t r = 0; r < runs.size(); ++r) {
+      if (int(r) / 2 == g) continue;
+      for (const study::ForecastPoint& p : runs[r].points) {
+        const auto feat = rockwatch::sim::calibration_features(p.p_collapse, 100, p.energy_ratio_max, p.x_over_x_inst);
+        x.insert(x.end(), feat.begin(), feat.end());
+        y.push_back(p.outcome ? 1 : 0);
+      }
+    }
+    const std::vector<double> w = rockwatch::sim::fit_logistic_regression(x, rockwatch::sim::kCalibrationFeatures, y);
+    rockwatch::sim::ForecastCalibration cal;
+    for (std::size_t a = 0; a < std::size_t(rockwatch::sim::kCalibrationFeatures); ++a) cal.c[a] = w[a];
+    for (std::size_t r = std::size_t(2 * g), i = std::size_t(80 * g); r < std::size_t(2 * g + 2); ++r) {
+      for (const study::ForecastPoint& q : runs[r].points) {
+        DOUBLES_EQUAL_TEXT(rockwatch::sim::calibrated_probability(cal, q.p_collapse, 100, q.energy_ratio_max, q.x_over_x_inst),
+                           c.p[i++], 1e-12, fold.c_str());
+      }
     }
   }
-  const std::vector<double> w = rockwatch::sim::fit_logistic_regression(x, rockwatch::sim::kCalibrationFeatures, y);
-  const study::ForecastPoint& q = runs[2].points[7];
-  rockwatch::sim::ForecastCalibration cal;
-  for (std::size_t a = 0; a < std::size_t(rockwatch::sim::kCalibrationFeatures); ++a) cal.c[a] = w[a];
-  DOUBLES_EQUAL(rockwatch::sim::calibrated_probability(cal, q.p_collapse, 100, q.energy_ratio_max, q.x_over_x_inst),
-                c.p[80 + 7], 1e-12);
   // Scored as the raw P is: Brier, skill, reliability over every forecast.
   double brier = 0.0;
   for (std::size_t r = 0, i = 0; r < runs.size(); ++r) {
