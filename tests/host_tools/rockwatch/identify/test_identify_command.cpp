@@ -175,6 +175,29 @@ TEST(IdentifyCommand, ABootstrapReplacesTheStandardErrorsAndSaysSo) {
   CHECK(b.at("curvature_sigma_x_inst_m").get<double>() == p.at("sigma_x_inst_m").get<double>());
   CHECK(j.at("sigma_x_inst_m").get<double>() != p.at("sigma_x_inst_m").get<double>());
   CHECK(j.at("sigma_x_inst_m").get<double>() > 0.0);
+  // Values, not only `!=` (issue 42): on a snap-back test the bootstrap's spread is the curvature's error (the sim
+  // suite's IdentificationBootstrap), here from 3 refits: their ratio within [0.1, 4] (the SD of 3 draws is within
+  // 0.1–2 of σ with probability > 0.99; 4 leaves the curvature's own error room).
+  for (const char* k : {"x_inst_m", "r"}) {
+    const double ratio = j.at(std::string("sigma_") + k).get<double>() / p.at(std::string("sigma_") + k).get<double>();
+    CHECK_TEXT(ratio > 0.1 && ratio < 4.0, (std::string(k) + ": bootstrap / curvature sigma " + std::to_string(ratio)).c_str());
+  }
+  // --bootstrap-seed: another seed, other refits and another σ, said in the JSON; seed 1 given is the default, and the
+  // thread count changes nothing (bit for bit).
+  const ProcessResult seeded = run_rockwatch(
+      {"identify", "--wall-sensors", sensors, "--json", "--bootstrap", "3", "--jobs", "2", "--bootstrap-seed", "2"});
+  check_ok(seeded);
+  const json s2 = json::parse(seeded.out);
+  CHECK_EQUAL(2, s2.at("bootstrap").at("seed").get<int>());
+  CHECK(s2.at("x_inst_m").get<double>() == j.at("x_inst_m").get<double>());
+  CHECK(s2.at("sigma_x_inst_m").get<double>() != j.at("sigma_x_inst_m").get<double>());
+  CHECK(s2.at("sigma_r").get<double>() != j.at("sigma_r").get<double>());
+  const ProcessResult seed1 = run_rockwatch(
+      {"identify", "--wall-sensors", sensors, "--json", "--bootstrap", "3", "--jobs", "1", "--bootstrap-seed", "1"});
+  check_ok(seed1);
+  const json s1 = json::parse(seed1.out);
+  CHECK(s1.at("sigma_x_inst_m").get<double>() == j.at("sigma_x_inst_m").get<double>());
+  CHECK(s1.at("sigma_r").get<double>() == j.at("sigma_r").get<double>());
   CHECK_EQUAL("bootstrap", json::parse(read_text(wall_out)).at("identified").at("sigma_method").get<std::string>());
   const ProcessResult text = run_rockwatch({"identify", "--wall-sensors", sensors, "--bootstrap", "3"});
   check_ok(text);
