@@ -15,6 +15,9 @@ mutants=(
   "bootstrap_sigma_x3|test_identification_bootstrap|^test_identification_bootstrap$|"
   "extension_keeps_gil|rockwatch_python rockwatch|^test_python_module$|"
   "browser_test_skips|rockwatch rockwatch-monitor|^test_rockwatch_dashboard_browser$|CI=true"
+  "bootstrap_seed_ignored|rockwatch test_rockwatch_identify|^test_rockwatch_identify$|"
+  "calibration_sees_last_record|test_rockwatch_study|^test_rockwatch_study_forecast$|"
+  "energy_window_one_sample_short|rockwatch test_rockwatch_simulate_forecast|^test_rockwatch_simulate_forecast$|"
 )
 selected=("$@")
 work=${WORK_DIR:-$(mktemp -d)}
