@@ -120,6 +120,11 @@ TEST(Identification, AForcedTestIdentifiesTheWallThroughItsGroundMotion) {
 }
 
 TEST(Identification, AForcedTestOfARealRecordIsFoundFromThePaperWall) {
+#ifdef ROCKWATCH_TEST_SANITIZED
+  // Release only (issue 42): a whole real record's fit, the statistics of the release build; the sanitized suite
+  // keeps the shorter forced fits above and below.
+  return;
+#endif
   // A real record that rocks a 10 % thinner wall to 0.6 x_inst: a minimum per phase of the response. The search before
   // the windows from the first motion, the finer grid and the carried minima (SPEC §9.1) ended 11 % off in x_inst with
   // a residual twice the noise, and called it explained; the noise was overstated by 15 % from first differences.
@@ -151,6 +156,10 @@ TEST(Identification, AForcedTestTheEquivalentWallCannotDescribeIsFlaggedAndTheRi
   const sim::IdentificationResult from_paper = identify_from_paper_wall(samples, &ground);
   CHECK_FALSE(from_paper.fit_explains_record);
   CHECK(from_paper.residual_rms_m > 1.2 * from_paper.noise_estimate_m);
+#ifdef ROCKWATCH_TEST_SANITIZED
+  return;  // One fit under the sanitizers (issue 42: the suite within a quarter of its timeout); the release build's
+           // second fit finds the truth from the right heights.
+#endif
   sim::IdentificationInput in;
   in.samples = samples;
   in.ground = &ground;
