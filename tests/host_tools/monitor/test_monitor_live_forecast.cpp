@@ -101,7 +101,7 @@ TEST(MonitorLiveForecast, PublishesAtTheRateAndTheOddsRiseBeforeTheCollapse) {
   lcm.subscribeFunction(c.alarm, &Inbox::on_raw, &inbox)->setQueueCapacity(1000);
   const pid_t pid = rockwatch::test::start_monitor_listening(
       {"--config", dir.file("forecast.json"), "--lcm-url", url, "--forecast", "50,2", "--forecast-calibration",
-       "0,1,0,0"},
+       "-0.5,0.75,0.3,1.2,-0.1"},
       dir.file("stdout"),
       dir.file("stderr"));
 
@@ -155,7 +155,7 @@ TEST(MonitorLiveForecast, PublishesAtTheRateAndTheOddsRiseBeforeTheCollapse) {
              (std::to_string(mean_interval) + " " + text).c_str());
 
   // Sane values, each message.
-  int ok = 0, at_rest = 0;
+  int ok = 0, at_rest = 0, features_nonzero = 0;
   for (std::size_t k = 0; k < f.size(); ++k) {
     const rockwatch::wall_forecast_t& m = f[k].m;
     const std::string what = "forecast " + std::to_string(k) + ": p " + std::to_string(m.p_collapse) + " status " +
@@ -176,12 +176,17 @@ TEST(MonitorLiveForecast, PublishesAtTheRateAndTheOddsRiseBeforeTheCollapse) {
       CHECK_TEXT(m.q90_max_x_over_x_inst <= 2.0 + 1e-12, what.c_str());  // κ = 2: a collapsed member counts κ
       CHECK_TEXT(m.sigma_now_mps2 > 0.0 && m.omega_g_rps > 0.0, what.c_str());
       CHECK_TEXT(m.utime >= t0 && m.utime <= t0 + kSamples * 5000, what.c_str());
-      // --forecast-calibration 0,1,0,0 is Platt's identity: the calibrated P is the raw P clamped at half a member;
-      // the features are there (schema 2).
-      const double clamped = std::min(std::max(m.p_collapse, 0.5 / kMembers), 1.0 - 0.5 / kMembers);
-      DOUBLES_EQUAL(clamped, m.p_collapse_calibrated, 1e-12);
+      // --forecast-calibration -0.5,0.75,0.3,1.2,-0.1: every feature weighs in (issue 42: 0,1,0,0 zeroed the energy
+      // and |x|/x_inst out), so the calibrated P is the logistic of c0 + c1 l + c2 ρ + c3 |x|/x_inst + c4 l min(ρ, 2)
+      // of the message's own features, l the logit of P clamped at half a member (schema 2).
       CHECK_TEXT(std::isfinite(m.energy_ratio_max_2s) && m.energy_ratio_max_2s >= 0.0, what.c_str());
       CHECK_TEXT(std::isfinite(m.x_over_x_inst) && m.x_over_x_inst >= 0.0, what.c_str());
+      const double clamped = std::min(std::max(m.p_collapse, 0.5 / kMembers), 1.0 - 0.5 / kMembers);
+      const double l = std::log(clamped / (1.0 - clamped));
+      const double z = -0.5 + 0.75 * l + 0.3 * m.energy_ratio_max_2s + 1.2 * m.x_over_x_inst -
+                       0.1 * l * std::min(m.energy_ratio_max_2s, 2.0);
+      DOUBLES_EQUAL_TEXT(1.0 / (1.0 + std::exp(-z)), m.p_collapse_calibrated, 1e-12, what.c_str());
+      if (m.x_over_x_inst > 0.05) ++features_nonzero;
     } else {
       LONGS_EQUAL_TEXT(0, m.members, what.c_str());
       const bool collapsed = m.status == rockwatch::wall_forecast_t::STATUS_COLLAPSED;
@@ -191,6 +196,7 @@ TEST(MonitorLiveForecast, PublishesAtTheRateAndTheOddsRiseBeforeTheCollapse) {
   }
   CHECK_TEXT(at_rest > 10, text.c_str());  // the first 3 s the wall is at rest
   CHECK_TEXT(ok > 15, text.c_str());
+  CHECK_TEXT(features_nonzero > 5, text.c_str());  // the wall rocks: |x|/x_inst weighs in the calibrated P
   // The summary counts what was received (and at most the few published after this process stopped listening).
   const long forecasts = fs.at("forecasts").get<long>();
   CHECK_TEXT(forecasts >= ok && forecasts - ok <= published - long(f.size()), text.c_str());
