@@ -46,7 +46,7 @@ const char* const kFooter =
     "    time it does not trust (counted, flagged, not used to detect publisher restarts)\n"
     "  channels {accel, accel_batch, wall_state, alarm, status, wall_sensor, wall_estimate}   (ROCKWATCH_ACCEL, ...)\n"
     "  observer {enabled, x_noise_m, a_noise_mps2, process_accel_mps2, gate_chi2, dropout_s, max_age_s,\n"
-    "            capacity_sigmas}\n"
+    "            capacity_sigmas, accel_inform_peak_noises, doubt_nis, quiet_motion_spread_noises}\n"
     "    the wall observer (--observer: enabled with the defaults): fuses wall_sensor_t samples (channel\n"
     "    wall_sensor) with the model, publishes wall_estimate_t (channel wall_estimate) and alarms on the fused state\n"
     "  forecast {enabled, members, horizon_s, rate_hz, seed, channel, calibration [c0, c1, c2, c3(, c4)]}\n"

@@ -87,6 +87,10 @@ json normalised_settings(const MonitorConfig& config) {
     if (o.accel_inform_peak_noises != core::ObserverOptions{}.accel_inform_peak_noises) {
       out["observer"]["accel_inform_peak_noises"] = o.accel_inform_peak_noises;
     }
+    if (o.doubt_nis != core::ObserverOptions{}.doubt_nis) out["observer"]["doubt_nis"] = o.doubt_nis;
+    if (o.quiet_motion_spread_noises != core::ObserverOptions{}.quiet_motion_spread_noises) {
+      out["observer"]["quiet_motion_spread_noises"] = o.quiet_motion_spread_noises;
+    }
     out["channels"]["wall_sensor"] = s.channels.wall_sensor;
     out["channels"]["wall_estimate"] = s.channels.wall_estimate;
   }

@@ -425,6 +425,9 @@ TEST(MonitorObserverSettings, BadValuesNameTheKeyAndTheRange) {
                          {"observer.capacity_sigmas", "alarm_capacity_sigmas in [0, 10]"});
   expect_config_rejected(R"({"observer": {"accel_inform_peak_noises": -1}})",
                          {"observer.accel_inform_peak_noises", "accel_inform_peak_noises in [0, 1000]"});
+  expect_config_rejected(R"({"observer": {"doubt_nis": 0.5}})", {"observer.doubt_nis", "doubt_nis"});
+  expect_config_rejected(R"({"observer": {"quiet_motion_spread_noises": 2000}})",
+                         {"observer.quiet_motion_spread_noises", "quiet_motion_spread_noises"});
   expect_config_rejected(R"({"observer": {"a_noise_mps2": 50}})", {"observer.a_noise_mps2"});
   expect_config_rejected(R"({"observer": {"process_accel_mps2": "1"}})", {"observer.process_accel_mps2", "a string"});
   expect_config_rejected(R"({"observer": {"enabled": 1}})", {"observer.enabled", "true or false"});
@@ -457,4 +460,10 @@ TEST(MonitorObserverSettings, InTheSettingsAndTheDigestOnlyWhenEnabled) {
   DOUBLES_EQUAL(0.5, file.at("settings").at("observer").at("dropout_s").get<double>(), 0.0);
   const json enabled = printed_config(R"({"observer": {"enabled": true}})", {});
   CHECK(enabled.at("config_digest") == flag.at("config_digest"));
+  // Model doubt and motion on a quiet ground (SPEC §11): in the settings and the digest only when not the defaults.
+  CHECK_FALSE(flag.at("settings").at("observer").contains("doubt_nis"));
+  const json doubt = printed_config(R"({"observer": {"enabled": true, "doubt_nis": 0, "quiet_motion_spread_noises": 30}})", {});
+  DOUBLES_EQUAL(0.0, doubt.at("settings").at("observer").at("doubt_nis").get<double>(), 0.0);
+  DOUBLES_EQUAL(30.0, doubt.at("settings").at("observer").at("quiet_motion_spread_noises").get<double>(), 0.0);
+  CHECK(doubt.at("config_digest") != flag.at("config_digest"));
 }
