@@ -14,6 +14,7 @@
 #include "cli_process.hpp"
 #include "cli_test_files.hpp"
 #include "common/records_in/wall_sensors.hpp"
+#include "rockwatch/core/model.hpp"
 #include "rockwatch/core/restitution.hpp"
 #include "rockwatch/core/wall.hpp"
 #include "rockwatch/records/record.hpp"
@@ -273,6 +274,51 @@ TEST(SimulateForecast, OptionsOutOfRangeAreRefusedNamingTheOption) {
          "--forecast-every-s");
   reject({"--forecast-members", "10"}, "--forecast-horizon-s");
   reject({"--forecast-every-s", "0.5"}, "--forecast-every-s");
+}
+
+// The calibration's inputs recomputed independently of the tool and of the forecaster (issue 42: they were only read
+// back from the same JSON): from sim::analyse's history, E/E_barrier of every row with the core model's energy and
+// barrier on the row's side, its maximum over the rows of the 2 s up to the entry's row (both ends included), and
+// |x| / x_inst of the entry's row, at 0.2 g (where the energy also decays: the window's first row is its maximum at some
+// entries). An energy window one sample short (tests/mutants/energy_window_one_sample_short.patch) fails here.
+TEST(SimulateForecast, CalibrationInputsAreTheAnalysedHistorys) {
+  std::vector<std::string> args = kForecast;
+  args.insert(args.end(), {"--json", "--forecast-calibration", "-1,0.5,0.25,2"});
+  const ProcessResult r = run_rockwatch(el_centro("0.2", args));
+  check_ok(r);
+  const nlohmann::json series = nlohmann::json::parse(r.out)["forecast"]["series"];
+  const sim::GroundMotion m = el_centro_motion(0.2);
+  sim::AnalysisOptions o;
+  o.keep_history = true;
+  const core::WallParameters w = core::paper_wall();
+  const sim::AnalysisResult a = sim::analyse(w, m, o);
+  const core::ModelConstants<double> c = core::model_constants(w, o.model);
+  const auto side_of = [](int s) { return s > 0 ? core::Side::positive : core::Side::negative; };
+  const auto energy_ratio = [&](const sim::HistoryRow& h) {
+    const core::Side side = side_of(h.side);
+    return core::mechanical_energy(core::evaluate(c, side, 0.0, w.g_mps2), h.x_m, h.xd_mps) /
+           core::energy_barrier_jpm(c, side, w.g_mps2);
+  };
+  CHECK(series.size() >= 20);  // (0.2 g: 43 entries; the wall rocks, its energy rises and decays, and collapses)
+  int rocking = 0;
+  double largest = 0.0;
+  for (const nlohmann::json& e : series) {
+    const std::size_t row = row_at(a.history, e["t_s"].get<double>());
+    const sim::HistoryRow& h = a.history[row];
+    double e_max = 0.0;
+    for (std::size_t i = 0; i <= row; ++i) {
+      if (a.history[i].t_s >= h.t_s - 2.0 - 1e-9) e_max = std::max(e_max, energy_ratio(a.history[i]));
+    }
+    const double x_over = std::fabs(h.x_m) / core::x_inst_m(c, side_of(h.side), w.g_mps2);
+    const std::string what = "t " + std::to_string(e["t_s"].get<double>());
+    DOUBLES_EQUAL_TEXT(e_max, e["energy_ratio_max_2s"].get<double>(), 1e-12 * std::max(1.0, e_max), what.c_str());
+    DOUBLES_EQUAL_TEXT(x_over, e["x_over_x_inst"].get<double>(), 1e-12, what.c_str());
+    if (x_over > 0.05) ++rocking;
+    largest = std::max(largest, e_max);
+  }
+  // Not a trivial record: the wall rocks at several entries and its energy reaches a good part of the barrier.
+  CHECK(rocking >= 10);
+  CHECK(largest > 0.1);
 }
 
 // The calibrated P beside the raw one (SPEC §10 "Calibrated P"): with given coefficients, the logistic of
