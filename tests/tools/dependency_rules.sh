@@ -29,6 +29,12 @@ check_tree() {
         inc=${BASH_REMATCH[1]}
         # A file's own folder (same directory, by bare name) is always allowed.
         if [[ $inc != */* ]] && [ -e "$(dirname "$file")/$inc" ]; then continue; fi
+        # A relative include ("../x/y.hpp") of an existing file inside the same rule's folder stays in its layer.
+        if [[ $inc == ../* ]] && [ -e "$(dirname "$file")/$inc" ]; then
+          local resolved
+          resolved=$(realpath -m "$(dirname "$file")/$inc")
+          if [[ $resolved == "$(realpath -m "$root/$folder")"/* ]]; then continue; fi
+        fi
         if ! [[ $inc =~ $allowed ]]; then breach "${file#"$root"/}" "$line" "$text" "$name"; fi
       elif [[ -n $forbidden && $text =~ ^[[:space:]]*#[[:space:]]*include[[:space:]]*\<([^\>]+)\> ]]; then
         inc=${BASH_REMATCH[1]}

@@ -43,13 +43,13 @@
 #include <cstdint>
 #include <cstring>
 
-#include "instruction_clock.hpp"
+#include "../m4_replay/instruction_clock.hpp"
 #include "lan9118.hpp"
 #include "rockwatch/firmware/engine_input_format.hpp"
 #include "rockwatch/firmware/lcm_datagram.hpp"
 #include "rockwatch/firmware/monitor_loop.hpp"
 #include "rockwatch/firmware/wall_engine.hpp"
-#include "semihosting.hpp"
+#include "../m4_replay/semihosting.hpp"
 #include "udp_ipv4.hpp"
 
 extern "C" {
