@@ -243,16 +243,22 @@ struct Tally {
   int non_finite = 0;
   // Learning r: the largest σ_r and |r̂ − r| at the end of a run, and the sum of |r̂ − r|.
   double max_sigma_r = 0.0, max_abs_r_error = 0.0, sum_abs_r_error = 0.0;
+  // Every run's NEES (x, ẋ of the runs that reached the checkpoint), for the counts of NeesQuantilesOverSixBlocks.
+  std::vector<double> all_x, all_v, all_r, all_x_inst;
 
   // One run's NEES (x, ẋ only when it reached the checkpoint) and its final |r̂ − r| in σ.
   void add(const RunOutcome& o) {
     ++n;
     r += o.nees_r;
     x_inst += o.nees_x_inst;
+    all_r.push_back(o.nees_r);
+    all_x_inst.push_back(o.nees_x_inst);
     if (o.have_checkpoint) {
       ++n_state;
       x += o.nees_x;
       v += o.nees_v;
+      all_x.push_back(o.nees_x);
+      all_v.push_back(o.nees_v);
     }
     const double error = std::fabs(o.r_hat - o.r_true);
     const double sigmas = error / o.sigma_r;
@@ -431,6 +437,49 @@ TEST(ObserverConsistency, ReportedRBiasIsGone) {
     }
   }
   CHECK_TEXT(learnt >= 8, ("runs that learnt r: " + std::to_string(learnt)).c_str());
+}
+
+// The NEES bands without the heavy tail (issue 42: the mean NEES of x and ẋ — one χ²(1) draw per run at the
+// checkpoint — left its 95 % band in 2 and 3 of 12 blocks of 64 seeds, so a change of draw order failed the mean's
+// check about one time in four). Six blocks (seeds 1–384) per sensor set, and per quantity the COUNT of runs whose NEES
+// is below χ²(1)'s median (0.4549) and below its 95 % point (3.8415): for a consistent filter these are binomial,
+// Bin(N, 0.5) and Bin(N, 0.95), whatever the tail; the bands are ±3.29 binomial standard deviations (a two-sided
+// 0.1 % each; 8 counts per sensor set). Below the median too often: under-confident (σ overstated, e.g. σ × 3 puts
+// 96 % of the runs there); too rarely, or too few within the 95 % point: over-confident. Release only (768 runs,
+// ~3 s; under the sanitizers the block of the two tests above).
+TEST(ObserverConsistency, NeesQuantilesOverSixBlocks) {
+#ifdef ROCKWATCH_TEST_SANITIZED
+  return;
+#endif
+  for (const bool accel : {false, true}) {
+    Tally t;
+    for (int block = 0; block < 6; ++block) {
+      const Tally b = monte_carlo_prior(accel, 64, {}, -1.0, 1 + 64 * block);
+      t.all_x.insert(t.all_x.end(), b.all_x.begin(), b.all_x.end());
+      t.all_v.insert(t.all_v.end(), b.all_v.begin(), b.all_v.end());
+      t.all_r.insert(t.all_r.end(), b.all_r.begin(), b.all_r.end());
+      t.all_x_inst.insert(t.all_x_inst.end(), b.all_x_inst.begin(), b.all_x_inst.end());
+      LONGS_EQUAL(0, b.non_finite);
+    }
+    const struct {
+      const char* name;
+      const std::vector<double>* nees;
+    } quantities[] = {{"x", &t.all_x}, {"xd", &t.all_v}, {"r", &t.all_r}, {"x_inst", &t.all_x_inst}};
+    for (const auto& q : quantities) {
+      const double n = double(q.nees->size());
+      const auto below = [&](double v) { return double(std::count_if(q.nees->begin(), q.nees->end(), [v](double e) { return e < v; })); };
+      const double at_median = below(0.454936), at_95 = below(3.841459);
+      const double sd_median = std::sqrt(n * 0.25), sd_95 = std::sqrt(n * 0.95 * 0.05);
+      char what[200];
+      std::snprintf(what, sizeof what, "%s, %s: %d runs, %.0f below the median (band %.0f ± %.0f), %.0f below the 95 %% "
+                    "point (band %.0f ± %.0f)", accel ? "displacement + accelerometer" : "displacement", q.name, int(n),
+                    at_median, 0.5 * n, 3.29 * sd_median, at_95, 0.95 * n, 3.29 * sd_95);
+      std::printf("\n%s", what);
+      CHECK_TEXT(n >= 370, what);
+      CHECK_TEXT(std::fabs(at_median - 0.5 * n) <= 3.29 * sd_median, what);
+      CHECK_TEXT(std::fabs(at_95 - 0.95 * n) <= 3.29 * sd_95, what);
+    }
+  }
 }
 
 // Measurement (run with -ri): the prior-drawn Monte-Carlo at several process noises.
