@@ -12,6 +12,7 @@ root=$PWD
 # name|build targets|ctest regex of the entries that must fail|environment
 mutants=(
   "observer_never_learns_r|test_sim|^test_sim_observer_consistency$|"
+  "sigma_x_inst_x3|test_sim|^test_sim_observer_consistency$|"
   "bootstrap_sigma_x3|test_identification_bootstrap|^test_identification_bootstrap$|"
   "extension_keeps_gil|rockwatch_python rockwatch|^test_python_module$|"
   "browser_test_skips|rockwatch rockwatch-monitor|^test_rockwatch_dashboard_browser$|CI=true"
