@@ -107,6 +107,46 @@ def frame_for(payload, src_ip, src_port, group, port, ip_id):
     return dst_mac + BRIDGE_MAC + b"\x08\x00" + ip + udp
 
 
+def hostile_frames(group, port):
+    """Frames the image's receive path must reject below UDP, each with the counter that must count it once
+    (firmware/embedded/m4_monitor/udp_ipv4.hpp NetCounters). All go to the group's multicast MAC, which the NIC passes."""
+    payload = b"LC02\0\0\0\1HOSTILE\0" + bytes(8)
+    src_ip, src_port = "127.0.0.1", 40000
+
+    def build(ethertype=0x0800, ver_ihl=0x45, flags=0x4000, proto=17, dst=group, dport=port, udp_len=None,
+              ip_total=None, bad_ip_sum=False, bad_udp_sum=False, options=b""):
+        g = socket.inet_aton(group)
+        dst_mac = bytes([0x01, 0x00, 0x5E, g[1] & 0x7F, g[2], g[3]])
+        d = socket.inet_aton(dst)
+        length = 8 + len(payload) if udp_len is None else udp_len
+        udp = struct.pack("!HHHH", src_port, dport, length, 0) + payload
+        c = checksum(socket.inet_aton(src_ip) + d + struct.pack("!BBH", 0, 17, length) + udp) or 0xFFFF
+        if bad_udp_sum:
+            c ^= 0x5A5A
+        udp = udp[:6] + struct.pack("!H", c) + udp[8:]
+        total = 20 + len(options) + len(udp) if ip_total is None else ip_total
+        ip = struct.pack("!BBHHHBBH4s4s", ver_ihl, 0, total, 7, flags, 1, proto, 0, socket.inet_aton(src_ip), d)
+        ip += options
+        s_ = checksum(ip) ^ (0x1111 if bad_ip_sum else 0)
+        ip = ip[:10] + struct.pack("!H", s_) + ip[12:]
+        return dst_mac + BRIDGE_MAC + struct.pack("!H", ethertype) + ip + udp
+
+    return [
+        ("not_ipv4", build(ethertype=0x86DD)),
+        ("not_ipv4", build(ethertype=0x0806)),
+        ("ip_malformed", build(bad_ip_sum=True)),
+        ("ip_malformed", build(ver_ihl=0x46, options=bytes(4))),
+        ("ip_malformed", build(ip_total=1400)),
+        ("ip_fragments", build(flags=0x2000)),
+        ("ip_fragments", build(flags=0x0010)),
+        ("not_udp", build(proto=6)),
+        ("not_for_us", build(dport=port + 1)),
+        ("not_for_us", build(dst="239.255.76.250")),
+        ("udp_malformed", build(bad_udp_sum=True)),
+        ("udp_malformed", build(udp_len=4)),
+    ]
+
+
 def payload_of(frame, group, port):
     """The UDP payload of a frame the image sent to the group's port, or None."""
     if len(frame) < 42 or frame[12:14] != b"\x08\x00" or frame[14] != 0x45 or frame[23] != 17:
@@ -189,6 +229,8 @@ def main():
     ap.add_argument("--lcm-url", required=True)
     ap.add_argument("--work", required=True)
     ap.add_argument("--timeout", type=float, default=0)
+    ap.add_argument("--hostile-frames", action="store_true",
+                    help="once the image listens, send it malformed frames below UDP (tests)")
     a = ap.parse_args()
 
     url = urlparse(a.lcm_url)
@@ -257,6 +299,12 @@ def main():
             fail("QEMU exited with status %d: %s" % (qemu.returncode, reasons.get(qemu.returncode, "?")))
         if not ready and os.path.exists(output) and "\nready " in open(output).read():
             ready = True
+            if a.hostile_frames:
+                sent = {}
+                for counter, frame in hostile_frames(group, port):
+                    frames.sendto(frame, ("127.0.0.1", qemu_port))
+                    sent[counter] = sent.get(counter, 0) + 1
+                bridge["hostile_frames"] = sent
             print("lcm-url: %s" % a.lcm_url, flush=True)
         if not ready and time.monotonic() - started > 60:
             qemu.kill()

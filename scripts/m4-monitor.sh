@@ -19,6 +19,9 @@
 #     --m4-duration S  stop by itself after S seconds (default: only on SIGINT/SIGTERM)
 #     --m4-work DIR    keep the run's files there (configuration, the image's output, QEMU's log); default a
 #                      temporary directory, removed
+#     --m4-hostile-frames  (tests) once the image listens, send it 12 malformed frames below UDP, each one of the
+#                      receive path's reject classes (not IPv4, IPv4 malformed, fragments, not UDP, not for the
+#                      group and port, UDP malformed); bridge.hostile_frames says how many of each were sent
 # Output keys: machine, observer, frames_received (Ethernet frames the NIC delivered), datagrams_received (UDP
 # datagrams for the group and port), samples_received, samples_processed, gaps, duplicates, out_of_order,
 # transitions [{input_seq, level}], insn_per_sample {median, p99, max} (per ground message: from the NIC's RX FIFO to
@@ -38,6 +41,7 @@ usage() { help_text >&2; exit 2; }
 
 image="" duration=0 work_keep="" lcm_url=""
 mon_args=()
+hostile_frames=()
 while [[ $# -gt 0 ]]; do
   case $1 in
     --m4-image) [[ $# -ge 2 ]] || usage; image=$2; shift 2 ;;
@@ -49,6 +53,7 @@ while [[ $# -gt 0 ]]; do
     --lcm-url) [[ $# -ge 2 && -n $2 ]] || { echo "m4-monitor: --lcm-url needs a URL, e.g. udpm://239.255.76.67:7667?ttl=0" >&2; exit 2; }
       lcm_url=$2; shift 2 ;;
     --lcm-url=*) lcm_url=${1#--lcm-url=}; shift ;;
+    --m4-hostile-frames) hostile_frames=(--hostile-frames); shift ;;
     -h|--help) help_text; exit 0 ;;
     --log|--log=*|--offline-in|--offline-in=*|--offline-out|--offline-out=*|--forecast|--forecast=*|--accept-from|--accept-from=*|--receive-path|--receive-path=*|--print-config|--version)
       echo "m4-monitor: ${1%%=*} is not available for the image" >&2; exit 2 ;;
@@ -121,7 +126,7 @@ image=$(cd "$(dirname "$image")" && pwd)/$(basename "$image")
 # 3. QEMU, the bridge, the JSON (SIGINT/SIGTERM reach the runner, which stops QEMU and prints).
 trap '' INT TERM  # the runner handles them; this shell only waits for it
 "$python" "$root/scripts/m4-monitor-run.py" --image "$image" --qemu "$qemu" --print-config "$work/print-config.json" \
-  --lcm-url "$lcm_url" --work "$work" --timeout "$duration" &
+  --lcm-url "$lcm_url" --work "$work" --timeout "$duration" "${hostile_frames[@]}" &
 runner=$!
 trap 'kill -INT $runner 2>/dev/null || true' INT TERM
 status=0

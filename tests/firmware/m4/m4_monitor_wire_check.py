@@ -79,6 +79,10 @@ def compare(image_path, host_path, states_path, name):
         failed.append("rejected datagrams: image %d, host %d" % (c["lcm_rejected"], d["rejected"]))
     if c["input_messages"] != d["input_messages"]:
         failed.append("input messages: image %d, host %d" % (c["input_messages"], d["input_messages"]))
+    # Frames below UDP (m4-monitor.sh --m4-hostile-frames): each reject class counted exactly as often as it was sent.
+    for counter, n in image.get("bridge", {}).get("hostile_frames", {}).items():
+        if c.get(counter) != n:
+            failed.append("hostile frames: %s %s, %d sent" % (counter, c.get(counter), n))
     states = json.load(open(states_path))
     if len(states) != 2:
         failed.append("wall_state_t publishers seen: %d (expected the image's bridge and the host)" % len(states))
