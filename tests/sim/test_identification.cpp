@@ -147,7 +147,11 @@ TEST(Identification, AForcedTestTheEquivalentWallCannotDescribeIsFlaggedAndTheRi
   // wall's 1 : 1 cannot reproduce it (SPEC §9.1): the fit must say so rather than return a wall; started from a wall
   // with the right heights it finds the truth.
   sim::GroundMotion ground = suite_motion(3, 0.15);
+#ifdef ROCKWATCH_TEST_SANITIZED
+  const double t_end_s = 5.0;  // under the sanitizers the first 5 s, the paper wall's fit only (issue 42)
+#else
   const double t_end_s = 10.0;  // the record's first 10 s (the test's run time under the sanitizers)
+#endif
   ground.ug_mps2.resize(std::size_t(t_end_s / ground.dt_s) + 1);
   core::WallParameters wall = core::paper_wall();
   wall.h1_m = 1.5;
