@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# A man page (gzip'd roff) from a program's --help: help2man when installed (scripts/install-deps.sh), else a plain
+# page with the --help text verbatim.
+#   packaging/manpage.sh PROGRAM VERSION OUT.1.gz
+set -euo pipefail
+if [ $# -ne 3 ]; then echo "manpage.sh: usage: manpage.sh PROGRAM VERSION OUT.1.gz" >&2; exit 2; fi
+prog="$1" version="$2" out="$3"
+name="$(basename "$prog")"
+[ -x "$prog" ] || { echo "manpage.sh: $prog is not an executable" >&2; exit 2; }
+mkdir -p "$(dirname "$out")"
+summary="$("$prog" --help | head -n 1 | sed -e "s/^$name [0-9.]*: //" -e 's/[.:]$//' | cut -c1-120)"
+tmp="$(mktemp)"
+trap 'rm -f "$tmp"' EXIT
+if command -v help2man >/dev/null 2>&1; then
+  help2man --no-info --no-discard-stderr --version-string="$version" --name="$summary" \
+    --source="rockwatch $version" --section=1 --output="$tmp" "$prog"
+else
+  {
+    echo ".TH \"$(echo "$name" | tr a-z A-Z)\" 1 \"\" \"rockwatch $version\" \"User Commands\""
+    echo ".SH NAME"
+    echo "$name \\- $summary"
+    echo ".SH DESCRIPTION"
+    echo ".nf"
+    "$prog" --help | sed -e 's/\\/\\e/g' -e 's/^\./\\\&./' -e "s/^'/\\\\\&'/"
+    echo ".fi"
+  } >"$tmp"
+fi
+gzip -9n <"$tmp" >"$out"
