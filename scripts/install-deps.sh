@@ -3,6 +3,7 @@
 # once; sudo is used when not root.
 #
 #   scripts/install-deps.sh demo    what building the programs and running the demo needs (scripts/demo.sh)
+#   scripts/install-deps.sh package the demo set plus what scripts/package.sh needs (Debian packages, the wheel)
 #   scripts/install-deps.sh [all]   that, plus the test-only tools: the Cortex-M4 toolchain and emulator, valgrind, clang and its
 #                                   fuzzing runtimes, chromium (scripts/test.sh, scripts/fuzz.sh, scripts/soak.sh)
 # Then the npm packages of package-lock.json (`npm ci`: uPlot, compiled into `rockwatch dashboard`, and playwright-core,
@@ -33,6 +34,13 @@ DEMO_PACKAGES=(
 # node and npm (the dashboard's uPlot through `npm ci`): Debian's nodejs and npm, unless a node with npm is there already
 # (Debian's npm package conflicts with other nodejs builds, e.g. NodeSource's, which bundle npm).
 NODE_PACKAGES=(nodejs npm)
+# Debian packages and the wheel (scripts/package.sh; ctests package_install and pip_install, issue 45).
+PACKAGE_PACKAGES=(
+  dpkg-dev               # dpkg-deb, dpkg-shlibdeps (CPack DEB: CPACK_DEBIAN_PACKAGE_SHLIBDEPS)
+  help2man               # man pages from --help (packaging/manpage.sh; without it a plain page)
+  lintian                # checks the .deb files (scripts/package.sh)
+  python3-setuptools python3-wheel python3-venv python3-pip   # pip install . --no-build-isolation, offline
+)
 TEST_PACKAGES=(
   gcc-arm-none-eabi libstdc++-arm-none-eabi-newlib libnewlib-arm-none-eabi   # Cortex-M4 build (scripts/embedded-build.sh)
   qemu-system-arm        # the firmware on an emulated Cortex-M4 (scripts/m4-replay.sh, ctest m4_replay)
@@ -45,8 +53,9 @@ TEST_PACKAGES=(
 
 case "$set_name" in
   demo) PACKAGES=("${DEMO_PACKAGES[@]}") ;;
-  all) PACKAGES=("${DEMO_PACKAGES[@]}" "${TEST_PACKAGES[@]}") ;;
-  *) echo "install-deps: unknown package set '$set_name' (expected 'demo' or 'all')" >&2; exit 2 ;;
+  package) PACKAGES=("${DEMO_PACKAGES[@]}" "${PACKAGE_PACKAGES[@]}") ;;
+  all) PACKAGES=("${DEMO_PACKAGES[@]}" "${PACKAGE_PACKAGES[@]}" "${TEST_PACKAGES[@]}") ;;
+  *) echo "install-deps: unknown package set '$set_name' (expected 'demo', 'package' or 'all')" >&2; exit 2 ;;
 esac
 
 if ! command -v npm >/dev/null 2>&1; then PACKAGES+=("${NODE_PACKAGES[@]}"); fi
