@@ -147,6 +147,22 @@ def hostile_frames(group, port):
     ]
 
 
+def lcm_channel(datagram):
+    """The channel of a small LCM datagram (LC02), or None."""
+    if len(datagram) < 9 or datagram[:4] != b"LC02":
+        return None
+    end = datagram.find(b"\0", 8)
+    return datagram[8:end].decode("latin-1") if end > 8 else None
+
+
+# Flow control: at most this many ground samples in the image's hands (sent, its wall_state_t not yet back). Under
+# -icount the emulated board runs at the host's pace; on a loaded host it falls behind a stream sent in real time, and
+# its NIC's receive FIFO (16 KiB) overflows. A real sensor network would not wait for the monitor; the bridge does,
+# so that a loaded host cannot make the image lose what the host's monitor receives (tests compare the two).
+WINDOW = 16
+IDLE_RELEASE_S = 0.2  # nothing back for this long while samples are in hand: the image is idle, they were consumed
+
+
 def payload_of(frame, group, port):
     """The UDP payload of a frame the image sent to the group's port, or None."""
     if len(frame) < 42 or frame[12:14] != b"\x08\x00" or frame[14] != 0x45 or frame[23] != 17:
@@ -284,7 +300,17 @@ def main():
     signal.signal(signal.SIGINT, on_signal)
     signal.signal(signal.SIGTERM, on_signal)
 
-    bridge = {"to_image": 0, "from_image": 0, "from_image_not_lcm": 0}
+    bridge = {"to_image": 0, "from_image": 0, "from_image_not_lcm": 0, "held_max": 0}
+    channels = printed["settings"]["channels"]
+    ground_channels = {channels["accel"], channels["accel_batch"]}
+    state_channel = channels["wall_state"]
+    # What other monitors on the group publish on the image's own output channels (a host rockwatch-monitor beside it
+    # in a test, a dashboard's peers) is not forwarded: the image never reads those channels, and on a loaded host,
+    # where the emulated board falls behind, they would fill its NIC's receive FIFO (not paced by the window below).
+    output_channels = {channels[k] for k in ("wall_state", "alarm", "status", "wall_estimate") if k in channels}
+    queue = []  # (is_ground, frame) waiting for the window, in arrival order
+    in_hand = 0
+    last_back = time.monotonic()
     started = time.monotonic()
     ready = False
     ip_id = 0
@@ -311,8 +337,19 @@ def main():
             fail("the image did not start listening within 60 s")
         if a.timeout and time.monotonic() - started > a.timeout:
             break
+        # Release what the window allows (non-ground frames go in their turn, and do not count).
+        if in_hand > 0 and time.monotonic() - last_back > IDLE_RELEASE_S:
+            in_hand = 0
+        while queue and (not queue[0][0] or in_hand < WINDOW):
+            is_ground, frame = queue.pop(0)
+            frames.sendto(frame, ("127.0.0.1", qemu_port))
+            bridge["to_image"] += 1
+            if is_ground:
+                if in_hand == 0:
+                    last_back = time.monotonic()
+                in_hand += 1
         try:
-            readable, _, _ = select.select([frames, lcm_in], [], [], 0.1)
+            readable, _, _ = select.select([frames, lcm_in], [], [], 0.005 if queue else 0.1)
         except InterruptedError:
             continue
         for s in readable:
@@ -324,15 +361,42 @@ def main():
                 else:
                     lcm_out.sendto(payload, (group, port))
                     bridge["from_image"] += 1
+                    if lcm_channel(payload) == state_channel:
+                        in_hand = max(0, in_hand - 1)
+                        last_back = time.monotonic()
             else:
                 data, (src_ip, src_port) = lcm_in.recvfrom(65536)
                 if src_port == own_port:
                     continue  # the image's own publications, looped back by the host
+                channel = lcm_channel(data)
+                if channel in output_channels:
+                    bridge["outputs_not_forwarded"] = bridge.get("outputs_not_forwarded", 0) + 1
+                    continue
                 if ready and len(data) <= 1472:
                     ip_id += 1
-                    frames.sendto(frame_for(data, src_ip, src_port, group, port, ip_id), ("127.0.0.1", qemu_port))
-                    bridge["to_image"] += 1
-    # Let the image finish what it received (its output is flushed whenever it is idle).
+                    queue.append((channel in ground_channels,
+                                  frame_for(data, src_ip, src_port, group, port, ip_id)))
+                    bridge["held_max"] = max(bridge["held_max"], len(queue))
+    # What the window still holds goes to the image (paced as above), then it finishes what it received (its output
+    # is flushed whenever it is idle).
+    drain_until = time.monotonic() + 30
+    while queue and time.monotonic() < drain_until and qemu.poll() is None:
+        if in_hand > 0 and time.monotonic() - last_back > IDLE_RELEASE_S:
+            in_hand = 0
+        while queue and (not queue[0][0] or in_hand < WINDOW):
+            is_ground, frame = queue.pop(0)
+            frames.sendto(frame, ("127.0.0.1", qemu_port))
+            bridge["to_image"] += 1
+            in_hand += 1 if is_ground else 0
+        for r in select.select([frames], [], [], 0.005)[0]:
+            data, _ = r.recvfrom(65536)
+            payload = payload_of(data, group, port)
+            if payload is not None:
+                lcm_out.sendto(payload, (group, port))
+                bridge["from_image"] += 1
+                if lcm_channel(payload) == state_channel:
+                    in_hand = max(0, in_hand - 1)
+                    last_back = time.monotonic()
     time.sleep(0.3)
     os.killpg(qemu.pid, signal.SIGTERM)
     try:

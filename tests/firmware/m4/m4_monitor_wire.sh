@@ -85,8 +85,8 @@ run_case() {  # NAME "MONITOR OPTIONS" "REPLAY OPTIONS" HOSTILE(0|1) LISTEN_SECO
 # Replayed 4x faster than real time; with the observer (31 000 M4 instructions a sample) 2x, so that the emulated
 # board keeps up with the stream on a loaded machine (at 4x one core busy made its NIC's receive FIFO overflow: 10
 # datagrams lost, counted as gaps by the image, not by the host).
-run_case collapse "" "--speed 4 --scale-pga 0.40" 0 9
-run_case survivor "" "--speed 4 --scale-pga 0.20" 1 9
-run_case sensors "--observer --r exp" "--speed 2 --scale-pga 0.25 --wall-sensors $work/sensors.csv" 0 14
+run_case collapse "" "--speed 4 --scale-pga 0.40" 0 12
+run_case survivor "" "--speed 4 --scale-pga 0.20" 1 12
+run_case sensors "--observer --r exp" "--speed 2 --scale-pga 0.25 --wall-sensors $work/sensors.csv" 0 16
 [[ $failed -eq 0 ]] && echo "m4_monitor_wire: the image and rockwatch-monitor agree" || echo "m4_monitor_wire: FAILED"
 exit $failed
