@@ -8,7 +8,11 @@ prog="$1" version="$2" out="$3"
 name="$(basename "$prog")"
 [ -x "$prog" ] || { echo "manpage.sh: $prog is not an executable" >&2; exit 2; }
 mkdir -p "$(dirname "$out")"
-summary="$("$prog" --help | head -n 1 | sed -e "s/^$name [0-9.]*: //" -e 's/[.:]$//' | cut -c1-120)"
+# The whole --help first: `--help | head -n 1` under pipefail fails when head closes the pipe before a long help is
+# written (SIGPIPE: the build failed on a fresh clone).
+help_text="$("$prog" --help)"
+first_line="${help_text%%$'\n'*}"
+summary="$(sed -e "s/^$name [0-9.]*: //" -e 's/[.:]$//' <<<"$first_line" | cut -c1-120)"
 tmp="$(mktemp)"
 trap 'rm -f "$tmp"' EXIT
 if command -v help2man >/dev/null 2>&1; then
@@ -21,7 +25,7 @@ else
     echo "$name \\- $summary"
     echo ".SH DESCRIPTION"
     echo ".nf"
-    "$prog" --help | sed -e 's/\\/\\e/g' -e 's/^\./\\\&./' -e "s/^'/\\\\\&'/"
+    sed -e 's/\\/\\e/g' -e 's/^\./\\\&./' -e "s/^'/\\\\\&'/" <<<"$help_text"
     echo ".fi"
   } >"$tmp"
 fi
