@@ -309,7 +309,8 @@ void TrafficLog::writer_main() {
     int write_errno = 0;
     bool refused = false;  // a write that wrote nothing without an error
     while (done < b.used) {
-      const ssize_t n = ::pwrite(fd_, b.bytes.data() + done, b.used - done, static_cast<off_t>(at) + done);
+      const off_t where = static_cast<off_t>(at + static_cast<std::int64_t>(done));
+      const ssize_t n = ::pwrite(fd_, b.bytes.data() + done, b.used - done, where);
       if (n > 0) {
         done += static_cast<std::size_t>(n);
         continue;
