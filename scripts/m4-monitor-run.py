@@ -8,7 +8,7 @@ prints one JSON object (see scripts/m4-monitor.sh).
 
   m4-monitor-run.py --image ELF --qemu QEMU --print-config FILE.json --lcm-url URL --work DIR [--timeout S]
 """
-import argparse, json, math, os, select, signal, socket, struct, subprocess, sys, time
+import argparse, collections, json, math, os, select, signal, socket, struct, subprocess, sys, time
 from urllib.parse import urlparse, parse_qs
 
 LEVELS = ["QUIET", "ROCKING", "WARNING", "IMMINENT", "COLLAPSED"]
@@ -163,6 +163,36 @@ WINDOW = 16
 IDLE_RELEASE_S = 0.2  # nothing back for this long while samples are in hand: the image is idle, they were consumed
 
 
+class ImageWindow:
+    """The frames waiting for the window, in arrival order, and the ground samples in the image's hands."""
+
+    def __init__(self, send):
+        self.send = send  # send(frame): one frame to the image
+        self.queue = collections.deque()  # (is_ground, frame)
+        self.in_hand = 0
+        self.last_back = time.monotonic()
+
+    def release(self):
+        """Sends what the window allows (non-ground frames go in their turn and do not count); the count sent."""
+        if self.in_hand > 0 and time.monotonic() - self.last_back > IDLE_RELEASE_S:
+            self.in_hand = 0
+        sent = 0
+        while self.queue and (not self.queue[0][0] or self.in_hand < WINDOW):
+            is_ground, frame = self.queue.popleft()
+            self.send(frame)
+            sent += 1
+            if is_ground:
+                if self.in_hand == 0:
+                    self.last_back = time.monotonic()
+                self.in_hand += 1
+        return sent
+
+    def answered(self):
+        """A wall_state_t came back from the image: one ground sample less in its hands."""
+        self.in_hand = max(0, self.in_hand - 1)
+        self.last_back = time.monotonic()
+
+
 def payload_of(frame, group, port):
     """The UDP payload of a frame the image sent to the group's port, or None."""
     if len(frame) < 42 or frame[12:14] != b"\x08\x00" or frame[14] != 0x45 or frame[23] != 17:
@@ -308,9 +338,19 @@ def main():
     # in a test, a dashboard's peers) is not forwarded: the image never reads those channels, and on a loaded host,
     # where the emulated board falls behind, they would fill its NIC's receive FIFO (not paced by the window below).
     output_channels = {channels[k] for k in ("wall_state", "alarm", "status", "wall_estimate") if k in channels}
-    queue = []  # (is_ground, frame) waiting for the window, in arrival order
-    in_hand = 0
-    last_back = time.monotonic()
+    window = ImageWindow(lambda frame: frames.sendto(frame, ("127.0.0.1", qemu_port)))
+
+    def from_image(data):
+        """A frame the image sent: its LCM payload to the group; a wall_state_t answers a ground sample."""
+        payload = payload_of(data, group, port)
+        if payload is None:
+            bridge["from_image_not_lcm"] += 1
+            return
+        lcm_out.sendto(payload, (group, port))
+        bridge["from_image"] += 1
+        if lcm_channel(payload) == state_channel:
+            window.answered()
+
     started = time.monotonic()
     ready = False
     ip_id = 0
@@ -337,33 +377,14 @@ def main():
             fail("the image did not start listening within 60 s")
         if a.timeout and time.monotonic() - started > a.timeout:
             break
-        # Release what the window allows (non-ground frames go in their turn, and do not count).
-        if in_hand > 0 and time.monotonic() - last_back > IDLE_RELEASE_S:
-            in_hand = 0
-        while queue and (not queue[0][0] or in_hand < WINDOW):
-            is_ground, frame = queue.pop(0)
-            frames.sendto(frame, ("127.0.0.1", qemu_port))
-            bridge["to_image"] += 1
-            if is_ground:
-                if in_hand == 0:
-                    last_back = time.monotonic()
-                in_hand += 1
+        bridge["to_image"] += window.release()
         try:
-            readable, _, _ = select.select([frames, lcm_in], [], [], 0.005 if queue else 0.1)
+            readable, _, _ = select.select([frames, lcm_in], [], [], 0.005 if window.queue else 0.1)
         except InterruptedError:
             continue
         for s in readable:
             if s is frames:
-                data, _ = frames.recvfrom(65536)
-                payload = payload_of(data, group, port)
-                if payload is None:
-                    bridge["from_image_not_lcm"] += 1
-                else:
-                    lcm_out.sendto(payload, (group, port))
-                    bridge["from_image"] += 1
-                    if lcm_channel(payload) == state_channel:
-                        in_hand = max(0, in_hand - 1)
-                        last_back = time.monotonic()
+                from_image(frames.recvfrom(65536)[0])
             else:
                 data, (src_ip, src_port) = lcm_in.recvfrom(65536)
                 if src_port == own_port:
@@ -374,29 +395,16 @@ def main():
                     continue
                 if ready and len(data) <= 1472:
                     ip_id += 1
-                    queue.append((channel in ground_channels,
-                                  frame_for(data, src_ip, src_port, group, port, ip_id)))
-                    bridge["held_max"] = max(bridge["held_max"], len(queue))
+                    window.queue.append((channel in ground_channels,
+                                         frame_for(data, src_ip, src_port, group, port, ip_id)))
+                    bridge["held_max"] = max(bridge["held_max"], len(window.queue))
     # What the window still holds goes to the image (paced as above), then it finishes what it received (its output
     # is flushed whenever it is idle).
     drain_until = time.monotonic() + 30
-    while queue and time.monotonic() < drain_until and qemu.poll() is None:
-        if in_hand > 0 and time.monotonic() - last_back > IDLE_RELEASE_S:
-            in_hand = 0
-        while queue and (not queue[0][0] or in_hand < WINDOW):
-            is_ground, frame = queue.pop(0)
-            frames.sendto(frame, ("127.0.0.1", qemu_port))
-            bridge["to_image"] += 1
-            in_hand += 1 if is_ground else 0
+    while window.queue and time.monotonic() < drain_until and qemu.poll() is None:
+        bridge["to_image"] += window.release()
         for r in select.select([frames], [], [], 0.005)[0]:
-            data, _ = r.recvfrom(65536)
-            payload = payload_of(data, group, port)
-            if payload is not None:
-                lcm_out.sendto(payload, (group, port))
-                bridge["from_image"] += 1
-                if lcm_channel(payload) == state_channel:
-                    in_hand = max(0, in_hand - 1)
-                    last_back = time.monotonic()
+            from_image(r.recvfrom(65536)[0])
     time.sleep(0.3)
     os.killpg(qemu.pid, signal.SIGTERM)
     try:
