@@ -18,6 +18,8 @@ mutants=(
   "browser_test_skips|rockwatch rockwatch-monitor|^test_rockwatch_dashboard_browser$|CI=true"
   "bootstrap_seed_ignored|rockwatch test_rockwatch_identify|^test_rockwatch_identify$|"
   "calibration_sees_last_record|test_rockwatch_study|^test_rockwatch_study_forecast$|"
+  "calibration_sees_first_record|test_rockwatch_study|^test_rockwatch_study_forecast$|"
+  "calibration_sees_middle_record|test_rockwatch_study|^test_rockwatch_study_forecast$|"
   "energy_window_one_sample_short|rockwatch test_rockwatch_simulate_forecast|^test_rockwatch_simulate_forecast$|"
 )
 selected=("$@")
