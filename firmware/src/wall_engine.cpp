@@ -18,7 +18,8 @@ const char* wall_engine_error_message(WallEngineError e) {
     case WallEngineError::max_step_invalid:
       return "max_step_s must be > 0 s and give at most 64 sub-steps per sample (dt / max_step <= 64)";
     case WallEngineError::work_budget_invalid:
-      return "work_budget_units must be 0 (no carry-over) or at least one sample with one located event";
+      return "work_budget_units must be 0 (no carry-over) or at least one sample with one located event, and "
+             "the caller's units in [0, 1e9] (work_budget_units at least a sample's end with its publication)";
     case WallEngineError::work_overflow_invalid: return "work_overflow must be shed or finish";
   }
   return "?";
@@ -49,7 +50,8 @@ WallEngineError WallEngine::init(const WallEngineConfig& c) {
   }
   axes_ = core::cast_sensor_axes<core::AccelQ7_24>(c.axes);
   work_budget_units_ = c.work_budget_units;
-  observer_budget_units_ = core::observer_work_budget_units(c.dt_s);
+  observer_budget_units_ = core::observer_work_budget_units(c.dt_s, c.caller_overhead_units, c.caller_units_per_sample);
+  chain_.set_caller_units_per_sample(c.caller_units_per_sample);
   work_overflow_ = c.work_overflow;
   calls_ = 0;
   finished_count_ = 0;

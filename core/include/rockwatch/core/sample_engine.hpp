@@ -43,13 +43,21 @@ inline std::int64_t estimator_share_units(double dt_s) {
 // bookkeeping, the publication of the samples it finishes (their estimates computed in float, widened to double)
 // and the cost model's error (measured on the emulated M4: docs/BENCHMARKS.md, "The metered observer").
 inline constexpr std::int32_t kObserverCallOverheadUnits = 4000;
-// The work budget of a call with the observer on: the estimator's share less that overhead (at least the least
-// budget). The open loop keeps WallEngineConfig::work_budget_units (kDefaultWorkBudgetUnits: 25 000 at any rate).
-inline std::int32_t observer_work_budget_units(double dt_s) {
+// The work budget of a call with the observer on: the estimator's share less that overhead and less what the
+// caller's call does around the engine's (caller_overhead_units: WallEngineConfig::caller_overhead_units, 0 on hosts),
+// at least the least budget. The open loop keeps WallEngineConfig::work_budget_units (kDefaultWorkBudgetUnits:
+// 25 000 at any rate).
+// caller_units_per_sample (WallEngineConfig::caller_units_per_sample) is paid from the budget with the sample's end
+// (its largest piece then, which the least budget must pay).
+inline std::int32_t observer_work_budget_units(double dt_s, std::int32_t caller_overhead_units = 0,
+                                               std::int32_t caller_units_per_sample = 0) {
   using Observer = WallObserver<FixedRockingStepper>;
-  const std::int64_t least = kMinWorkBudgetUnits + Observer::kWork.substep + Observer::kWork.update +
-                             Observer::kWork.sample_end;
-  std::int64_t units = estimator_share_units(dt_s) - kObserverCallOverheadUnits;
+  std::int64_t least = kMinWorkBudgetUnits + Observer::kWork.substep + Observer::kWork.update +
+                       Observer::kWork.sample_end;
+  const std::int64_t sample_end = std::int64_t{FixedRockingStepper::kWork.evaluate} + Observer::kWork.sample_end +
+                                  caller_units_per_sample;
+  if (least < sample_end) least = sample_end;
+  std::int64_t units = estimator_share_units(dt_s) - kObserverCallOverheadUnits - caller_overhead_units;
   if (units < least) units = least;
   if (units > 1000000000) units = 1000000000;
   return static_cast<std::int32_t>(units);
@@ -78,6 +86,17 @@ struct WallEngineConfig {
   // What the budgeted engine does when its queue of waiting samples is full (core/work_meter.hpp): shed keeps every
   // call within the budget, finish keeps every answer.
   WorkOverflow work_overflow = WorkOverflow::shed;
+  // What the caller's call does around the engine's, at most [work units], for a caller whose whole call must fit
+  // the budget (the monitor image, firmware/embedded/m4_monitor/monitor_main.cpp, declares both; 0 on hosts, whose
+  // calls are not budgeted: their outputs are unchanged):
+  // - caller_overhead_units: once a call (a monitor: the network receive, the message's decoding, the sequence
+  //   rules). With the observer it is taken off the estimator's share (observer_work_budget_units). The open loop's
+  //   budget is work_budget_units as given, this not subtracted.
+  // - caller_units_per_sample: once for every sample the call finishes (a monitor: encoding and sending its outputs).
+  //   A metered call pays it from its budget with the sample's end, so that a call that catches up on waiting samples
+  //   also pays for publishing each (a constant per call could not: it would have to assume the most samples).
+  std::int32_t caller_overhead_units = 0;
+  std::int32_t caller_units_per_sample = 0;
 };
 
 // The worst call of the fixed-point engine on paper (docs/FIXED_POINT.md, "The worst call on paper"): from the caps —
@@ -103,7 +122,9 @@ struct WorstCallBound {
   std::int64_t budget_units = 0;   // the meter of a call
   std::int64_t overrun_units = 0;  // one sample without a meter, by the overflow policy
   std::int64_t overhead_units = 0;
-  std::int64_t bound_units = 0;    // overhead + max(budget, overrun)
+  std::int64_t bound_units = 0;    // overhead + caller's overhead + max(budget, overrun)
+  std::int64_t caller_overhead_units = 0;  // WallEngineConfig::caller_overhead_units (its per-sample units are paid
+                                           // from the budget, and are in the overrun)
   std::int64_t share_units = 0;    // with the observer: the estimator's share of the sample (target), else 0
 };
 inline WorstCallBound worst_call_bound(const WallEngineConfig& c) {
@@ -115,14 +136,20 @@ inline WorstCallBound worst_call_bound(const WallEngineConfig& c) {
   const std::int64_t n = b.substeps, segments = b.segments_per_substep;
   const bool observed = c.observer_enabled;
   b.updates_per_sample = observed ? WallObserver<FixedRockingStepper>::kQueueCapacity : 0;
-  b.budget_units = c.work_budget_units == 0 ? 0 : observed ? observer_work_budget_units(c.dt_s) : c.work_budget_units;
+  b.budget_units = c.work_budget_units == 0 ? 0
+                   : observed            ? observer_work_budget_units(c.dt_s, c.caller_overhead_units,
+                                                                          c.caller_units_per_sample)
+                                         : c.work_budget_units;
   b.metered = b.budget_units > 0;
   const bool shed = b.metered && c.work_overflow == WorkOverflow::shed;
   const std::int64_t per_substep = shed ? w.substep + w.trial : w.substep + segments * (w.trial + w.locate) + w.locate;
   b.overrun_units = n * (per_substep + (observed ? o.substep : 0)) + w.evaluate +
-                    (observed ? o.sample_end + std::int64_t(b.updates_per_sample) * (shed ? o.dropped : o.update) : 0);
+                    (observed ? o.sample_end + std::int64_t(b.updates_per_sample) * (shed ? o.dropped : o.update) : 0) +
+                    (b.metered ? c.caller_units_per_sample : 0);
   b.overhead_units = observed ? kObserverCallOverheadUnits : kDefaultCallOverheadUnits;
-  b.bound_units = b.overhead_units + (b.budget_units > b.overrun_units ? b.budget_units : b.overrun_units);
+  b.caller_overhead_units = c.caller_overhead_units;
+  b.bound_units = b.overhead_units + b.caller_overhead_units +
+                  (b.budget_units > b.overrun_units ? b.budget_units : b.overrun_units);
   b.share_units = observed ? estimator_share_units(c.dt_s) : 0;
   return b;
 }
@@ -140,7 +167,7 @@ enum class WallEngineError : std::uint8_t {
   model_not_supported = 8,       // the fixed-point engine runs the linear model only
   observer_invalid = 9,          // the observer refused its options or the step (see observer_error())
   max_step_invalid = 10,         // max_step_s must be > 0 and give at most kMaxSubsteps sub-steps per sample
-  work_budget_invalid = 11,      // work_budget_units must be 0 or in [kMinWorkBudgetUnits, 10⁹]
+  work_budget_invalid = 11,      // work_budget_units 0 or in [kMinWorkBudgetUnits, 10⁹] (and ≥ evaluate + caller_units_per_sample); caller units in [0, 10⁹]
   work_overflow_invalid = 12,    // work_overflow must be a WorkOverflow value
 };
 
@@ -157,6 +184,14 @@ inline WallEngineError validate_wall_engine_config(const WallEngineConfig& c) {
   }
   if (c.work_budget_units != 0 && !(c.work_budget_units >= kMinWorkBudgetUnits && c.work_budget_units <= 1000000000)) {
     return WallEngineError::work_budget_invalid;
+  }
+  if (c.caller_overhead_units < 0 || c.caller_overhead_units > 1000000000 || c.caller_units_per_sample < 0 ||
+      c.caller_units_per_sample > 1000000000) {
+    return WallEngineError::work_budget_invalid;
+  }
+  if (c.work_budget_units != 0 &&
+      c.work_budget_units < std::int64_t{FixedRockingStepper::kWork.evaluate} + c.caller_units_per_sample) {
+    return WallEngineError::work_budget_invalid;  // the sample's end with its publication must fit one call
   }
   if (!work_overflow_valid(c.work_overflow)) return WallEngineError::work_overflow_invalid;
   if (c.observer_enabled && validate_observer_options(c.observer) != ObserverError::ok) {

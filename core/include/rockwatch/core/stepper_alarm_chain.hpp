@@ -273,6 +273,9 @@ class StepperAlarmChain {
   }
   // Samples queued and not yet finished (the one in progress included).
   int pending() const { return pending_count_; }
+  // What the caller does for each finished sample (publishing it: WallEngineConfig::caller_units_per_sample) [work
+  // units]: taken from the meter with the sample's end, so that a metered call pays for it too. 0: nothing taken.
+  void set_caller_units_per_sample(std::int32_t units) { caller_units_per_sample_ = units; }
   // Forgets the queued samples (before a reset: the wall at rest, the queue empty).
   void clear_pending() {
     pending_count_ = 0;
@@ -349,7 +352,7 @@ class StepperAlarmChain {
     for (int finished = 0; pending_count_ > 0 && finished < max_samples; ++finished) {
       const PendingSample& p = queue_[pending_head_];
       if (p.restart) {
-        if (!meter.take(Stepper::kWork.evaluate)) return;
+        if (!meter.take(Stepper::kWork.evaluate + caller_units_per_sample_)) return;
         restart_motion(p.ug_mps2, p.vg_mps2, head_out_);
         if constexpr (kObserved<Observer>) {
           observer->restart_motion();
@@ -365,7 +368,7 @@ class StepperAlarmChain {
         if (!advance_motion(p.ug_mps2, p.vg_mps2, head_out_.step, meter, on_substep, observer)) return;
         // The sample's end (the observer's, when on, and the indicators and the alarm): one piece, all of it
         // idempotent until the queue advances.
-        if (!meter.take(Stepper::kWork.evaluate + Observer::kWork.sample_end)) return;
+        if (!meter.take(Stepper::kWork.evaluate + Observer::kWork.sample_end + caller_units_per_sample_)) return;
         ug_last_ = p.ug_mps2;
         vg_last_ = p.vg_mps2;
         if constexpr (kObserved<Observer>) end_observed(*observer);
@@ -530,6 +533,7 @@ class StepperAlarmChain {
   int pending_count_ = 0;
   bool head_begun_ = false;
   Output head_out_{};
+  std::int32_t caller_units_per_sample_ = 0;
 };
 
 }  // namespace rockwatch::core

@@ -108,7 +108,7 @@ class WallEngine final : public SampleEngine {
   core::WallObserver<core::FixedRockingStepper> observer_{};
   core::ObserverStepReport observer_report_{};  // the observer's report of the last step (zero after start/restart)
   std::int32_t work_budget_units_ = 0;
-  std::int32_t observer_budget_units_ = 0;  // with the observer: core::observer_work_budget_units(dt)
+  std::int32_t observer_budget_units_ = 0;  // with the observer: core::observer_work_budget_units(dt, caller overhead)
   core::WorkOverflow work_overflow_ = core::WorkOverflow::shed;
   std::int32_t last_call_units_ = 0;
   std::uint32_t calls_ = 0;  // metered calls so far: the tag of a queued sample
