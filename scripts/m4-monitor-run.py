@@ -228,17 +228,32 @@ def summarise(output_path, qemu_version, observer, bridge):
     transitions = []
     per = {"g": [], "s": [], "o": [], "r": [], "f": [], "n": []}
     receive = []
+    engine, image_part, declared = [], {"g": [], "s": []}, None
+    by_states, excess = collections.defaultdict(list), []
+    catch_up, caught_up = [], 0
     for line in lines[1:]:
         f = line.split()
         if not f:
             continue
         if f[0] == "overhead":
             overhead = insns(int(f[1]))
-        elif f[0] == "d" and len(f) == 5 and f[1] in per:
+        elif f[0] == "call_overhead" and len(f) == 3:
+            declared = {"per_call": int(f[1]), "per_sample": int(f[2])}
+        elif f[0] == "d" and len(f) == 7 and f[1] in per:
             total, rx = insns(int(f[2]), overhead), insns(int(f[3]), overhead)
             per[f[1]].append(total)
             if f[1] == "g":
                 receive.append(rx)
+                engine.append(insns(int(f[5])))
+            if f[1] in image_part:
+                own, states = total - insns(int(f[5])), int(f[6])
+                image_part[f[1]].append(own)
+                by_states[states].append(own)
+                if declared is not None:
+                    excess.append(own - declared["per_call"] - states * declared["per_sample"])
+        elif f[0] == "k" and len(f) == 3:
+            catch_up.append(insns(int(f[1]), overhead))
+            caught_up += int(f[2])
         elif f[0] == "a" and len(f) == 3:
             transitions.append({"input_seq": int(f[1]), "level": LEVELS[int(f[2])]})
         elif f[0] == "c":
@@ -260,6 +275,13 @@ def summarise(output_path, qemu_version, observer, bridge):
         "receive_insn_per_sample": stats(receive),
         "insn_per_sensor_datagram": stats(per["s"]),
         "insn_per_other_datagram": stats(per["o"] + per["r"] + per["f"] + per["n"]),
+        "engine_insn_per_sample": stats(engine),
+        "image_overhead_insn_per_sample": stats(image_part["g"]),
+        "image_overhead_insn_per_sensor_datagram": stats(image_part["s"]),
+        "image_overhead_insn_by_samples_published": {str(k): stats(v) | {"calls": len(v)} for k, v in sorted(by_states.items())},
+        "catch_up_insn": stats(catch_up) | {"runs": len(catch_up), "samples": caught_up},
+        "declared_call_overhead_insn": declared,
+        "image_overhead_over_declared_insn": max(excess) if excess else None,
         "overhead_insn": overhead,
         "counters": counters,
         "bridge": bridge,

@@ -26,8 +26,11 @@
 # datagrams for the group and port), samples_received, samples_processed, gaps, duplicates, out_of_order,
 # transitions [{input_seq, level}], insn_per_sample {median, p99, max} (per ground message: from the NIC's RX FIFO to
 # on_message()'s return, every output frame sent), receive_insn_per_sample (the receive part alone: driver, IPv4/UDP,
-# LCM reassembly), insn_per_sensor_datagram, insn_per_other_datagram, overhead_insn, counters (the image's: NIC,
-# IPv4/UDP, LCM layer, MonitorCounters), bridge.
+# LCM reassembly), insn_per_sensor_datagram, insn_per_other_datagram, engine_insn_per_sample (the part in the
+# engine's calls), image_overhead_insn_per_sample and image_overhead_insn_per_sensor_datagram (the rest: the image's
+# own part of the call), declared_call_overhead_insn (what the image declares to the engine, taken off the observer's
+# budget: kImageCallOverheadUnits), overhead_insn, counters (the image's: NIC, IPv4/UDP, LCM layer, MonitorCounters),
+# bridge.
 # Environment: ROCKWATCH_MONITOR (default build/release/host_tools/rockwatch-monitor, else on PATH),
 #              QEMU_SYSTEM_ARM (default qemu-system-arm), ARM_GXX (see embedded-build.sh).
 # Exit status: 0 printed; 1 build, emulation or image failure (with a message); 2 invalid options (rockwatch-monitor's

@@ -6,6 +6,10 @@ hostile datagrams, and compares the two monitors' results.
   m4_monitor_wire_check.py listen URL OUT.json SECONDS      collect WALL_STATE payloads by source for SECONDS
   m4_monitor_wire_check.py hostile URL CORPUS_FILE...       send the datagrams of fuzz corpus files to the group
   m4_monitor_wire_check.py compare IMAGE.json HOST.jsonl STATES.json NAME
+  m4_monitor_wire_check.py budget IMAGE.json NAME MAX_INSN   issue 43's budget: every ground message's call, the
+                                                            network receive included, <= MAX_INSN instructions; the
+                                                            image's own part of every call (ground or sensor) within
+                                                            the overhead it declares to the engine
 """
 import json, socket, struct, sys, time
 from urllib.parse import urlparse
@@ -101,6 +105,30 @@ def compare(image_path, host_path, states_path, name):
     return 1 if failed else 0
 
 
+def budget(image_path, name, max_insn):
+    image = json.load(open(image_path))
+    failed = []
+    worst = image["insn_per_sample"]["max"]
+    if worst > max_insn:
+        failed.append("a call of %d instructions, over the %d budget" % (worst, max_insn))
+    declared = image.get("declared_call_overhead_insn")
+    over = image.get("image_overhead_over_declared_insn")
+    if declared is None or over is None or over > 0:
+        failed.append("the image's own part of a call %s instructions over what it declares (%s)" % (over, declared))
+    own = max(image["image_overhead_insn_per_sample"]["max"], image["image_overhead_insn_per_sensor_datagram"]["max"])
+    if image["samples_processed"] == 0:
+        failed.append("no sample processed")
+    c = image["counters"]
+    print("%-10s budget: max %d <= %d instructions a call (p99 %d, median %d; engine max %d); the image's own part "
+          "max %d (declared %s, the most beyond it %s); late %d, shed %d" % (
+              name, worst, max_insn, image["insn_per_sample"]["p99"], image["insn_per_sample"]["median"],
+              image["engine_insn_per_sample"]["max"], own, declared, over, c.get("samples_late", -1),
+              c.get("samples_work_shed", -1)))
+    for f in failed:
+        print("  OVER BUDGET " + f)
+    return 1 if failed else 0
+
+
 if __name__ == "__main__":
     cmd = sys.argv[1]
     if cmd == "listen":
@@ -109,5 +137,7 @@ if __name__ == "__main__":
         hostile(sys.argv[2], sys.argv[3:])
     elif cmd == "compare":
         sys.exit(compare(*sys.argv[2:6]))
+    elif cmd == "budget":
+        sys.exit(budget(sys.argv[2], sys.argv[3], int(sys.argv[4])))
     else:
         sys.exit(2)
