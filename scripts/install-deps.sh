@@ -4,8 +4,11 @@
 #
 #   scripts/install-deps.sh demo    what building the programs and running the demo needs (scripts/demo.sh)
 #   scripts/install-deps.sh package the demo set plus what scripts/package.sh needs (Debian packages, the wheel)
+#   scripts/install-deps.sh arm64   the demo set plus the aarch64 cross build (scripts/cross-build.sh, ctest
+#                                   arm64_cross_check, scripts/package.sh --arch arm64): adds dpkg's arm64 architecture
 #   scripts/install-deps.sh [all]   that, plus the test-only tools: the Cortex-M4 toolchain and emulator, valgrind, clang and its
-#                                   fuzzing runtimes, chromium (scripts/test.sh, scripts/fuzz.sh, scripts/soak.sh)
+#                                   fuzzing runtimes, chromium (scripts/test.sh, scripts/fuzz.sh, scripts/soak.sh), and
+#                                   the arm64 set
 # Then the npm packages of package-lock.json (`npm ci`: uPlot, compiled into `rockwatch dashboard`, and playwright-core,
 # which drives chromium in the dashboard's browser test), when node_modules does not match the lock file. Without the
 # npm registry this step warns and the build still succeeds: the dashboard then serves its page without charts and
@@ -41,6 +44,17 @@ PACKAGE_PACKAGES=(
   lintian                # checks the .deb files (scripts/package.sh)
   python3-setuptools python3-wheel python3-venv python3-pip   # pip install . --no-build-isolation, offline
 )
+# The aarch64 cross build (issue 45; docs/packaging.md "64-bit ARM"): Debian's cross compiler, qemu-aarch64, and the
+# arm64 libraries the two programs link, all Multi-Arch: same (they install beside the amd64 ones). Not liblcm:
+# liblcm1, liblcm-dev and liblcm-bin are Multi-Arch: no, so installing the :arm64 ones REMOVES the amd64 ones every host
+# build needs. They are downloaded instead and unpacked into build/arm64/sysroot (lcm_arm64_sysroot below).
+ARM64_PACKAGES=(
+  crossbuild-essential-arm64   # aarch64-linux-gnu-gcc/g++ 12, binutils, libc6-dev:arm64 (cmake/toolchains/aarch64-linux-gnu.cmake)
+  qemu-user                    # qemu-aarch64: runs the cross-built programs (ctest arm64_cross_check, the man pages)
+  libstdc++6:arm64 libgcc-s1:arm64   # the runtimes as dpkg knows them: dpkg-shlibdeps of the arm64 .deb, qemu's loader
+  libfftw3-dev:arm64 libmseed-dev:arm64 libglib2.0-dev:arm64   # sim's FFT, the miniSEED reader, lcm.pc's glib-2.0
+)
+ARM64_LCM_DEBS=(liblcm1:arm64 liblcm-dev:arm64)
 TEST_PACKAGES=(
   gcc-arm-none-eabi libstdc++-arm-none-eabi-newlib libnewlib-arm-none-eabi   # Cortex-M4 build (scripts/embedded-build.sh)
   qemu-system-arm        # the firmware on an emulated Cortex-M4 (scripts/m4-replay.sh, ctest m4_replay)
@@ -54,9 +68,12 @@ TEST_PACKAGES=(
 case "$set_name" in
   demo) PACKAGES=("${DEMO_PACKAGES[@]}") ;;
   package) PACKAGES=("${DEMO_PACKAGES[@]}" "${PACKAGE_PACKAGES[@]}") ;;
-  all) PACKAGES=("${DEMO_PACKAGES[@]}" "${PACKAGE_PACKAGES[@]}" "${TEST_PACKAGES[@]}") ;;
-  *) echo "install-deps: unknown package set '$set_name' (expected 'demo', 'package' or 'all')" >&2; exit 2 ;;
+  arm64) PACKAGES=("${DEMO_PACKAGES[@]}" "${PACKAGE_PACKAGES[@]}" "${ARM64_PACKAGES[@]}") ;;
+  all) PACKAGES=("${DEMO_PACKAGES[@]}" "${PACKAGE_PACKAGES[@]}" "${TEST_PACKAGES[@]}" "${ARM64_PACKAGES[@]}") ;;
+  *) echo "install-deps: unknown package set '$set_name' (expected 'demo', 'package', 'arm64' or 'all')" >&2; exit 2 ;;
 esac
+with_arm64=false
+case "$set_name" in arm64|all) with_arm64=true ;; esac
 
 if ! command -v npm >/dev/null 2>&1; then PACKAGES+=("${NODE_PACKAGES[@]}"); fi
 
@@ -78,6 +95,33 @@ npm_install() {
   fi
 }
 
+# liblcm for arm64 (not co-installable, above): the two .deb files downloaded into build/arm64/debs and unpacked into
+# build/arm64/sysroot, lcm.pc's prefix pointed there; the toolchain file finds it through ROCKWATCH_CROSS_SYSROOT.
+lcm_arm64_sysroot() {
+  cd "$(dirname "$0")/.."
+  local sysroot=build/arm64/sysroot debs=build/arm64/debs pc
+  pc="$sysroot/usr/lib/aarch64-linux-gnu/pkgconfig/lcm.pc"
+  if [ -f "$pc" ] && [ -e "$sysroot/usr/lib/aarch64-linux-gnu/liblcm.so.1" ]; then
+    echo "install-deps: liblcm (arm64) present in $sysroot"
+    return 0
+  fi
+  rm -rf "$debs" "$sysroot"
+  mkdir -p "$debs" "$sysroot"
+  chmod 777 "$debs"   # apt-get download runs as _apt when it can
+  (cd "$debs" && apt-get download "${ARM64_LCM_DEBS[@]}") \
+    || { echo "install-deps: apt-get download ${ARM64_LCM_DEBS[*]} failed (dpkg --add-architecture arm64, apt-get update?)" >&2; exit 1; }
+  for d in "$debs"/*.deb; do dpkg-deb -x "$d" "$sysroot"; done
+  sed -i "s|^prefix=.*|prefix=$PWD/$sysroot/usr|" "$pc"
+  echo "install-deps: liblcm (arm64) unpacked into $sysroot (not installed: Multi-Arch: no)"
+}
+
+need_update=false
+if $with_arm64 && ! dpkg --print-foreign-architectures | grep -qx arm64; then
+  echo "install-deps: dpkg --add-architecture arm64"
+  if [ "$(id -u)" -ne 0 ]; then sudo dpkg --add-architecture arm64; else dpkg --add-architecture arm64; fi
+  need_update=true
+fi
+
 missing=()
 for p in "${PACKAGES[@]}"; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed'; then
@@ -85,8 +129,9 @@ for p in "${PACKAGES[@]}"; do
   fi
 done
 
-if [ ${#missing[@]} -eq 0 ]; then
+if [ ${#missing[@]} -eq 0 ] && ! $need_update; then
   echo "install-deps: all ${#PACKAGES[@]} packages of the '$set_name' set present"
+  if $with_arm64; then (lcm_arm64_sysroot); fi
   npm_install
   exit 0
 fi
@@ -96,8 +141,11 @@ if [ "$(id -u)" -ne 0 ]; then
   command -v sudo >/dev/null || { echo "install-deps: need root or sudo to install: ${missing[*]}" >&2; exit 1; }
   SUDO="sudo"
 fi
-echo "install-deps: installing ${missing[*]}"
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -q
-$SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "install-deps: installing ${missing[*]}"
+  $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
+if $with_arm64; then (lcm_arm64_sysroot); fi
 npm_install

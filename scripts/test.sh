@@ -35,6 +35,12 @@ for preset in release debug; do
   stage "$preset: build"
   ./scripts/build.sh "$preset"
   stage_done
+  if [ "$preset" = release ]; then
+    # The aarch64 cross build of the two programs (build/arm64), which ctest arm64_cross_check runs under qemu.
+    stage "arm64: build"
+    ./scripts/cross-build.sh --no-deps
+    stage_done
+  fi
   # The end-to-end tests run LCM over real UDP multicast on loopback (they skip, saying why, when it is unavailable,
   # and fail under CI=true); after the build, which installs iproute2.
   source scripts/multicast-route.sh

@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Cross-builds the command line and the monitor for 64-bit ARM (aarch64) into build/arm64 (issue 45; docs/packaging.md
+# "64-bit ARM"): Debian's cross compiler, the :arm64 libraries, cmake/toolchains/aarch64-linux-gnu.cmake. Only the
+# targets named are built (default: rockwatch rockwatch-monitor); no tests, benchmarks, Python module or MPI.
+#
+#   scripts/cross-build.sh [--no-deps] [TARGET...]
+# --no-deps skips scripts/install-deps.sh arm64 (the ctest arm64_cross_check: CI's build stage ran it already).
+# Prints the build's wall time; the programs run under qemu-aarch64 (build/arm64/host_tools/rockwatch{,-monitor}).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+deps=true
+targets=()
+for a in "$@"; do
+  case "$a" in
+    --no-deps) deps=false ;;
+    -h|--help) sed -n '2,8p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -*) echo "cross-build.sh: unknown option '$a' (expected --no-deps or target names)" >&2; exit 2 ;;
+    *) targets+=("$a") ;;
+  esac
+done
+[ ${#targets[@]} -gt 0 ] || targets=(rockwatch rockwatch-monitor)
+if $deps; then ./scripts/install-deps.sh arm64; fi
+for tool in aarch64-linux-gnu-g++ aarch64-linux-gnu-pkg-config; do
+  command -v "$tool" >/dev/null || { echo "cross-build.sh: $tool not found (scripts/install-deps.sh arm64)" >&2; exit 1; }
+done
+[ -f build/arm64/sysroot/usr/lib/aarch64-linux-gnu/pkgconfig/lcm.pc ] \
+  || { echo "cross-build.sh: build/arm64/sysroot has no arm64 liblcm (scripts/install-deps.sh arm64 unpacks it)" >&2; exit 1; }
+dir=build/arm64
+start=$(date +%s.%N)
+if [ ! -f "$dir/build.ninja" ]; then
+  cmake -G Ninja -S . -B "$dir" -DCMAKE_TOOLCHAIN_FILE=cmake/toolchains/aarch64-linux-gnu.cmake \
+    -DROCKWATCH_CROSS_SYSROOT="$PWD/$dir/sysroot" -DCMAKE_BUILD_TYPE=Release \
+    -DROCKWATCH_BUILD_TESTS=OFF -DROCKWATCH_BUILD_BENCH=OFF -DROCKWATCH_PYTHON=OFF -DROCKWATCH_MPI=OFF >"$dir/configure.log" 2>&1 \
+    || { cat "$dir/configure.log" >&2; echo "cross-build.sh: configuring $dir failed (log above)" >&2; exit 1; }
+fi
+ninja -C "$dir" "${targets[@]}"
+echo "cross-build.sh: ${targets[*]} for aarch64 in $dir: $(printf '%.0f' "$(echo "$(date +%s.%N) - $start" | bc)") s wall"
