@@ -5,6 +5,7 @@
 #   rockwatch-<version>-cp3XX-...whl          the same module for pip (pip install build/packages/rockwatch-*.whl)
 #
 #   scripts/package.sh [--arch amd64|arm64]
+# --arch arm64: the rockwatch package for 64-bit ARM from the cross build (scripts/package-arm64.sh; no Python module).
 # Uses the release preset's tree (build/release: configured when it is not), builds only the packaged targets, runs
 # cpack -G DEB and lintian, then `pip wheel` with Debian's setuptools (offline, --no-build-isolation).
 set -euo pipefail
@@ -14,24 +15,15 @@ while [ $# -gt 0 ]; do
   case "$1" in
     --arch) arch="${2:-}"; shift 2 || { echo "package.sh: --arch needs amd64 or arm64" >&2; exit 2; } ;;
     --arch=*) arch="${1#--arch=}"; shift ;;
-    -h|--help) sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "package.sh: unknown argument '$1' (usage: scripts/package.sh [--arch amd64|arm64])" >&2; exit 2 ;;
   esac
 done
 host_arch="$(dpkg --print-architecture)"
 case "$arch" in
   "$host_arch") ;;
-  arm64)
-    cat >&2 <<MSG
-package.sh: --arch arm64 is not built in this version (issue 45, docs/packaging.md "64-bit ARM").
-  What it needs: Debian's crossbuild-essential-arm64 and the :arm64 libraries (dpkg --add-architecture arm64;
-  libeigen3-dev, libcli11-dev, nlohmann-json3-dev, libfftw3-dev:arm64, libmseed-dev:arm64, liblcm-dev:arm64,
-  libglib2.0-dev:arm64, libboost-dev), a CMake toolchain file (aarch64-linux-gnu-g++, CMAKE_FIND_ROOT_PATH), a
-  build tree without tests and benchmarks, and qemu-user to check the build; then cpack with
-  CPACK_DEBIAN_PACKAGE_ARCHITECTURE=arm64 and dpkg-shlibdeps reading the :arm64 libraries.
-MSG
-    exit 2 ;;
-  *) echo "package.sh: --arch $arch: this host builds $host_arch packages only (arm64 is planned, see docs/packaging.md)" >&2; exit 2 ;;
+  arm64) exec ./scripts/package-arm64.sh ;;
+  *) echo "package.sh: --arch $arch: expected amd64 or arm64 (this host is $host_arch)" >&2; exit 2 ;;
 esac
 
 ./scripts/install-deps.sh package
