@@ -19,7 +19,7 @@ The calibration shipped for real records is fitted on `fit` only; `validation` i
 
     scripts/forecast-real-records.py [--rockwatch build/release/host_tools/rockwatch] [--out DIR] [--jobs 2]
         [--horizon 5] [--members 200] [--sets fit,validation] [--records NAME,...] [--r exp,ana] [--factors 0.8:1.6:0.1]
-        [--calibration c0,c1,c2,c3,c4] [--simulate-arg ARG ...] [--refit] [--wall-sensors] [--fresh]
+        [--calibration c0,c1,c2,c3,c4] [--simulate-arg ARG ...] [--refit] [--refit-all] [--wall-sensors] [--fresh]
         [--study [--forecast-setting NAME=VALUE ...]] [--check-under-statement 0.1]
 
 --study runs the same forecasts through `rockwatch study --records --forecast` (one study per record and r), which
@@ -28,7 +28,8 @@ without rebuilding (it publishes no calibrated P: use --refit). --check-under-st
 P is under-stated by more than D in a bin of >= 30 forecasts (the ctest forecast_real_records_not_understated).
 
 --refit also fits the calibration (SPEC section 10's five coefficients, maximum likelihood) on the `fit` forecasts and
-scores it on both sets (on `fit`: leave one event out). --wall-sensors runs each level twice: the true wall's
+scores it on both sets (on `fit`: leave one event out). --refit-all fits it on every event's forecasts (the shipped
+coefficients since the second fit of issue 40) and scores it leaving one event out over all events. --wall-sensors runs each level twice: the true wall's
 transducer (`--sensors-out`, 0.5 mm noise) and then the fused forecast (`--wall-sensors`), as
 scripts/forecast-with-sensors.py does, for the nominal wall.
 
@@ -253,6 +254,9 @@ def main():
                          "calibrated P: use --refit)")
     ap.add_argument("--forecast-setting", action="append", default=[], help="with --study: NAME=VALUE (repeatable)")
     ap.add_argument("--refit", action="store_true", help="fit the calibration on `fit`, score it on both sets")
+    ap.add_argument("--refit-all", action="store_true",
+                    help="fit the calibration on every event (what ships since issue 40's second fit) and score it "
+                         "leaving one event out over all of them")
     ap.add_argument("--wall-sensors", action="store_true")
     ap.add_argument("--no-plot", action="store_true")
     ap.add_argument("--fresh", action="store_true", help="search the collapse PGAs again (ignore DIR/boundary.json)")
@@ -326,6 +330,20 @@ def main():
             wv = fit_logistic(features(train, a.members), [x["outcome"] for x in train])
             for x, p in zip(test, apply_logistic(wv, features(test, a.members))):
                 x["p_refit_loeo"] = p
+    refit_all = None
+    if a.refit_all:
+        # The shipped coefficients: every event's forecasts. Scored leave one *event* out over all events, so that no
+        # forecast is scored by coefficients its own earthquake helped fit (SPEC section 10 "Real records").
+        refit_all = fit_logistic(features(rows, a.members), [x["outcome"] for x in rows])
+        summary["refit_all_coefficients"] = refit_all
+        for ev in sorted({x["event"] for x in rows}):
+            train = [x for x in rows if x["event"] != ev]
+            test = [x for x in rows if x["event"] == ev]
+            if not train:
+                continue
+            wv = fit_logistic(features(train, a.members), [x["outcome"] for x in train])
+            for x, p in zip(test, apply_logistic(wv, features(test, a.members))):
+                x["p_refit_all_loeo"] = p
     for st in sets + ["all"]:
         sel = [x for x in rows if st == "all" or x["set"] == st]
         if not sel or not any(x["outcome"] for x in sel):
@@ -339,17 +357,22 @@ def main():
             key = "p_refit_loeo" if st == "fit" else "p_refit"
             if st != "all":
                 entry["refit"] = score([x.get(key, x["p_refit"]) for x in sel], os_)
+        if refit_all and all("p_refit_all_loeo" in x for x in sel):
+            entry["refit_all_loeo"] = score([x["p_refit_all_loeo"] for x in sel], os_)
         summary["sets"][st] = entry
         print(f"## {st} (H = {a.horizon:g} s, {entry['runs']} runs)")
-        for k in ("raw", "calibrated", "refit"):
+        names = {"refit": "refit, leave one event out" if st == "fit" else "refit on fit",
+                 "refit_all_loeo": "refit on every event, scored leaving one event out"}
+        for k in ("raw", "calibrated", "refit", "refit_all_loeo"):
             if k in entry:
-                print(table(k if k != "refit" else ("refit, leave one event out" if st == "fit" else "refit on fit"),
-                            entry[k]))
+                print(table(names.get(k, k), entry[k]))
         print()
     if refit:
         print("refit coefficients (c0..c4):", ",".join("%.4f" % v for v in refit))
+    if refit_all:
+        print("refit-all coefficients (c0..c4):", ",".join("%.4f" % v for v in refit_all))
     with open(os.path.join(a.out, f"forecasts_{tag}.csv"), "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0].keys())[:12] + ["p_refit", "p_refit_loeo"], restval="",
+        w = csv.DictWriter(f, fieldnames=list(rows[0].keys())[:12] + ["p_refit", "p_refit_loeo", "p_refit_all_loeo"], restval="",
                            extrasaction="ignore")
         w.writeheader()
         for x in rows:

@@ -93,13 +93,17 @@ TEST(ForecastCalibration, LogitIsClampedAtHalfAMember) {
   cal.c = {-1.0, 0.5, 2.0, -1.0, 0.0};
   const double z = -1.0 + 0.5 * std::log(0.2 / 0.8) + 2.0 * 0.7 - 1.0 * 0.4;
   DOUBLES_EQUAL(1.0 / (1.0 + std::exp(-z)), sim::calibrated_probability(cal, 0.2, 50, 0.7, 0.4), 1e-12);
-  // The shipped coefficients (3 s and 5 s, none for 4 s): P rises with the ensemble's P and with |x|/x_inst.
+  // The shipped coefficients (3 s and 5 s, none for 4 s): P rises with the ensemble's P, and the state's own features
+  // only correct it (the ensemble carries the state: at the same raw P, |x|/x_inst from 0.1 to 0.8 moves P by less
+  // than 0.1 either way; fitted on all real records the 5 s c3 is slightly negative, SPEC §10).
   CHECK_FALSE(sim::default_forecast_calibration(4.0).has_value());
   for (const double h : {3.0, 5.0}) {
-  const sim::ForecastCalibration d = *sim::default_forecast_calibration(h);
-  DOUBLES_EQUAL(h, d.horizon_s, 0.0);
-  CHECK(sim::calibrated_probability(d, 0.9, 100, 0.5, 0.3) > sim::calibrated_probability(d, 0.1, 100, 0.5, 0.3));
-  CHECK(sim::calibrated_probability(d, 0.5, 100, 0.5, 0.8) > sim::calibrated_probability(d, 0.5, 100, 0.5, 0.1));
+    const sim::ForecastCalibration d = *sim::default_forecast_calibration(h);
+    DOUBLES_EQUAL(h, d.horizon_s, 0.0);
+    CHECK(sim::calibrated_probability(d, 0.9, 100, 0.5, 0.3) > sim::calibrated_probability(d, 0.1, 100, 0.5, 0.3));
+    const double moved =
+        sim::calibrated_probability(d, 0.5, 100, 0.5, 0.8) - sim::calibrated_probability(d, 0.5, 100, 0.5, 0.1);
+    CHECK(std::fabs(moved) < 0.1);
   }
 }
 
