@@ -18,11 +18,16 @@ import struct
 import sys
 
 
+def die(message):
+    print(message, file=sys.stderr)
+    sys.exit(2)
+
+
 def load(path):
     try:
         text = open(path, encoding="utf-8").read()
     except OSError as e:
-        sys.exit(f"arm64_compare: cannot read {path}: {e.strerror} (expected a JSON or JSON-lines file)")
+        die(f"arm64_compare: cannot read {path}: {e.strerror} (expected a JSON or JSON-lines file)")
     try:
         return json.loads(text)
     except json.JSONDecodeError:
@@ -34,9 +39,9 @@ def load(path):
         try:
             docs.append(json.loads(line))
         except json.JSONDecodeError as e:
-            sys.exit(f"arm64_compare: {path} line {n} is not JSON ({e.msg}): expected one JSON document or JSON lines")
+            die(f"arm64_compare: {path} line {n} is not JSON ({e.msg}): expected one JSON document or JSON lines")
     if not docs:
-        sys.exit(f"arm64_compare: {path} is empty: expected one JSON document or JSON lines")
+        die(f"arm64_compare: {path} is empty: expected one JSON document or JSON lines")
     return docs
 
 
@@ -45,11 +50,11 @@ def lcm_log(path):
     try:
         raw = open(path, "rb").read()
     except OSError as e:
-        sys.exit(f"arm64_compare: cannot read {path}: {e.strerror} (expected an LCM log)")
+        die(f"arm64_compare: cannot read {path}: {e.strerror} (expected an LCM log)")
     events, pos = [], 0
     while pos < len(raw):
         if len(raw) - pos < 28 or struct.unpack_from(">I", raw, pos)[0] != 0xEDA1DA01:
-            sys.exit(f"arm64_compare: {path}: no LCM event at byte {pos} (expected an LCM log)")
+            die(f"arm64_compare: {path}: no LCM event at byte {pos} (expected an LCM log)")
         clen, dlen = struct.unpack_from(">ii", raw, pos + 20)
         channel = raw[pos + 28:pos + 28 + clen].decode("utf-8", "replace")
         events.append((channel, raw[pos + 28 + clen:pos + 28 + clen + dlen]))
@@ -95,12 +100,15 @@ def main(argv):
         rest, rel, label = argv[1:], 1e-12, ""
         while len(rest) > 2 and rest[0] in ("--rel", "--label"):
             if rest[0] == "--rel":
-                rel = float(rest[1])
+                try:
+                    rel = float(rest[1])
+                except ValueError:
+                    die(f"arm64_compare: --rel expects a number, got '{rest[1]}'")
             else:
                 label = rest[1]
             rest = rest[2:]
         if len(rest) != 2:
-            sys.exit("usage: arm64_compare.py --lcm-logs [--rel R] [--label NAME] REFERENCE.lcmlog CANDIDATE.lcmlog")
+            die("usage: arm64_compare.py --lcm-logs [--rel R] [--label NAME] REFERENCE.lcmlog CANDIDATE.lcmlog")
         return compare_logs(rest[0], rest[1], rel, label)
     rel, label, files = 1e-12, "", []
     i = 0
@@ -108,12 +116,12 @@ def main(argv):
         a = argv[i]
         if a in ("--rel", "--label"):
             if i + 1 >= len(argv):
-                sys.exit(f"arm64_compare: {a} needs a value")
+                die(f"arm64_compare: {a} needs a value")
             if a == "--rel":
                 try:
                     rel = float(argv[i + 1])
                 except ValueError:
-                    sys.exit(f"arm64_compare: --rel expects a number, got '{argv[i + 1]}'")
+                    die(f"arm64_compare: --rel expects a number, got '{argv[i + 1]}'")
             else:
                 label = argv[i + 1]
             i += 2
@@ -121,7 +129,7 @@ def main(argv):
         files.append(a)
         i += 1
     if len(files) != 2:
-        sys.exit("usage: arm64_compare.py [--rel R] [--label NAME] REFERENCE CANDIDATE")
+        die("usage: arm64_compare.py [--rel R] [--label NAME] REFERENCE CANDIDATE")
     ref, cand = load(files[0]), load(files[1])
     diffs, worst = [], [0.0, ""]
     maxx = {}

@@ -13,6 +13,7 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 if [ $# -lt 1 ] || [ $# -gt 2 ]; then sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; fi
+[ -d "$1" ] || { echo "arm64_monitor_instructions: $1 is not a directory (expected an x86-64 build directory)" >&2; exit 2; }
 x86=$(cd "$1" && pwd)/host_tools/rockwatch
 arm=$(cd "${2:-$root/build/arm64}" 2>/dev/null && pwd)/host_tools/rockwatch-monitor
 [ -x "$x86" ] || { echo "arm64_monitor_instructions: $x86 missing (expected an x86-64 build directory)" >&2; exit 2; }
