@@ -30,7 +30,7 @@ mount -t proc proc "$root/proc"
 (chroot "$root" apt-get update -q && chroot "$root" env DEBIAN_FRONTEND=noninteractive apt-get install -y -q \
   --no-install-recommends $deps) >/dev/null || { umount "$root/proc"; echo "systemd_container_check: installing $deps failed" >&2; exit 1; }
 umount "$root/proc"
-cp "$deb" "$root/root/rockwatch.deb"
+cp "$deb" "$root/var/tmp/rockwatch.deb"
 
 # Boot: systemd as PID 1 of new PID/mount/UTS/IPC/network namespaces, in the chroot.
 boot="$(mktemp)"
@@ -57,7 +57,7 @@ for _ in $(seq 50); do
 done
 [ -n "$pid1" ] || { rm -f "$boot"; echo "systemd_container_check: systemd did not start" >&2; exit 1; }
 trap 'kill -9 "$pid1" 2>/dev/null || true; rm -f "$boot"' EXIT
-inside() { nsenter -t "$pid1" -m -u -i -n -p -r -w /bin/bash -c "cd /root && $*"; }
+inside() { nsenter -t "$pid1" -m -u -i -n -p -r -w /bin/bash -c "cd /var/tmp && $*"; }
 for _ in $(seq 60); do
   state="$(inside systemctl is-system-running 2>/dev/null || true)"
   case "$state" in running|degraded) break ;; esac
