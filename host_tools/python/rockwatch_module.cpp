@@ -53,6 +53,7 @@
 #include "spectrum/spectrum_request.hpp"
 #include "static/static_report.hpp"
 #include "static/static_request.hpp"
+#include "study_module.hpp"
 
 namespace py = pybind11;
 
@@ -727,4 +728,6 @@ PYBIND11_MODULE(rockwatch, m) {
         "of r, wall_out a wall file to write (Wall.from_file reads it), bootstrap N refits whose spread is the "
         "standard error (--bootstrap; a forced test needs it), bootstrap_seed, jobs its threads. Returns identify --json's dict, with the "
         "fitted curve as arrays t_s, measured_m, fitted_m.");
+
+  add_study_module(m);
 }

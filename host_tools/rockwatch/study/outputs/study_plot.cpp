@@ -42,7 +42,7 @@ PlotOutcome plot_study_figures(const StudyRequest& q, const sim::study::StudyPla
 }
 
 PlotOutcome plot_forecast_reliability(const StudyRequest& q, const sim::study::ForecastEvaluationPlan& e,
-                                      const ForecastOutcome& o) {
+                                      const sim::study::ForecastOutcome& o) {
   const std::string png = study_file(q, kForecastReliabilityName);
   std::remove(png.c_str());
   const std::string title = "Reliability: " + std::to_string(o.forecasts) + " forecasts of " + std::to_string(o.runs) +

@@ -9,8 +9,8 @@
 #include "common/plots/python_plot.hpp"
 #include "rockwatch/sim/study/batch_study.hpp"
 #include "study/plan/study_request.hpp"
-#include "study/statistics/study_forecast.hpp"
-#include "study/statistics/study_summary.hpp"
+#include "study/report/study_forecast.hpp"
+#include "study/report/study_summary.hpp"
 
 namespace rockwatch::cli {
 
@@ -26,6 +26,6 @@ PlotOutcome plot_study_figures(const StudyRequest& request, const sim::study::St
 // --forecast: DIR/forecast_reliability.png from DIR/summary.json's "forecast" (written already) by the embedded
 // host_tools/plots/forecast_reliability.py; an old one is removed first.
 PlotOutcome plot_forecast_reliability(const StudyRequest& request, const sim::study::ForecastEvaluationPlan& evaluation,
-                                      const ForecastOutcome& outcome);
+                                      const sim::study::ForecastOutcome& outcome);
 
 }  // namespace rockwatch::cli

@@ -46,7 +46,7 @@ struct StudyRequest {
   bool dt_check = false;
   bool observer = false;                    // --observer: the wall observer's evaluation (with --alarms)
   core::ObserverOptions observer_options;   // --observer-*
-  // --forecast: the ensemble forecast's evaluation (issue 29 item 4; study/statistics/study_forecast.hpp).
+  // --forecast: the ensemble forecast's evaluation (issue 29 item 4; study/report/study_forecast.hpp).
   std::optional<sim::study::ForecastEvaluationPlan> forecast;
   bool plots = false;
   bool resume = false;

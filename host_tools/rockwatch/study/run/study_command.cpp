@@ -31,9 +31,9 @@
 #include "study/outputs/study_runs_csv.hpp"
 #include "study/scale/study_scaled.hpp"
 #include "study/outputs/study_state.hpp"
-#include "study/statistics/study_forecast.hpp"
-#include "study/statistics/study_summary.hpp"
-#include "study/statistics/study_table3.hpp"
+#include "study/report/study_forecast.hpp"
+#include "study/report/study_summary.hpp"
+#include "study/report/study_table3.hpp"
 
 namespace rockwatch::cli {
 
@@ -122,7 +122,7 @@ int run(const StudyRequest& q) {
   }
 
   // --observer: the evaluation after the study (not checkpointed: --resume runs it again).
-  std::optional<ObserverOutcome> observed;
+  std::optional<sim::study::ObserverOutcome> observed;
   std::vector<study::ObserverRunResult> observer_results;
   if (evaluation) {
     const std::size_t runs = study::observer_run_count(plan, *evaluation);
@@ -137,11 +137,11 @@ int run(const StudyRequest& q) {
     std::size_t done = 0;
     for (const study::ObserverRunResult& r : observer_results) done += r.done ? 1 : 0;
     if (done < runs) return interrupted(q, plan, plan_description, results, interrupt.signal_number());
-    observed = observer_outcome(plan, *evaluation, observer_results);
+    observed = sim::study::observer_outcome(plan, *evaluation, observer_results);
   }
 
   // --forecast: the ensemble forecast's evaluation (not checkpointed either).
-  std::optional<ForecastOutcome> forecasted;
+  std::optional<sim::study::ForecastOutcome> forecasted;
   std::vector<study::ForecastRunResult> forecast_results;
   if (q.forecast) {
     const std::size_t runs = study::forecast_run_count(plan);
@@ -156,7 +156,7 @@ int run(const StudyRequest& q) {
     std::size_t done = 0;
     for (const study::ForecastRunResult& r : forecast_results) done += r.done ? 1 : 0;
     if (done < runs) return interrupted(q, plan, plan_description, results, interrupt.signal_number());
-    forecasted = forecast_outcome(plan, forecast_results, q.forecast->settings.members);
+    forecasted = sim::study::forecast_outcome(plan, forecast_results, q.forecast->settings.members);
   }
 
   const StudyOutcome outcome = summarise_study(plan, results, capacities);

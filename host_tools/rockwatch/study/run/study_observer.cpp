@@ -11,6 +11,7 @@
 #include "rockwatch/core/restitution.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "common/process/options_namespace.hpp"
+#include "study/report/study_summary.hpp"
 #include "study/plan/study_plan.hpp"
 
 namespace rockwatch::cli {
@@ -19,85 +20,12 @@ namespace {
 
 namespace study = sim::study;
 
-Spread spread_of(std::vector<double> values) {
-  Spread s;
-  std::sort(values.begin(), values.end());
-  s.n = values.size();
-  s.median = quantile_type7(values, 0.5);
-  s.p95 = quantile_type7(values, 0.95);
-  if (!values.empty()) s.max = values.back();
-  return s;
-}
-
-// The run as the study's alarm scores take it: the TRUE wall's verdict and collapse time, a nominal run's first
-// IMMINENT.
-study::RunResult as_alarm_run(const study::ObserverRunResult& r, const std::optional<double>& t_first_imminent_s) {
-  study::RunResult a;
-  a.done = true;
-  a.collapsed = r.true_collapsed;
-  a.t_collapse_s = r.true_t_collapse_s;
-  a.t_first_imminent_s = t_first_imminent_s;
-  return a;
-}
-
-ObserverScore score(const std::vector<const study::ObserverRunResult*>& runs, int r_after_impacts) {
-  ObserverScore s;
-  std::vector<study::RunResult> open, fused;
-  std::vector<double> fused_x, open_x, r_after, r_final, x_inst_after, r_after_true, x_inst_after_true;
-  for (const study::ObserverRunResult* r : runs) {
-    if (!r->error.empty()) {
-      ++s.runs_with_error;
-      continue;
-    }
-    ++s.runs;
-    open.push_back(as_alarm_run(*r, r->open_t_first_imminent_s));
-    fused.push_back(as_alarm_run(*r, r->fused_t_first_imminent_s));
-    if (r->fused_x_rms_error_m) {
-      const double ratio = *r->fused_x_rms_error_m / r->true_x_inst_m;
-      fused_x.push_back(ratio);
-      if (ratio <= 0.02) ++s.fused_x_within_2_percent;
-    }
-    if (r->open_x_rms_error_m) open_x.push_back(*r->open_x_rms_error_m / r->true_x_inst_m);
-    if (r->r_estimate_after_impacts && r->fused_impacts >= r_after_impacts) {
-      const double e = std::fabs(*r->r_estimate_after_impacts - r->true_r);
-      r_after.push_back(e);
-      r_final.push_back(std::fabs(r->r_estimate - r->true_r));
-      if (e <= 0.02) ++s.r_within_0_02;
-      if (r->x_inst_estimate_after_impacts_m && r->true_x_inst_m > 0.0) {
-        const double ex = std::fabs(*r->x_inst_estimate_after_impacts_m - r->true_x_inst_m) / r->true_x_inst_m;
-        x_inst_after.push_back(ex);
-        if (ex <= 0.03) ++s.x_inst_within_3_percent;
-      }
-    }
-    if (r->r_estimate_after_true_impacts && r->x_inst_estimate_after_true_impacts_m && r->true_x_inst_m > 0.0) {
-      const double e = std::fabs(*r->r_estimate_after_true_impacts - r->true_r);
-      const double ex = std::fabs(*r->x_inst_estimate_after_true_impacts_m - r->true_x_inst_m) / r->true_x_inst_m;
-      r_after_true.push_back(e);
-      x_inst_after_true.push_back(ex);
-      if (e <= 0.02) ++s.r_within_0_02_after_true_impacts;
-      if (ex <= 0.03) ++s.x_inst_within_3_percent_after_true_impacts;
-    }
-    if (r->n_reinitialised > 0) ++s.runs_reinitialised;
-    if (r->steps_sensor_lost > 0) ++s.runs_sensor_lost;
-  }
-  s.open_loop = alarm_outcome(open);
-  s.fused = alarm_outcome(fused);
-  s.fused_x_rms_over_x_inst = spread_of(fused_x);
-  s.open_x_rms_over_x_inst = spread_of(open_x);
-  s.r_error_after_impacts = spread_of(r_after);
-  s.r_error_final = spread_of(r_final);
-  s.x_inst_error_after_impacts = spread_of(x_inst_after);
-  s.r_error_after_true_impacts = spread_of(r_after_true);
-  s.x_inst_error_after_true_impacts = spread_of(x_inst_after_true);
-  return s;
-}
-
-nlohmann::ordered_json spread_json(const Spread& s) {
+nlohmann::ordered_json spread_json(const study::Spread& s) {
   return {{"median", number_or_null(s.median)}, {"p95", number_or_null(s.p95)}, {"max", number_or_null(s.max)},
           {"runs", s.n}};
 }
 
-nlohmann::ordered_json score_json(const ObserverScore& s) {
+nlohmann::ordered_json score_json(const study::ObserverScore& s) {
   nlohmann::ordered_json j;
   j["runs"] = s.runs;
   j["runs_with_error"] = s.runs_with_error;
@@ -158,7 +86,7 @@ std::string csv_text(const std::string& text) {
 std::string opt3(const std::optional<double>& v) { return v ? format("%.3f", *v) : std::string("-"); }
 std::string opt4(const std::optional<double>& v) { return v ? format("%.4f", *v) : std::string("-"); }
 
-std::string alarm_line(const AlarmOutcome& a) {
+std::string alarm_line(const study::AlarmOutcome& a) {
   return format("recall %s (%zu/%zu), false alarms %s (%zu/%zu), lead median %s s, p05 %s s",
                 probability_text(a.recall).c_str(), a.collapsed_flagged, a.collapsed,
                 probability_text(a.false_alarm_rate).c_str(), a.survivors_flagged, a.survivors,
@@ -214,23 +142,8 @@ nlohmann::ordered_json observer_plan_json(const study::ObserverEvaluationPlan& e
   return j;
 }
 
-ObserverOutcome observer_outcome(const study::StudyPlan& plan, const study::ObserverEvaluationPlan& evaluation,
-                                 const std::vector<study::ObserverRunResult>& results) {
-  ObserverOutcome o;
-  std::vector<const study::ObserverRunResult*> all;
-  std::vector<std::vector<const study::ObserverRunResult*>> per_case(evaluation.cases.size());
-  for (std::size_t i = 0; i < results.size(); ++i) {
-    if (!results[i].done) continue;
-    all.push_back(&results[i]);
-    per_case[study::observer_run_key(plan, evaluation, i).case_index].push_back(&results[i]);
-  }
-  o.all = score(all, evaluation.r_after_impacts);
-  for (const auto& runs : per_case) o.per_case.push_back(score(runs, evaluation.r_after_impacts));
-  return o;
-}
-
 nlohmann::ordered_json observer_summary_json(const study::ObserverEvaluationPlan& evaluation,
-                                             const ObserverOutcome& outcome) {
+                                             const study::ObserverOutcome& outcome) {
   nlohmann::ordered_json j = score_json(outcome.all);
   nlohmann::ordered_json per_case = nlohmann::ordered_json::array();
   for (std::size_t i = 0; i < evaluation.cases.size(); ++i) {
@@ -301,9 +214,9 @@ void write_observer_runs_csv(std::ostream& out, const study::StudyPlan& plan,
   }
 }
 
-std::string observer_summary_text(const study::ObserverEvaluationPlan& evaluation, const ObserverOutcome& outcome) {
+std::string observer_summary_text(const study::ObserverEvaluationPlan& evaluation, const study::ObserverOutcome& outcome) {
   std::string out;
-  const ObserverScore& s = outcome.all;
+  const study::ObserverScore& s = outcome.all;
   const sim::SensorModel& sensors = evaluation.sensors;
   out += format("\nWall observer evaluation: %zu runs (%zu mismatch cases), scored against the true wall's verdict\n",
                 s.runs + s.runs_with_error, evaluation.cases.size());
@@ -329,7 +242,7 @@ std::string observer_summary_text(const study::ObserverEvaluationPlan& evaluatio
               opt4(s.r_error_after_true_impacts.median).c_str(), s.r_within_0_02_after_true_impacts));
   if (s.runs_with_error > 0) line(out, "refused runs", format("%zu (no scores)", s.runs_with_error));
   for (std::size_t i = 0; i < evaluation.cases.size(); ++i) {
-    const ObserverScore& c = outcome.per_case[i];
+    const study::ObserverScore& c = outcome.per_case[i];
     line(out, evaluation.cases[i].name.c_str(),
          format("open loop recall %s FA %s; fused recall %s FA %s lead %s s; x err %s; |r err| %s; x_inst err %s "
                 "(after the true wall's impacts %s)",

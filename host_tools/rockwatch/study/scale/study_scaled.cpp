@@ -32,8 +32,9 @@
 #include "study/run/study_progress.hpp"
 #include "study/outputs/study_runs_csv.hpp"
 #include "study/outputs/study_state.hpp"
-#include "study/statistics/study_summary.hpp"
-#include "study/statistics/study_table3.hpp"
+#include "rockwatch/sim/study/quantile.hpp"
+#include "study/report/study_summary.hpp"
+#include "study/report/study_table3.hpp"
 
 namespace rockwatch::cli {
 
@@ -159,7 +160,7 @@ std::string portfolio_text(const ScaledStudy& s, const std::vector<StudyOutcome>
       text += "undetermined for every wall";
     } else {
       text += format("%.3f to %.3f g (median over walls %.3f g)", medians.front(), medians.back(),
-                     *quantile_type7(medians, 0.5));
+                     *study::quantile_type7(medians, 0.5));
       if (undetermined > 0) text += format(", undetermined for %zu", undetermined);
     }
     text += format("; P(collapse) > 0.1 at the NTC 2008 capacity: %zu walls, at NZSEE 2016: %zu", over_ntc, over_nzsee);

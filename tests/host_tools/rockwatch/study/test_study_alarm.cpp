@@ -25,8 +25,10 @@
 #include "rockwatch/records/record.hpp"
 #include "rockwatch/sim/analysis.hpp"
 #include "rockwatch/sim/study/batch_study.hpp"
+#include "rockwatch/sim/study/engine_comparison.hpp"
+#include "rockwatch/sim/study/quantile.hpp"
 #include "study/outputs/study_runs_csv.hpp"
-#include "study/statistics/study_summary.hpp"
+#include "study/report/study_summary.hpp"
 
 #include "cli_expect.hpp"  // brings in CppUTest, after every standard header
 
@@ -149,8 +151,8 @@ TEST(StudyAlarm, SummaryScoresTheAlarmAsRunsCsvSays) {
   CHECK_TRUE(p05 > 0.0 && p05 <= median);
   CHECK_TRUE(median < 30.0);  // the records are 20 s long
   std::sort(leads.begin(), leads.end());
-  DOUBLES_EQUAL(*cli::quantile_type7(leads, 0.5), median, 1e-12);
-  DOUBLES_EQUAL(*cli::quantile_type7(leads, 0.05), p05, 1e-12);
+  DOUBLES_EQUAL(*study::quantile_type7(leads, 0.5), median, 1e-12);
+  DOUBLES_EQUAL(*study::quantile_type7(leads, 0.05), p05, 1e-12);
   DOUBLES_EQUAL(1.5, a["settings"]["energy_margin"].get<double>(), 0.0);
   STRCMP_EQUAL("double", summary["plan"]["arithmetic"].get<std::string>().c_str());
   DOUBLES_EQUAL(0.4, summary["plan"]["alarm"]["lambda_warning"].get<double>(), 0.0);
@@ -361,57 +363,7 @@ TEST_GROUP(StudyAlarmArithmetic) {
   }
 };
 
-TEST(StudyAlarmArithmetic, QuantileIsLinearBetweenOrderStatistics) {
-  CHECK_FALSE(cli::quantile_type7({}, 0.5).has_value());
-  DOUBLES_EQUAL(3.0, *cli::quantile_type7({3.0}, 0.05), 0.0);
-  const std::vector<double> v{1.0, 2.0, 4.0, 8.0, 16.0};
-  DOUBLES_EQUAL(4.0, *cli::quantile_type7(v, 0.5), 0.0);
-  DOUBLES_EQUAL(1.2, *cli::quantile_type7(v, 0.05), 1e-15);  // h = 0.2: 1 + 0.2 (2 − 1)
-  DOUBLES_EQUAL(16.0, *cli::quantile_type7(v, 1.0), 0.0);
-  DOUBLES_EQUAL(1.0, *cli::quantile_type7(v, 0.0), 0.0);
-  DOUBLES_EQUAL(3.0, *cli::quantile_type7({2.0, 4.0}, 0.5), 0.0);
-}
-
-TEST(StudyAlarmArithmetic, RecallFalseAlarmsAndLeadTimes) {
-  std::vector<study::RunResult> results(6);
-  for (study::RunResult& r : results) r.done = true;
-  // Collapses: flagged 2 s ahead, flagged 0.5 s ahead, flagged only at the collapse (not in time).
-  results[0].collapsed = true;
-  results[0].t_collapse_s = 5.0;
-  results[0].t_first_imminent_s = 3.0;
-  results[1].collapsed = true;
-  results[1].t_collapse_s = 4.0;
-  results[1].t_first_imminent_s = 3.5;
-  results[2].collapsed = true;
-  results[2].t_collapse_s = 6.0;
-  results[2].t_first_imminent_s = 6.0;
-  // Survivors: one flagged, one not; and a run the engine refused (left out).
-  results[3].t_first_imminent_s = 2.0;
-  results[5].error = "G <= 0";
-  const cli::AlarmOutcome a = cli::alarm_outcome(results);
-  LONGS_EQUAL(5, a.runs);
-  LONGS_EQUAL(3, a.collapsed);
-  LONGS_EQUAL(2, a.collapsed_flagged);
-  LONGS_EQUAL(2, a.survivors);
-  LONGS_EQUAL(1, a.survivors_flagged);
-  DOUBLES_EQUAL(2.0 / 3.0, *a.recall, 1e-15);
-  DOUBLES_EQUAL(0.5, *a.false_alarm_rate, 0.0);
-  DOUBLES_EQUAL(1.25, *a.lead_time_s_median, 1e-15);
-  DOUBLES_EQUAL(0.5 + 0.05 * 1.5, *a.lead_time_s_p05, 1e-15);
-  DOUBLES_EQUAL(0.5, *a.lead_time_s_min, 0.0);
-
-  // In a fixed-point study the verdict of record is the double engine's.
-  results[3].reference = study::DoubleReference{true, 2.5, 0.3, 1.0};
-  const cli::AlarmOutcome f = cli::alarm_outcome(results);
-  LONGS_EQUAL(4, f.collapsed);
-  LONGS_EQUAL(3, f.collapsed_flagged);
-  LONGS_EQUAL(1, f.survivors);
-  DOUBLES_EQUAL(0.0, *f.false_alarm_rate, 0.0);
-
-  const cli::AlarmOutcome none = cli::alarm_outcome(std::vector<study::RunResult>(2, study::RunResult{}));
-  LONGS_EQUAL(0, none.runs);
-  CHECK_FALSE(none.recall.has_value() || none.false_alarm_rate.has_value() || none.lead_time_s_median.has_value());
-}
+// The quantile and the alarm scores themselves: tests/sim/test_study_statistics.cpp.
 
 TEST(StudyAlarmArithmetic, FixedAgainstDouble) {
   plan.analysis.arithmetic = sim::Arithmetic::fixed_point;
@@ -444,7 +396,7 @@ TEST(StudyAlarmArithmetic, FixedAgainstDouble) {
   results[4].collapsed_reference = false;
   // 5: refused.
   results[5].error = "out of range";
-  const cli::FixedComparison f = cli::fixed_comparison(plan, results);
+  const study::FixedComparison f = study::fixed_comparison(plan, results);
   LONGS_EQUAL(5, f.runs_compared);
   LONGS_EQUAL(3, f.verdicts_same);
   LONGS_EQUAL(2, f.verdict_flips.size());

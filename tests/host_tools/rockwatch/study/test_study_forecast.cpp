@@ -17,7 +17,7 @@
 #include "rockwatch/sim/study/batch_study.hpp"
 #include "rockwatch/sim/forecast_calibration.hpp"
 #include "rockwatch/sim/study/forecast_evaluation.hpp"
-#include "study/statistics/study_forecast.hpp"
+#include "study/report/study_forecast.hpp"
 
 #include "cli_expect.hpp"  // brings in CppUTest, after every standard header
 
@@ -247,7 +247,7 @@ TEST(StudyForecast, LeadThresholdsAreChosenWithoutTheRecordScored) {
   runs[3].collapsed = true;
   runs[3].t_collapse_s = 4.0;
   runs[3].points = {point(1.0, 0.4, false, 0.2, 0.3), point(3.0, 0.8, true, 1.2, 0.8)};
-  const cli::ForecastOutcome o = cli::forecast_outcome(plan, runs);
+  const study::ForecastOutcome o = study::forecast_outcome(plan, runs);
   LONGS_EQUAL(2, static_cast<long>(o.groups));
   LONGS_EQUAL(8, static_cast<long>(o.forecasts));
   DOUBLES_EQUAL(2.0 / 8.0, *o.base_rate, 1e-15);
@@ -333,8 +333,8 @@ TEST(StudyForecast, CalibrationNeverSeesTheRecordScored) {
     return runs;
   };
   const std::vector<study::ForecastRunResult> runs = make_runs(-1);
-  const cli::ForecastOutcome o = cli::forecast_outcome(plan, runs, 100);
-  const cli::CalibratedForecast& c = o.calibrated_forecast;
+  const study::ForecastOutcome o = study::forecast_outcome(plan, runs, 100);
+  const study::CalibratedForecast& c = o.calibrated_forecast;
   CHECK(c.fitted);
   LONGS_EQUAL(3, static_cast<long>(c.folds));
   LONGS_EQUAL(240, static_cast<long>(c.p.size()));
@@ -344,7 +344,7 @@ TEST(StudyForecast, CalibrationNeverSeesTheRecordScored) {
   for (int g = 0; g < 3; ++g) {
     const std::string fold = "fold of record " + std::to_string(g);
     // g's outcomes flipped: g's calibrated P unchanged to the bit, the other records' changed.
-    const cli::ForecastOutcome f = cli::forecast_outcome(plan, make_runs(g), 100);
+    const study::ForecastOutcome f = study::forecast_outcome(plan, make_runs(g), 100);
     std::size_t changed = 0;
     for (std::size_t i = 0; i < 240; ++i) {
       if (i / 80 == std::size_t(g)) {
@@ -385,7 +385,7 @@ TEST(StudyForecast, CalibrationNeverSeesTheRecordScored) {
   }
   DOUBLES_EQUAL(brier / 240.0, *c.brier, 1e-12);
   std::size_t binned = 0;
-  for (const cli::ReliabilityBin& b : c.bins) binned += b.n;
+  for (const study::ReliabilityBin& b : c.bins) binned += b.n;
   LONGS_EQUAL(240, static_cast<long>(binned));
   LONGS_EQUAL(5, static_cast<long>(c.coefficients_all_records.size()));
 }

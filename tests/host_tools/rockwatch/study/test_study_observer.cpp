@@ -153,7 +153,7 @@ TEST(StudyObserver, ScoringUsesTheTrueVerdictAndTheStudysAlarmDefinitions) {
   results[1].fused_x_rms_error_m = 0.003;
   results[1].fused_impacts = 3;  // fewer than 5: no r score
   results[1].r_estimate_after_impacts = 0.5;
-  const cli::ObserverOutcome o = cli::observer_outcome(plan, evaluation, results);
+  const study::ObserverOutcome o = study::observer_outcome(plan, evaluation, results);
   DOUBLES_EQUAL(0.0, *o.all.open_loop.recall, 0.0);
   DOUBLES_EQUAL(1.0, *o.all.open_loop.false_alarm_rate, 0.0);
   DOUBLES_EQUAL(1.0, *o.all.fused.recall, 0.0);

@@ -1,33 +1,31 @@
-// `rockwatch study --forecast` (issue 29 item 4): is the ensemble forecast right? The forecasts of
-// sim::study::run_forecast_evaluation scored against what their runs did, every fitted figure chosen without the
-// record it is applied to (leave one record out: the records of the other groups fit it; a group is the record's
-// name, so a suite set's X and Y, the same earthquake, are left out together):
+// Is the ensemble forecast right? The forecasts of run_forecast_evaluation (`rockwatch study --forecast`, issue 29
+// item 4) scored against what their runs did, every fitted figure chosen without the record it is applied to (leave
+// one record out: the records of the other groups fit it; a group is the record's name, so a suite set's X and Y, the
+// same earthquake, are left out together):
 //   reliability   10 bins of P; observed frequency against the mean forecast; calibrated when |observed − mean P|
 //                 ≤ 0.1 in every bin holding ≥ 30 forecasts;
 //   Brier         mean (P − outcome)²; skill 1 − Brier/Brier(base rate), the base rate the sample's;
-//   baseline      a logistic regression on (max E/E_barrier over the last 2 s, |x|/x_inst), fitted leave one record
-//                 out on the same forecasts (its in-sample skill beside, for reference);
+//   baseline      a logistic regression (fit_logistic) on (max E/E_barrier over the last 2 s, |x|/x_inst), fitted
+//                 leave one record out on the same forecasts (its in-sample skill beside, for reference);
 //   lead          a threshold p* chosen (leave one record out) so that at most 5 % of the other records' surviving
 //                 runs ever reach it; then, on the record left out: survivors that reach it (false alarms),
 //                 collapses that reach it before they collapse and how long before (lead); also p* chosen at the
 //                 IMMINENT alarm's false-alarm rate on the other records; against IMMINENT's own lead and false
 //                 alarms (no fitted parameter).
 // The ensemble itself is fitted to nothing here; its defaults were chosen on sets 1-3 of the shipped suite (SPEC
-// §10): study --sets 4-11 keeps them apart too.
+// §10): study --sets 4-11 keeps them apart too. The CLI (host_tools/rockwatch/study/report/study_forecast.*)
+// writes these figures as summary.json's "forecast", forecast.csv and the text report.
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <optional>
-#include <ostream>
-#include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "rockwatch/sim/study/batch_study.hpp"
 #include "rockwatch/sim/study/forecast_evaluation.hpp"
 
-namespace rockwatch::cli {
+namespace rockwatch::sim::study {
 
 inline constexpr double kCalibrationTolerance = 0.1;       // |observed − mean P| in a bin
 inline constexpr std::size_t kCalibrationMinForecasts = 30;  // bins with fewer are not judged
@@ -53,8 +51,8 @@ struct LeadScore {
   std::size_t folds_without_threshold = 0;           // folds where no p* ≤ 1 met the limit: nothing flagged
 };
 
-// The ensemble's P recalibrated (SPEC §10 "Calibrated P", sim::ForecastCalibration): a logistic regression on
-// (1, logit of the clamped P, max E/E_barrier over 2 s, |x|/x_inst, logit × min(max E/E_barrier, 2)), fitted
+// The ensemble's P recalibrated (SPEC §10 "Calibrated P", sim::ForecastCalibration): a logistic regression
+// (fit_logistic_regression) on (1, logit of the clamped P, max E/E_barrier over 2 s, |x|/x_inst, logit × min(max E/E_barrier, 2)), fitted
 // leave one record out (the folds of the baseline), scored as the raw P is.
 struct CalibratedForecast {
   bool fitted = false;                               // two or more record groups
@@ -92,25 +90,20 @@ struct ForecastOutcome {
 };
 
 // members: the ensemble's N (the clamp of logit P in the recalibration).
-ForecastOutcome forecast_outcome(const sim::study::StudyPlan& plan,
-                                 const std::vector<sim::study::ForecastRunResult>& results, int members = 100);
+ForecastOutcome forecast_outcome(const StudyPlan& plan, const std::vector<ForecastRunResult>& results,
+                                 int members = 100);
 
-// summary.json's "forecast": definitions, settings, held_out, counts, brier, reliability, calibration, baseline,
-// lead {ensemble_5_percent, baseline_5_percent, imminent, ensemble_at_imminent_false_alarms,
-// baseline_at_imminent_false_alarms}, goals.
-nlohmann::ordered_json forecast_summary_json(const sim::study::ForecastEvaluationPlan& evaluation,
-                                             const ForecastOutcome& outcome);
+// Mean (p[i] − outcome[i])² over the forecasts (NaN when there are none).
+double brier_score(const std::vector<double>& p, const std::vector<std::uint8_t>& outcome);
 
-// Everything that decides the evaluation's results (study.json's digest with --forecast).
-nlohmann::ordered_json forecast_plan_json(const sim::study::ForecastEvaluationPlan& evaluation);
+// Reliability of the forecasts p[i] against their outcomes: bins of width 0.1 ([lo, hi), the last closed), the empty
+// ones left out; `judged` counts the bins with at least kCalibrationMinForecasts forecasts and `max_error` is their
+// largest |observed − mean P| (none when no bin is judged).
+std::vector<ReliabilityBin> reliability_bins(const std::vector<double>& p, const std::vector<std::uint8_t>& outcome,
+                                             std::size_t& judged, std::optional<double>& max_error);
 
-// forecast.csv: one row per forecast: run, record, component, r, pga_g, t_s, p_collapse, p_collapse_se,
-// q50_max_x_over_x_inst, q90_max_x_over_x_inst, energy_ratio_max_2s, x_over_x_inst, imminent, outcome, baseline_p
-// (leave one record out; empty without), collapsed, t_collapse_s, p_calibrated (leave one record out; empty without).
-void write_forecast_csv(std::ostream& out, const sim::study::StudyPlan& plan,
-                        const std::vector<sim::study::ForecastRunResult>& results, const ForecastOutcome& outcome);
+// The smallest p* on a 0.01 grid in (0, 1] reached (≥ p* − 1e-12) by at most `allowed` of the survivors' largest P;
+// none when even 1.0 is reached by more.
+std::optional<double> threshold_for(const std::vector<double>& survivor_maxima, std::size_t allowed);
 
-std::string forecast_summary_text(const sim::study::ForecastEvaluationPlan& evaluation,
-                                  const ForecastOutcome& outcome);
-
-}  // namespace rockwatch::cli
+}  // namespace rockwatch::sim::study

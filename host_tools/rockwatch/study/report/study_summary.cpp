@@ -1,4 +1,4 @@
-#include "study/statistics/study_summary.hpp"
+#include "study/report/study_summary.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -96,7 +96,7 @@ nlohmann::ordered_json runs_json(const std::vector<std::size_t>& runs) {
   return j;
 }
 
-nlohmann::ordered_json alarm_json(const study::StudyPlan& plan, const AlarmOutcome& a) {
+nlohmann::ordered_json alarm_json(const study::StudyPlan& plan, const study::AlarmOutcome& a) {
   const core::AlarmSettings& s = plan.analysis.alarm;
   nlohmann::ordered_json j = alarm_score_json(a);
   j["settings"] = {{"lambda_warning", s.lambda_warning}, {"hold_s", s.hold_s}, {"energy_margin", s.energy_margin}};
@@ -110,7 +110,7 @@ nlohmann::ordered_json alarm_json(const study::StudyPlan& plan, const AlarmOutco
   return j;
 }
 
-nlohmann::ordered_json fixed_json(const study::StudyPlan& plan, const FixedComparison& f) {
+nlohmann::ordered_json fixed_json(const study::StudyPlan& plan, const study::FixedComparison& f) {
   nlohmann::ordered_json j;
   j["runs_compared"] = f.runs_compared;
   j["verdicts_same"] = f.verdicts_same;
@@ -203,79 +203,7 @@ std::string run_text(const study::StudyPlan& plan, std::size_t index) {
   return text;
 }
 
-std::optional<double> quantile_type7(const std::vector<double>& ascending, double p) {
-  if (ascending.empty()) return std::nullopt;
-  const double h = static_cast<double>(ascending.size() - 1) * p;
-  const auto lo = static_cast<std::size_t>(std::floor(h));
-  const std::size_t hi = std::min(lo + 1, ascending.size() - 1);
-  return ascending[lo] + (h - static_cast<double>(lo)) * (ascending[hi] - ascending[lo]);
-}
-
-AlarmOutcome alarm_outcome(const std::vector<study::RunResult>& results) {
-  AlarmOutcome a;
-  for (const study::RunResult& r : results) {
-    if (!r.done || !r.error.empty()) continue;
-    ++a.runs;
-    if (study::double_collapsed(r)) {
-      ++a.collapsed;
-      const std::optional<double> t_collapse = study::double_t_collapse_s(r);
-      if (r.t_first_imminent_s && t_collapse && *r.t_first_imminent_s < *t_collapse) {
-        ++a.collapsed_flagged;
-        a.lead_times_s.push_back(*t_collapse - *r.t_first_imminent_s);
-      }
-    } else {
-      ++a.survivors;
-      if (r.t_first_imminent_s) ++a.survivors_flagged;
-    }
-  }
-  if (a.collapsed > 0) a.recall = double(a.collapsed_flagged) / double(a.collapsed);
-  if (a.survivors > 0) a.false_alarm_rate = double(a.survivors_flagged) / double(a.survivors);
-  std::sort(a.lead_times_s.begin(), a.lead_times_s.end());
-  a.lead_time_s_median = quantile_type7(a.lead_times_s, 0.5);
-  a.lead_time_s_p05 = quantile_type7(a.lead_times_s, 0.05);
-  if (!a.lead_times_s.empty()) a.lead_time_s_min = a.lead_times_s.front();
-  return a;
-}
-
-PublishedAlarm published_alarm(const std::vector<study::RunResult>& results) {
-  PublishedAlarm p;
-  std::vector<double> lead;
-  for (const study::RunResult& r : results) {
-    if (!r.done || !r.error.empty()) continue;
-    if (r.max_late_samples > 0) ++p.runs_late;
-    p.max_late_samples = std::max(p.max_late_samples, r.max_late_samples);
-    p.shed_samples += r.shed_samples;
-    p.overrun_calls += r.overrun_calls;
-    if (r.overrun_calls > 0) ++p.runs_overrun;
-    p.max_call_units = std::max(p.max_call_units, r.max_call_units);
-    if (r.t_first_imminent_s && r.t_first_imminent_published_s) {
-      const double delay = *r.t_first_imminent_published_s - *r.t_first_imminent_s;
-      if (!p.imminent_delay_s_max || delay > *p.imminent_delay_s_max) p.imminent_delay_s_max = delay;
-    }
-    if (!study::double_collapsed(r)) {
-      ++p.survivors;
-      if (r.t_first_imminent_published_s) ++p.survivors_flagged;
-      continue;
-    }
-    ++p.collapsed;
-    const std::optional<double> t_collapse = study::double_t_collapse_s(r);
-    if (r.t_first_imminent_published_s && t_collapse && *r.t_first_imminent_published_s < *t_collapse) {
-      ++p.collapsed_flagged;
-      lead.push_back(*t_collapse - *r.t_first_imminent_published_s);
-    }
-  }
-  for (const study::RunResult& r : results) {
-    if (r.done && r.error.empty() && r.imminent_late_samples > 0) ++p.runs_imminent_delayed;
-  }
-  if (p.collapsed > 0) p.recall = double(p.collapsed_flagged) / double(p.collapsed);
-  if (p.survivors > 0) p.false_alarm_rate = double(p.survivors_flagged) / double(p.survivors);
-  std::sort(lead.begin(), lead.end());
-  p.lead_time_s_median = quantile_type7(lead, 0.5);
-  if (!lead.empty()) p.lead_time_s_min = lead.front();
-  return p;
-}
-
-nlohmann::ordered_json published_json(const PublishedAlarm& p) {
+nlohmann::ordered_json published_json(const study::PublishedAlarm& p) {
   nlohmann::ordered_json j;
   j["work_budget_units"] = p.work_budget_units;
   j["recall"] = number_or_null(p.recall);
@@ -307,7 +235,7 @@ nlohmann::ordered_json published_json(const PublishedAlarm& p) {
   return j;
 }
 
-nlohmann::ordered_json alarm_score_json(const AlarmOutcome& a) {
+nlohmann::ordered_json alarm_score_json(const study::AlarmOutcome& a) {
   nlohmann::ordered_json j;
   j["recall"] = number_or_null(a.recall);
   j["false_alarm_rate"] = number_or_null(a.false_alarm_rate);
@@ -320,40 +248,6 @@ nlohmann::ordered_json alarm_score_json(const AlarmOutcome& a) {
                  {"survivors", a.survivors},
                  {"survivors_flagged", a.survivors_flagged}};
   return j;
-}
-
-FixedComparison fixed_comparison(const study::StudyPlan& plan, const std::vector<study::RunResult>& results) {
-  FixedComparison f;
-  for (std::size_t index = 0; index < results.size(); ++index) {
-    const study::RunResult& r = results[index];
-    if (!r.done || !r.error.empty() || !r.reference) continue;
-    const study::DoubleReference& d = *r.reference;
-    ++f.runs_compared;
-    f.runs_saturated += r.saturated ? 1U : 0U;
-    if (r.collapsed == d.collapsed) {
-      ++f.verdicts_same;
-    } else {
-      f.verdict_flips.push_back(index);
-      if (r.collapsed_reference && *r.collapsed_reference != d.collapsed) f.flips_also_at_reference.push_back(index);
-    }
-    if (!r.collapsed && !d.collapsed) {
-      const double diff = std::fabs(r.max_abs_x_m - d.max_abs_x_m);
-      f.max_abs_x_diff_m_max = std::max(f.max_abs_x_diff_m_max.value_or(0.0), diff);
-      ++f.survivors_compared;
-      if (diff <= 5e-4) ++f.survivors_within_half_mm;
-    }
-    if (r.t_first_imminent_s && d.t_first_imminent_s) {
-      // The alarm runs once per record sample: both times are sample ends (a collapse point only when IMMINENT comes
-      // with the collapse), a whole number of samples apart.
-      const double h = plan.records[study::run_key(plan, index).record_index].dt_s;
-      const auto steps =
-          static_cast<std::size_t>(std::llround(std::fabs(*r.t_first_imminent_s - *d.t_first_imminent_s) / h));
-      f.first_imminent_diff_samples_max = std::max(f.first_imminent_diff_samples_max.value_or(0), steps);
-      ++f.imminent_compared;
-      if (steps <= 1) ++f.imminent_within_one_step;
-    }
-  }
-  return f;
 }
 
 StudyOutcome summarise_study(const study::StudyPlan& plan, const std::vector<study::RunResult>& results,
@@ -371,38 +265,12 @@ StudyOutcome summarise_study(const study::StudyPlan& plan, const std::vector<stu
     o.runs_with_error += co.runs_with_error;
     o.cases.push_back(co);
   }
-  for (std::size_t index = 0; index < results.size(); ++index) {
-    const study::RunResult& r = results[index];
-    if (r.error.empty() && r.collapsed_reference && *r.collapsed_reference != study::double_collapsed(r)) {
-      o.flipped_runs.push_back(index);
-    }
-  }
-  if (plan.dt_check) {
-    DtCheckFigures d;
-    d.reference_step_s = study::dt_check_step_s(plan);
-    std::vector<double> rel, abs_m;
-    for (const study::RunResult& r : results) {
-      if (!r.error.empty() || !r.done || !r.collapsed_reference || !r.max_abs_x_reference_m) continue;
-      if (r.collapsed || *r.collapsed_reference || !(*r.max_abs_x_reference_m > 0.0)) continue;
-      const double e = std::fabs(r.max_abs_x_m - *r.max_abs_x_reference_m);
-      abs_m.push_back(e);
-      rel.push_back(e / *r.max_abs_x_reference_m);
-    }
-    std::sort(rel.begin(), rel.end());
-    std::sort(abs_m.begin(), abs_m.end());
-    d.survivors_compared = rel.size();
-    d.rel_error_median = quantile_type7(rel, 0.5);
-    d.rel_error_p90 = quantile_type7(rel, 0.9);
-    d.rel_error_max = quantile_type7(rel, 1.0);
-    d.abs_error_m_median = quantile_type7(abs_m, 0.5);
-    d.abs_error_m_p90 = quantile_type7(abs_m, 0.9);
-    d.abs_error_m_max = quantile_type7(abs_m, 1.0);
-    o.dt_check = d;
-  }
-  if (plan.analysis.evaluate_alarm) o.alarm = alarm_outcome(results);
-  if (plan.analysis.arithmetic == sim::Arithmetic::fixed_point) o.fixed_vs_double = fixed_comparison(plan, results);
+  o.flipped_runs = study::dt_check_flipped_runs(results);
+  if (plan.dt_check) o.dt_check = study::dt_check_figures(plan, results);
+  if (plan.analysis.evaluate_alarm) o.alarm = study::alarm_outcome(results);
+  if (plan.analysis.arithmetic == sim::Arithmetic::fixed_point) o.fixed_vs_double = study::fixed_comparison(plan, results);
   if (plan.analysis.evaluate_alarm && plan.analysis.arithmetic == sim::Arithmetic::fixed_point) {
-    o.published = published_alarm(results);
+    o.published = study::published_alarm(results);
     o.published->work_budget_units = plan.analysis.work_budget_units;
     o.published->work_overflow = plan.analysis.work_overflow;
   }
@@ -450,7 +318,7 @@ nlohmann::ordered_json summary_json(const study::StudyPlan& plan, const StudyRec
       plan.dt_check ? nlohmann::ordered_json(o.flipped_runs.size()) : nlohmann::ordered_json(nullptr);
   j["dt_check"] = {{"enabled", plan.dt_check}, {"flips", flips}, {"flipped_runs", flipped}};
   if (o.dt_check) {
-    const DtCheckFigures& d = *o.dt_check;
+    const study::DtCheckFigures& d = *o.dt_check;
     const auto opt = [](const std::optional<double>& v) {
       return v ? nlohmann::ordered_json(*v) : nlohmann::ordered_json(nullptr);
     };
@@ -509,7 +377,7 @@ std::string study_summary_text(const StudyRequest& q, const study::StudyPlan& pl
   for (const CaseOutcome& c : o.cases) case_text(out, o, c);
   out += "\n";
   if (plan.dt_check) {
-    const DtCheckFigures& d = *o.dt_check;
+    const study::DtCheckFigures& d = *o.dt_check;
     std::string text = format("against the double engine at %s s: %zu of %zu verdicts change",
                               number_text(d.reference_step_s).c_str(), o.flipped_runs.size(), study::run_count(plan));
     const std::size_t shown = o.flipped_runs.size() < 5 ? o.flipped_runs.size() : 5;
@@ -525,7 +393,7 @@ std::string study_summary_text(const StudyRequest& q, const study::StudyPlan& pl
     }
   }
   if (o.alarm) {
-    const AlarmOutcome& a = *o.alarm;
+    const study::AlarmOutcome& a = *o.alarm;
     const core::AlarmSettings& st = plan.analysis.alarm;
     line(out, "alarm", format("lambda_w %s, hold %s s, energy margin %s (%s engine; verdicts of the double engine)",
                               number_text(st.lambda_warning).c_str(), number_text(st.hold_s).c_str(),
@@ -539,7 +407,7 @@ std::string study_summary_text(const StudyRequest& q, const study::StudyPlan& pl
                            *a.lead_time_s_p05, *a.lead_time_s_min));
     }
     if (o.published) {
-      const PublishedAlarm& p = *o.published;
+      const study::PublishedAlarm& p = *o.published;
       const double delay_s = p.imminent_delay_s_max ? *p.imminent_delay_s_max : 0.0;
       line(out, "", format("as the firmware's monitor publishes it (%d work units a call, %s at a full queue): "
                            "recall %s, false alarms %s, first IMMINENT late in %zu runs (at most %.3f s), samples "
@@ -551,7 +419,7 @@ std::string study_summary_text(const StudyRequest& q, const study::StudyPlan& pl
     }
   }
   if (o.fixed_vs_double) {
-    const FixedComparison& f = *o.fixed_vs_double;
+    const study::FixedComparison& f = *o.fixed_vs_double;
     std::string text = format("%zu of %zu verdicts the same", f.verdicts_same, f.runs_compared);
     if (!f.verdict_flips.empty()) {
       text += format(", %zu flip%s", f.verdict_flips.size(), f.verdict_flips.size() == 1 ? "" : "s");

@@ -1,4 +1,4 @@
-#include "study/statistics/study_table3.hpp"
+#include "study/report/study_table3.hpp"
 
 #include <cmath>
 #include <optional>

@@ -8,7 +8,7 @@
 
 #include "rockwatch/sim/study/batch_study.hpp"
 #include "study/plan/study_records.hpp"
-#include "study/statistics/study_summary.hpp"
+#include "study/report/study_summary.hpp"
 
 namespace rockwatch::cli {
 
