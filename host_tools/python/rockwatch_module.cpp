@@ -17,6 +17,7 @@
 #include <stdexcept>
 #include <string>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -50,6 +51,7 @@
 #include "rockwatch/sim/response_spectrum.hpp"
 #include "simulate/simulate_report.hpp"
 #include "simulate/simulate_request.hpp"
+#include "simulate/simulate_settings.hpp"
 #include "spectrum/spectrum_request.hpp"
 #include "static/static_report.hpp"
 #include "static/static_request.hpp"
@@ -213,40 +215,19 @@ std::string wall_repr(const Wall& w) {
 struct SimulateResult {};
 
 // What `r` may be: "ana" | "exp" | "impulse" | a number, as --r.
-std::string restitution_text(const py::object& r) {
+std::variant<std::string, double> restitution_setting(const py::object& r) {
   if (py::isinstance<py::str>(r)) return r.cast<std::string>();
   if (py::isinstance<py::bool_>(r) || !(py::isinstance<py::float_>(r) || py::isinstance<py::int_>(r))) {
     throw py::type_error("r must be \"ana\", \"exp\", \"impulse\" or a number in [0, 1] (got " +
                          py::repr(r).cast<std::string>() + ")");
   }
-  return number_arg(r.cast<double>());
+  return r.cast<double>();
 }
 
-// simulate's guard against a run of hours or one that exhausts the memory (simulate_command.cpp check_work_size, the
-// same limits and message): a typo such as max_step_s=1e-9 or t_end_s=1e9 is an error, not a hung interpreter.
-constexpr double kMaxIntegrationSteps = 1e8;
-constexpr double kMaxHistoryRows = 2e7;  // history=True keeps every step in memory
-
-void check_work_size(const cli::SimulateRequest& q, const sim::GroundMotion& motion) {
-  const double dt_s = motion.dt_s;
-  if (core::substeps_per_sample(dt_s, q.analysis.max_step_s) == 0) {
-    throw options::UsageError("--max-step " + options::number_text(q.analysis.max_step_s) + " s would need more than " +
-                              std::to_string(core::kMaxSubsteps) + " sub-steps per record sample (the record's dt is " +
-                              options::number_text(dt_s) + " s): give --max-step >= dt / " +
-                              std::to_string(core::kMaxSubsteps));
-  }
-  const double h_s = dt_s / std::fmax(1.0, double(core::substeps_per_sample(dt_s, q.analysis.max_step_s)));
-  const double t_end_s = q.analysis.t_end_s ? *q.analysis.t_end_s : motion.duration_s();
-  const double worst_steps = (t_end_s + q.analysis.free_motion_limit_s) / h_s;
-  const double limit = q.analysis.keep_history ? kMaxHistoryRows : kMaxIntegrationSteps;
-  if (worst_steps > limit) {
-    throw options::UsageError(
-        "integration step " + options::number_text(h_s) + " s over t_end = " + options::number_text(t_end_s) +
-        " s (plus up to " + options::number_text(q.analysis.free_motion_limit_s) + " s of free rocking) means up to " +
-        options::number_text(std::round(worst_steps)) + " steps, more than the " + options::number_text(limit) +
-        (q.analysis.keep_history ? " a run keeping the history (history=True) may take" : " a run may take") +
-        ": raise --max-step or lower --t-end");
-  }
+// The same as --r's text (identify still reads its arguments through the command's parser).
+std::string restitution_text(const py::object& r) {
+  const std::variant<std::string, double> v = restitution_setting(r);
+  return std::holds_alternative<std::string>(v) ? std::get<std::string>(v) : number_arg(std::get<double>(v));
 }
 
 py::object simulate(const Array& accel_mps2, double dt_s, const std::optional<Wall>& wall_arg, const py::object& r,
@@ -256,61 +237,29 @@ py::object simulate(const Array& accel_mps2, double dt_s, const std::optional<Wa
                     const std::optional<std::string>& model, const std::optional<double>& t_end_s,
                     const std::optional<double>& lambda_w, const std::optional<double>& alarm_hold_s,
                     const std::optional<double>& energy_margin, bool history) {
-  // The options of simulate the module takes, registered by the functions simulate registers them with.
-  CLI::App app;
-  std::string r_text = "exp", model_text = "linear", kappa_text, max_step_text, t_end_text, scale_text, dt_text;
-  options::AlarmOptionTexts alarm;
-  options::ObserverOptionTexts observer;
-  options::add_restitution_option(app, r_text);
-  app.add_option("--model", model_text);
-  options::add_kappa_option(app, kappa_text);
-  options::add_max_step_option(app, max_step_text);
-  app.add_option("--t-end", t_end_text);
-  app.add_option("--scale-pga", scale_text);
-  app.add_option("--dt", dt_text);
-  options::add_alarm_options(app, alarm);
-  options::add_observer_options(app, observer, "");
-  Arguments args;
-  if (!r.is_none()) args.add("--r", restitution_text(r));
-  if (model) args.add("--model", *model);
-  if (kappa) args.add("--kappa", *kappa);
-  if (max_step_s) args.add("--max-step", *max_step_s);
-  if (t_end_s) args.add("--t-end", *t_end_s);
-  if (scale_pga_g) args.add("--scale-pga", *scale_pga_g);
-  args.add("--dt", dt_s);
-  if (arith) args.add("--arith", *arith);
-  if (alarms) args.flag("--alarms");
-  if (lambda_w) args.add("--lambda-w", *lambda_w);
-  if (alarm_hold_s) args.add("--alarm-hold", *alarm_hold_s);
-  if (energy_margin) args.add("--energy-margin", *energy_margin);
-  args.parse(app, "simulate");
-
-  // As parse_simulate_arguments reads them.
+  // The typed settings simulate's parser builds from its texts, checked by the same function (apply_simulate_settings).
+  cli::SimulateSettings settings;
+  if (wall_arg) settings.wall = wall_arg->choice;
+  if (!r.is_none()) settings.r = restitution_setting(r);
+  if (model) settings.model = *model;
+  settings.scale_pga_g = scale_pga_g;
+  settings.kappa = kappa;
+  settings.max_step_s = max_step_s;
+  settings.t_end_s = t_end_s;
+  if (arith) settings.alarm.arith = *arith;
+  settings.arith_given = arith.has_value();
+  settings.alarm.alarms = alarms;
+  settings.alarm.lambda_w = lambda_w;
+  settings.alarm.hold_s = alarm_hold_s;
+  settings.alarm.energy_margin = energy_margin;
+  settings.keep_history = history;
+  settings.history_kept_by = "keeping the history (history=True)";
   cli::SimulateRequest q;
-  const Wall wall = wall_arg ? *wall_arg : Wall{};
-  q.wall = wall.choice.wall;
-  q.wall_name = wall.choice.name;
-  q.wall_options_given = wall.choice.options_given;
-  q.wall_file_path = wall.choice.wall_file_path;
-  q.analysis.restitution = options::restitution_of(app, wall.choice, r_text);
-  q.analysis.model = options::parse_model("--model", model_text);
-  options::check_computable(q.wall, q.analysis);
-  options::parse_alarm_options(app, alarm, q.analysis);
-  q.arith_given = arith.has_value();
-  if (q.analysis.evaluate_alarm) q.analysis.max_alarm_transitions_kept = cli::kMaxAlarmTransitionsListed;
-  if (kappa) q.analysis.kappa = options::parse_kappa("--kappa", kappa_text);
-  if (max_step_s) q.analysis.max_step_s = options::parse_positive_number("--max-step", max_step_text, " s");
-  if (t_end_s) {
-    const double t = options::parse_finite_number("--t-end", t_end_text);
-    if (!(t >= 0.0)) throw options::UsageError("--t-end must be >= 0 s (got " + options::number_text(t) + ")");
-    q.analysis.t_end_s = t;
-  }
-  if (scale_pga_g) q.scale_pga_g = options::parse_positive_number("--scale-pga", scale_text, " (a multiple of g)");
-  q.analysis.keep_history = history;
+  cli::apply_simulate_settings(settings, q);
 
   // The input as prepare_input makes it: the samples as given, both components scaled by one factor.
   sim::GroundMotion motion;
-  motion.dt_s = options::parse_positive_number("--dt", dt_text, " s");
+  motion.dt_s = options::check_positive_number("--dt", dt_s, " s");
   motion.ug_mps2 = vector_of(accel_mps2, "accel_mps2");
   if (motion.ug_mps2.size() < 2) {
     throw options::UsageError("accel_mps2 needs at least 2 samples (got " + std::to_string(motion.ug_mps2.size()) + ")");
@@ -334,13 +283,12 @@ py::object simulate(const Array& accel_mps2, double dt_s, const std::optional<Wa
     for (double& v : motion.vg_mps2) v *= factor;
   }
 
-  check_work_size(q, motion);
+  cli::check_work_size(q, motion);
 
   std::vector<core::WallSensorSample> sensors;
   if (wall_sensors) {
     options::check_input_file("--wall-sensors", *wall_sensors, "a wall-sensor CSV file");
     q.wall_sensors_path = *wall_sensors;
-    q.analysis.observer = options::parse_observer_options(app, observer);
     sensors = cli::read_wall_sensor_samples(*wall_sensors);
     q.analysis.wall_sensors = &sensors;
   }

@@ -1,7 +1,9 @@
 #include "rockwatch/options/alarm_options.hpp"
 
 #include <cstdint>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "rockwatch/core/sample_engine.hpp"
@@ -76,47 +78,65 @@ void add_alarm_options(CLI::App& app, AlarmOptionTexts& texts) {
       ->type_name("shed|finish");
 }
 
-void parse_alarm_options(const CLI::App& app, const AlarmOptionTexts& texts, sim::AnalysisOptions& options) {
-  if (texts.arith == "double") {
+AlarmOptionValues alarm_option_values(const CLI::App& app, const AlarmOptionTexts& texts) {
+  AlarmOptionValues v;
+  v.arith = texts.arith;
+  v.alarms = texts.alarms;
+  if (given(app, "--work-overflow")) v.work_overflow = texts.work_overflow;
+  if (given(app, "--lambda-w")) v.lambda_w = parse_finite_number("--lambda-w", texts.lambda_w);
+  if (given(app, "--alarm-hold")) v.hold_s = parse_finite_number("--alarm-hold", texts.hold);
+  if (given(app, "--energy-margin")) v.energy_margin = parse_finite_number("--energy-margin", texts.margin);
+  return v;
+}
+
+void apply_alarm_options(const AlarmOptionValues& v, sim::AnalysisOptions& options) {
+  if (v.arith == "double") {
     options.arithmetic = sim::Arithmetic::double_precision;
-  } else if (texts.arith == "fixed") {
+  } else if (v.arith == "fixed") {
     options.arithmetic = sim::Arithmetic::fixed_point;
     if (options.model != core::ModelKind::linear) {
       throw UsageError("--arith fixed supports the linear model only (got --model " +
                        std::string(model_name(options.model)) + ")");
     }
   } else {
-    throw UsageError("--arith must be fixed or double (got " + quoted(texts.arith) + ")");
+    throw UsageError("--arith must be fixed or double (got " + quoted(v.arith) + ")");
   }
 
-  options.evaluate_alarm = texts.alarms;
+  options.evaluate_alarm = v.alarms;
   // The fixed engine's alarm as the monitor publishes it: its budget per call (docs/FIXED_POINT.md "carry-over").
   options.work_budget_units =
-      options.arithmetic == sim::Arithmetic::fixed_point && texts.alarms ? core::kDefaultWorkBudgetUnits : 0;
-  if (given(app, "--work-overflow")) {
+      options.arithmetic == sim::Arithmetic::fixed_point && v.alarms ? core::kDefaultWorkBudgetUnits : 0;
+  if (v.work_overflow) {
     if (options.work_budget_units == 0) {
       throw UsageError("--work-overflow applies to the firmware's publication, measured with --arith fixed --alarms");
     }
-    options.work_overflow = parse_work_overflow("--work-overflow", texts.work_overflow);
+    options.work_overflow = parse_work_overflow("--work-overflow", *v.work_overflow);
   }
-  for (const char* option : {"--lambda-w", "--alarm-hold", "--energy-margin"}) {
-    if (given(app, option) && !texts.alarms) {
+  const std::pair<const char*, const std::optional<double>*> settings[] = {
+      {"--lambda-w", &v.lambda_w}, {"--alarm-hold", &v.hold_s}, {"--energy-margin", &v.energy_margin}};
+  for (const auto& [option, value] : settings) {
+    if (value->has_value() && !v.alarms) {
       throw UsageError(std::string(option) + " sets the instability alarm: give --alarms too");
     }
+    if (value->has_value()) check_finite_number(option, **value);
   }
   core::AlarmSettings& a = options.alarm;
-  if (given(app, "--lambda-w")) {
-    a.lambda_warning = parse_finite_number("--lambda-w", texts.lambda_w);
+  if (v.lambda_w) {
+    a.lambda_warning = *v.lambda_w;
     check_lambda_w("--lambda-w", a.lambda_warning);
   }
-  if (given(app, "--alarm-hold")) {
-    a.hold_s = parse_finite_number("--alarm-hold", texts.hold);
+  if (v.hold_s) {
+    a.hold_s = *v.hold_s;
     check_alarm_hold("--alarm-hold", a.hold_s);
   }
-  if (given(app, "--energy-margin")) {
-    a.energy_margin = parse_finite_number("--energy-margin", texts.margin);
+  if (v.energy_margin) {
+    a.energy_margin = *v.energy_margin;
     check_energy_margin("--energy-margin", a.energy_margin);
   }
+}
+
+void parse_alarm_options(const CLI::App& app, const AlarmOptionTexts& texts, sim::AnalysisOptions& options) {
+  apply_alarm_options(alarm_option_values(app, texts), options);
 }
 
 const char* arithmetic_name(sim::Arithmetic arithmetic) {

@@ -65,7 +65,16 @@ double parse_finite_number(const std::string& option, const std::string& text) {
 }
 
 double parse_positive_number(const std::string& option, const std::string& text, const char* unit) {
-  const double value = parse_finite_number(option, text);
+  return check_positive_number(option, parse_finite_number(option, text), unit);
+}
+
+double check_finite_number(const std::string& option, double value) {
+  if (!std::isfinite(value)) throw UsageError(option + " expects a finite number (got " + quoted(number_text(value)) + ")");
+  return value;
+}
+
+double check_positive_number(const std::string& option, double value, const char* unit) {
+  check_finite_number(option, value);
   if (!(value > 0.0)) throw UsageError(option + " must be > 0" + unit + " (got " + number_text(value) + ")");
   return value;
 }
@@ -98,8 +107,23 @@ core::Restitution parse_restitution(const std::string& option, const std::string
   return r;
 }
 
+core::Restitution restitution_value(const std::string& option, double value) {
+  if (!(value >= 0.0 && value <= 1.0)) {
+    throw UsageError(option + " must be ana, exp, impulse or an energy ratio in [0, 1] (got " +
+                     quoted(number_text(value)) + ")");
+  }
+  core::Restitution r;
+  r.kind = core::RestitutionKind::value;
+  r.value = value;
+  return r;
+}
+
 double parse_kappa(const std::string& option, const std::string& text) {
-  const double kappa = parse_finite_number(option, text);
+  return check_kappa(option, parse_finite_number(option, text));
+}
+
+double check_kappa(const std::string& option, double kappa) {
+  check_finite_number(option, kappa);
   if (!(kappa >= 1.0)) {
     throw UsageError(option + " must be >= 1: collapse cannot come before x_inst (got " + number_text(kappa) + ")");
   }

@@ -26,53 +26,13 @@
 #include "simulate/simulate_forecast.hpp"
 #include "simulate/simulate_report.hpp"
 #include "simulate/simulate_request.hpp"
+#include "simulate/simulate_settings.hpp"
 
 namespace rockwatch::cli {
 
 namespace {
 
 constexpr CommandErrors kErrors{"rockwatch simulate: error: ", "out of memory (a very long record or --out history?)"};
-
-// Bounds on the work one run may ask for: a typo such as --max-step 1e-9 or --t-end 1e9 should be an error message,
-// not hours of computing or an exhausted machine. A 10-minute record at 0.5 ms is 1.2e6 steps.
-constexpr double kMaxIntegrationSteps = 1e8;
-constexpr double kMaxHistoryRows = 2e7;  // --out keeps every step in memory before writing
-
-void check_work_size(const SimulateRequest& q, const InputMotion& in) {
-  const double dt_s = in.motion.dt_s;
-  if (core::substeps_per_sample(dt_s, q.analysis.max_step_s) == 0) {
-    throw UsageError("--max-step " + number_text(q.analysis.max_step_s) + " s would need more than " +
-                     std::to_string(core::kMaxSubsteps) + " sub-steps per record sample (the record's dt is " +
-                     number_text(dt_s) + " s): give --max-step >= dt / " + std::to_string(core::kMaxSubsteps));
-  }
-  const double n_sub = std::fmax(1.0, double(core::substeps_per_sample(dt_s, q.analysis.max_step_s)));
-  const double h_s = dt_s / n_sub;
-  const double t_end_s = q.analysis.t_end_s ? *q.analysis.t_end_s : in.motion.duration_s();
-  const double worst_steps = (t_end_s + q.analysis.free_motion_limit_s) / h_s;
-  // --out and --engine-input-out keep a row per step in memory before writing.
-  const bool keeps_rows = q.analysis.keep_history || q.engine_input_out_path;
-  const double limit = keeps_rows ? kMaxHistoryRows : kMaxIntegrationSteps;
-  if (worst_steps > limit) {
-    throw UsageError("integration step " + number_text(h_s) + " s over t_end = " + number_text(t_end_s) +
-                     " s (plus up to " + number_text(q.analysis.free_motion_limit_s) + " s of free rocking) means up to " +
-                     number_text(std::round(worst_steps)) + " steps, more than the " + number_text(limit) +
-                     (q.analysis.keep_history   ? " a run with --out may take"
-                      : q.engine_input_out_path ? " a run with --engine-input-out may take"
-                                                : " a run may take") +
-                     ": raise --max-step or lower --t-end");
-  }
-  if (q.sensors_out_path) {
-    const double rate_hz = q.sensor_model.rate_hz > 0.0 ? q.sensor_model.rate_hz : 1.0 / dt_s;
-    const double worst_samples = rate_hz * (t_end_s + q.analysis.free_motion_limit_s);
-    if (worst_samples > kMaxHistoryRows) {
-      throw UsageError("--sensor-rate-hz " + number_text(rate_hz) + " over t_end = " + number_text(t_end_s) +
-                       " s (plus up to " + number_text(q.analysis.free_motion_limit_s) +
-                       " s of free rocking) means up to " + number_text(std::round(worst_samples)) +
-                       " sensor samples, more than the " + number_text(kMaxHistoryRows) +
-                       " --sensors-out may write: lower the rate or --t-end");
-    }
-  }
-}
 
 void check_out_path(const char* option, const std::optional<std::string>& out, const SimulateRequest& q) {
   if (!out) return;
@@ -127,7 +87,7 @@ InputMotion ground_at_rest(const SimulateRequest& q) {
 int run(const SimulateRequest& q) {
   const InputMotion input = q.ground_at_rest ? ground_at_rest(q) : prepare_input(InputRequest{q.record, q.scale_pga_g, q.wall.g_mps2});
   for (const std::string& note : input.notes) std::cerr << "note: " << note << '\n';
-  check_work_size(q, input);
+  check_work_size(q, input.motion);
   check_out_paths(q);
   std::vector<core::WallSensorSample> wall_sensors;
   sim::AnalysisOptions options = q.analysis;

@@ -19,6 +19,7 @@
 #include "rockwatch/options/usage_error.hpp"
 #include "rockwatch/options/wall_options.hpp"
 #include "common/process/options_namespace.hpp"
+#include "simulate/simulate_settings.hpp"
 
 namespace rockwatch::cli {
 
@@ -234,11 +235,8 @@ SimulateParse parse_simulate_arguments(int argc, const char* const* argv) {
   }
 
   SimulateRequest q;
-  WallChoice wall = parse_wall_options(app, raw.wall);
-  q.wall = wall.wall;
-  q.wall_name = wall.name;
-  q.wall_options_given = wall.options_given;
-  q.wall_file_path = wall.wall_file_path;
+  SimulateSettings settings;
+  settings.wall = parse_wall_options(app, raw.wall);
   if (given(app, "--x0")) {
     const double x0_m = parse_finite_number("--x0", raw.x0);
     if (!(std::fabs(x0_m) <= 1.0)) throw UsageError("--x0 must be a displacement in [-1, 1] m (got " + number_text(x0_m) + ")");
@@ -256,23 +254,17 @@ SimulateParse parse_simulate_arguments(int argc, const char* const* argv) {
       if (!(q.ground_at_rest_dt_s <= 1.0)) throw UsageError("--dt must be at most 1 s (got " + number_text(q.ground_at_rest_dt_s) + ")");
     }
   } else {
-    q.record = parse_record_selection(app, raw.record, q.wall.g_mps2);
+    q.record = parse_record_selection(app, raw.record, settings.wall.wall.g_mps2);
   }
-  if (given(app, "--scale-pga")) q.scale_pga_g = parse_positive_number("--scale-pga", raw.scale_pga, " (a multiple of g)");
-
-  q.analysis.restitution = restitution_of(app, wall, raw.r);
-  q.analysis.model = parse_model("--model", raw.model);
-  check_computable(q.wall, q.analysis);
-  parse_alarm_options(app, raw.alarm, q.analysis);
-  q.arith_given = given(app, "--arith");
-  if (q.analysis.evaluate_alarm) q.analysis.max_alarm_transitions_kept = kMaxAlarmTransitionsListed;
-  if (given(app, "--kappa")) q.analysis.kappa = parse_kappa("--kappa", raw.kappa);
-  if (given(app, "--max-step")) q.analysis.max_step_s = parse_positive_number("--max-step", raw.max_step, " s");
-  if (given(app, "--t-end")) {
-    const double t_end_s = parse_finite_number("--t-end", raw.t_end);
-    if (!(t_end_s >= 0.0)) throw UsageError("--t-end must be >= 0 s (got " + number_text(t_end_s) + ")");
-    q.analysis.t_end_s = t_end_s;
-  }
+  if (given(app, "--scale-pga")) settings.scale_pga_g = parse_finite_number("--scale-pga", raw.scale_pga);
+  if (given(app, "--r")) settings.r = raw.r;
+  settings.model = raw.model;
+  settings.alarm = alarm_option_values(app, raw.alarm);
+  settings.arith_given = given(app, "--arith");
+  if (given(app, "--kappa")) settings.kappa = parse_finite_number("--kappa", raw.kappa);
+  if (given(app, "--max-step")) settings.max_step_s = parse_finite_number("--max-step", raw.max_step);
+  if (given(app, "--t-end")) settings.t_end_s = parse_finite_number("--t-end", raw.t_end);
+  apply_simulate_settings(settings, q);
   if (given(app, "--out")) {
     if (raw.out.empty()) throw UsageError("--out needs a file name");
     check_output_file("--out", raw.out);

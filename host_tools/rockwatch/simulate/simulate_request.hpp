@@ -28,6 +28,7 @@ struct SimulateRequest {
   std::optional<std::string> wall_file_path;     // --wall-file: the base wall (and r unless --r) came from it
   sim::AnalysisOptions analysis;       // arithmetic, model, restitution, kappa, max step, t_end, alarm
   bool arith_given = false;            // --arith was given: the JSON says which arithmetic ran
+  std::string history_kept_by = "with --out";  // what keeps the history, as the work-size message says it
   std::optional<std::string> out_csv_path;
   bool json = false;
   // --wall-sensors FILE: the wall observer fuses these samples (read when the command runs); its settings are
@@ -60,8 +61,10 @@ struct SimulateParse {
   std::string help_text;
 };
 
-// Parses `rockwatch simulate` arguments (argv[0] is the command name). Throws UsageError with a message that
-// names the option at fault, for CLI11 parse errors as well as for invalid values.
+// Parses `rockwatch simulate` arguments (argv[0] is the command name): the texts converted to SimulateSettings
+// (simulate_settings.hpp), which apply_simulate_settings checks, then the command line's own options (record, files,
+// sensors, forecast). Throws UsageError with a message that names the option at fault, for CLI11 parse errors as well
+// as for invalid values.
 SimulateParse parse_simulate_arguments(int argc, const char* const* argv);
 
 }  // namespace rockwatch::cli

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -45,10 +46,25 @@ void add_alarm_setting_options(CLI::App& app, AlarmOptionTexts& texts, const std
 // Registers --arith, --alarms, --lambda-w, --alarm-hold, --energy-margin and --work-overflow, in that order.
 void add_alarm_options(CLI::App& app, AlarmOptionTexts& texts);
 
+// The same options as values: what the command line's texts convert to (alarm_option_values), or what a program sets
+// itself (the Python module's keywords). A setting not given is none.
+struct AlarmOptionValues {
+  std::string arith = "double";                // --arith: double | fixed
+  bool alarms = false;                         // --alarms
+  std::optional<double> lambda_w, hold_s, energy_margin;  // --lambda-w, --alarm-hold, --energy-margin
+  std::optional<std::string> work_overflow;    // --work-overflow: shed | finish
+};
+
+// The options given on the command line, their numbers converted (UsageError naming the option when not a number).
+AlarmOptionValues alarm_option_values(const CLI::App& app, const AlarmOptionTexts& texts);
+
 // Sets options.arithmetic, evaluate_alarm, alarm, and work_budget_units and work_overflow (the firmware's, with
 // --arith fixed --alarms). The alarm settings without --alarms, --work-overflow without --arith fixed --alarms,
 // --arith fixed with a model other than linear (set options.model first) and values out of range throw UsageError
-// naming the option.
+// naming the option. The one check of these options, for the command lines and the Python module.
+void apply_alarm_options(const AlarmOptionValues& values, sim::AnalysisOptions& options);
+
+// apply_alarm_options(alarm_option_values(app, texts), options).
 void parse_alarm_options(const CLI::App& app, const AlarmOptionTexts& texts, sim::AnalysisOptions& options);
 
 // "double" | "fixed".

@@ -16,8 +16,14 @@ namespace rockwatch::options {
 // The whole text must be one finite decimal number; "1.5x", "nan" and "inf" are rejected. Throws UsageError.
 double parse_finite_number(const std::string& option, const std::string& text);
 
+// A number given as a number (a program's field rather than a command line's text) must be finite too: the same
+// message as parse_finite_number's.
+double check_finite_number(const std::string& option, double value);
+
 // A finite number > 0; the message says "OPTION must be > 0UNIT (got VALUE)", e.g. unit " s".
 double parse_positive_number(const std::string& option, const std::string& text, const char* unit);
+// The same check of a value given as a number (a program's field rather than a command line's text): finite, > 0.
+double check_positive_number(const std::string& option, double value, const char* unit);
 
 // A finite number in [low, high]; the message says "OPTION must be in [LOW, HIGH]UNIT (got VALUE)", e.g. unit " m".
 double parse_number_in(const std::string& option, const std::string& text, double low, double high, const char* unit);
@@ -31,9 +37,12 @@ std::vector<std::string> split_fields(const std::string& text, char separator);
 
 // ana | exp | impulse | a number in [0, 1]. Throws UsageError naming `option` and what is accepted.
 core::Restitution parse_restitution(const std::string& option, const std::string& text);
+// An energy ratio given as a number: in [0, 1], with parse_restitution's message.
+core::Restitution restitution_value(const std::string& option, double value);
 
 // The collapse factor kappa: a finite number >= 1 (collapse cannot come before x_inst).
 double parse_kappa(const std::string& option, const std::string& text);
+double check_kappa(const std::string& option, double kappa);
 
 // linear | full.
 core::ModelKind parse_model(const std::string& option, const std::string& text);
