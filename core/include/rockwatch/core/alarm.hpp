@@ -54,11 +54,9 @@ struct AlarmConditions {
 };
 
 // Energy margin: the wall is certain to pass x_inst in free motion once E ≥ E_barrier moving outward, but the ground
-// can still pull it back. Over the default study (1760 runs, double engine) recall is 1.0 at every margin (|x| ≥
-// x_inst always precedes collapse at κ = 2); the margin trades lead time for false alarms (survivors flagged):
-//   margin 1.0: false alarms 0.375, lead median 1.77 s, p05 0.61 s;  1.25: 0.126, 0.91 s, 0.49 s;
-//   1.5: 0.029, 0.62 s, 0.41 s;  2.0: 0.005, 0.52 s, 0.33 s;  displacement only: 0.0035, 0.49 s, 0.31 s.
-// 1.5 is the default: the longest lead with the false-alarm rate under 0.05 in every r / vertical case.
+// can still pull it back; the margin trades lead time for false alarms (survivors flagged). 1.5 is the default: the
+// longest lead with the false-alarm rate under 0.05 in every r / vertical case of the default study (the figures per
+// margin: docs/BENCHMARKS.md, "The alarm's energy margin").
 struct AlarmSettings {
   double lambda_warning = 0.4;  // WARNING at |x| ≥ λ_w·x_inst [-], 0 < λ_w ≤ 1 (0.4: the NTC 2008 allowable)
   double hold_s = 1.0;          // time below a level's entry condition before the level falls [s], ≥ 0
