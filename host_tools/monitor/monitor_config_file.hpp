@@ -42,7 +42,7 @@ using options::UsageError;
 
 // What the file set; absent keys keep the defaults.
 // The observer keys a configuration may give (kObserverFields below).
-inline constexpr int kObserverFieldCount = 10;
+inline constexpr int kObserverFieldCount = 12;
 
 struct FileValues {
   std::optional<double> wall[8];  // in kWallFields order
@@ -111,6 +111,8 @@ inline constexpr ObserverField kObserverFields[kObserverFieldCount] = {
     {"accel_inform_peak_noises", &core::ObserverOptions::accel_inform_peak_noises, "-"},
     {"doubt_nis", &core::ObserverOptions::doubt_nis, "-"},                                     // SPEC §11
     {"quiet_motion_spread_noises", &core::ObserverOptions::quiet_motion_spread_noises, "-"},  // SPEC §11
+    {"model_form_sigma", &core::ObserverOptions::model_form_sigma, "-"},                      // SPEC §11
+    {"doubt_model_form_sigma", &core::ObserverOptions::doubt_model_form_sigma, "-"},          // SPEC §11
 };
 
 inline std::string json_type(const json& v) {

@@ -91,6 +91,12 @@ json normalised_settings(const MonitorConfig& config) {
     if (o.quiet_motion_spread_noises != core::ObserverOptions{}.quiet_motion_spread_noises) {
       out["observer"]["quiet_motion_spread_noises"] = o.quiet_motion_spread_noises;
     }
+    if (o.model_form_sigma != core::ObserverOptions{}.model_form_sigma) {
+      out["observer"]["model_form_sigma"] = o.model_form_sigma;
+    }
+    if (o.doubt_model_form_sigma != core::ObserverOptions{}.doubt_model_form_sigma) {
+      out["observer"]["doubt_model_form_sigma"] = o.doubt_model_form_sigma;
+    }
     out["channels"]["wall_sensor"] = s.channels.wall_sensor;
     out["channels"]["wall_estimate"] = s.channels.wall_estimate;
   }

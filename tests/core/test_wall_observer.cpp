@@ -419,9 +419,9 @@ ThinnerWall release_thinner_wall(double b_scale) {
     fobs.after_step(fmodel, fr, AccelQ7_56{}, AccelQ7_56{}, t, kDtUs);
   }
   out.x_inst_double = dobs.x_inst_estimate_m();
-  out.sigma_double = dobs.sigma_x_inst_m();
+  out.sigma_double = dobs.sigma_x_inst_filter_m();
   out.x_inst_fixed = fobs.x_inst_estimate_m();
-  out.sigma_fixed = fobs.sigma_x_inst_m();
+  out.sigma_fixed = fobs.sigma_x_inst_filter_m();
   // The stepper runs with the estimate: its x_inst is the observer's.
   DOUBLES_EQUAL(out.x_inst_double, dmodel.x_inst_m(Side::positive), 1e-12);
   // (the fixed-point observer publishes in single precision: 7 significant digits)
@@ -587,6 +587,13 @@ TEST(WallObserver, DoubtsTheModelWhenTheInnovationsSayItIsWrong) {
         CHECK(run.observer.sigma_stiffness_scale() >= 0.05 - 1e-12);
       }
     }
+    // The published σ(x_inst) (SPEC §11): the filter's and the model's form in quadrature, the form 0.03 × x̂_inst, or
+    // 0.2 × x̂_inst once doubt was raised; the filter's own σ is what its gains use.
+    const double x_hat = run.observer.x_inst_estimate_m(), filter = run.observer.sigma_x_inst_filter_m();
+    const double form = vibration_m > 0.0 ? 0.2 : 0.03;
+    DOUBLES_EQUAL(std::sqrt(filter * filter + form * form * x_hat * x_hat), run.observer.sigma_x_inst_m(),
+                  1e-12 * x_hat);
+    CHECK(run.observer.sigma_x_inst_m() >= form * x_hat);
     if (vibration_m > 0.0) {
       CHECK(flags & observer_flag::model_doubt);
       CHECK(run.observer.counters().model_doubt > 100);
@@ -597,4 +604,27 @@ TEST(WallObserver, DoubtsTheModelWhenTheInnovationsSayItIsWrong) {
       CHECK(nis_max < 2.5);
     }
   }
+}
+
+// The model's form in the published σ(x_inst) is a setting: 0 publishes the filter's own σ, and the bounds are checked.
+TEST(WallObserver, ModelFormSigmaIsASetting) {
+  ObserverOptions o;
+  o.model_form_sigma = 1.5;
+  CHECK(validate_observer_options(o) == ObserverError::doubt_out_of_range);
+  o.model_form_sigma = 0.03;
+  o.doubt_model_form_sigma = -0.1;
+  CHECK(validate_observer_options(o) == ObserverError::doubt_out_of_range);
+  o.doubt_model_form_sigma = 0.0;
+  o.model_form_sigma = 0.0;
+  CHECK(validate_observer_options(o) == ObserverError::ok);
+  FreeRocking run(0.85, 0.85, 0.06, o);
+  for (int k = 0; k < 400; ++k) {
+    run.t_us += kDtUs;
+    run.truth.step(0.0, 0.0);
+    run.observer.push(displacement(run.t_us, run.truth.state().x_m + 0.5e-3 * run.noise.normal()));
+    const StepReport<double> mr = run.model.step(0.0, 0.0);
+    run.observer.after_step(run.model, mr, 0.0, 0.0, run.t_us, kDtUs);
+  }
+  CHECK(run.observer.sigma_x_inst_filter_m() > 0.0);
+  DOUBLES_EQUAL(run.observer.sigma_x_inst_filter_m(), run.observer.sigma_x_inst_m(), 0.0);
 }

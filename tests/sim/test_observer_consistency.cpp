@@ -202,7 +202,8 @@ RunOutcome fused_run(const Scenario& sc) {
   const double er = out.r_hat - out.r_true;
   out.nees_r = out.sigma_r > 0.0 ? er * er / (out.sigma_r * out.sigma_r) : 1e9;
   out.x_inst_hat = observer.x_inst_estimate_m();
-  out.sigma_x_inst = observer.sigma_x_inst_m();
+  // The filter's own σ: its consistency (the model's form is added only to what is published, SPEC §11).
+  out.sigma_x_inst = observer.sigma_x_inst_filter_m();
   out.x_inst_true = core::x_inst_m(core::model_constants(sc.true_wall, core::ModelKind::linear), core::Side::positive,
                                    sc.true_wall.g_mps2) *
                     (sc.in_model ? sc.kappa_c / sc.kappa_k : 1.0);

@@ -76,6 +76,17 @@ void add_observer_options(CLI::App& app, ObserverOptionTexts& texts, const std::
                      range_text(kMinObserverQuietMotionNoises, kMaxObserverQuietMotionNoises, "") + " (default " +
                      number_text(d.quiet_motion_spread_noises) + ")")
       ->type_name("N");
+  app.add_option("--observer-model-form-sigma", texts.model_form_sigma,
+                 help_prefix + "the model's form in the published sigma(x_inst): F x x_inst added in quadrature to the "
+                     "filter's own (no wall is the model; SPEC 11), " +
+                     range_text(kMinObserverModelFormSigma, kMaxObserverModelFormSigma, "") + " (default " +
+                     number_text(d.model_form_sigma) + ")")
+      ->type_name("F");
+  app.add_option("--observer-doubt-model-form-sigma", texts.doubt_model_form_sigma,
+                 help_prefix + "the same once model doubt has been raised in the run (SPEC 11), " +
+                     range_text(kMinObserverModelFormSigma, kMaxObserverModelFormSigma, "") + " (default " +
+                     number_text(d.doubt_model_form_sigma) + ")")
+      ->type_name("F");
 }
 
 bool observer_option_given(const CLI::App& app) {
@@ -107,6 +118,11 @@ core::ObserverOptions parse_observer_options(const CLI::App& app, const Observer
   o.quiet_motion_spread_noises =
       parse_in_range(app, "--observer-quiet-motion-noises", texts.quiet_motion_noises, kMinObserverQuietMotionNoises,
                      kMaxObserverQuietMotionNoises, "", o.quiet_motion_spread_noises);
+  o.model_form_sigma = parse_in_range(app, "--observer-model-form-sigma", texts.model_form_sigma,
+                                      kMinObserverModelFormSigma, kMaxObserverModelFormSigma, "", o.model_form_sigma);
+  o.doubt_model_form_sigma =
+      parse_in_range(app, "--observer-doubt-model-form-sigma", texts.doubt_model_form_sigma,
+                     kMinObserverModelFormSigma, kMaxObserverModelFormSigma, "", o.doubt_model_form_sigma);
   // The core's own check, in case its ranges ever become narrower than the ones above.
   const core::ObserverError err = core::validate_observer_options(o);
   if (err != core::ObserverError::ok) throw UsageError(core::observer_error_message(err));

@@ -197,7 +197,9 @@ nlohmann::ordered_json observer_json(const SimulateRequest& q, const sim::Observ
                    {"capacity_sigmas", o.alarm_capacity_sigmas},
                    {"accel_inform_peak_noises", o.accel_inform_peak_noises},
                    {"doubt_nis", o.doubt_nis},
-                   {"quiet_motion_spread_noises", o.quiet_motion_spread_noises}};
+                   {"quiet_motion_spread_noises", o.quiet_motion_spread_noises},
+                   {"model_form_sigma", o.model_form_sigma},
+                   {"doubt_model_form_sigma", o.doubt_model_form_sigma}};
   return j;
 }
 

@@ -428,6 +428,9 @@ TEST(MonitorObserverSettings, BadValuesNameTheKeyAndTheRange) {
   expect_config_rejected(R"({"observer": {"doubt_nis": 0.5}})", {"observer.doubt_nis", "doubt_nis"});
   expect_config_rejected(R"({"observer": {"quiet_motion_spread_noises": 2000}})",
                          {"observer.quiet_motion_spread_noises", "quiet_motion_spread_noises"});
+  expect_config_rejected(R"({"observer": {"model_form_sigma": 2}})", {"observer.model_form_sigma", "model_form_sigma"});
+  expect_config_rejected(R"({"observer": {"doubt_model_form_sigma": -1}})",
+                         {"observer.doubt_model_form_sigma", "doubt_model_form_sigma"});
   expect_config_rejected(R"({"observer": {"a_noise_mps2": 50}})", {"observer.a_noise_mps2"});
   expect_config_rejected(R"({"observer": {"process_accel_mps2": "1"}})", {"observer.process_accel_mps2", "a string"});
   expect_config_rejected(R"({"observer": {"enabled": 1}})", {"observer.enabled", "true or false"});

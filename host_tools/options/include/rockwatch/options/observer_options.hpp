@@ -1,6 +1,7 @@
 // The wall observer's settings on a command line (core::ObserverOptions, core/wall_observer.hpp): --observer-x-noise-m,
 // --observer-a-noise-mps2, --observer-process-mps2, --observer-gate-chi2, --observer-capacity-sigmas and
-// --observer-accel-inform-peak-noises, --observer-doubt-nis, --observer-quiet-motion-noises, with the defaults of core::ObserverOptions in their help and one range check
+// --observer-accel-inform-peak-noises, --observer-doubt-nis, --observer-quiet-motion-noises, --observer-model-form-sigma,
+// --observer-doubt-model-form-sigma, with the defaults of core::ObserverOptions in their help and one range check
 // each, whose message names the option. `rockwatch simulate --wall-sensors` and `rockwatch study --observer` use them;
 // the monitor can register the same options.
 #pragma once
@@ -17,6 +18,7 @@ namespace rockwatch::options {
 
 struct ObserverOptionTexts {
   std::string x_noise, a_noise, process, gate, capacity_sigmas, accel_inform_peak_noises, doubt_nis, quiet_motion_noises;
+  std::string model_form_sigma, doubt_model_form_sigma;
 };
 
 // The ranges core::validate_observer_options accepts.
@@ -28,13 +30,16 @@ inline constexpr double kMinObserverCapacitySigmas = 0.0, kMaxObserverCapacitySi
 inline constexpr double kMinObserverAccelInformPeakNoises = 0.0, kMaxObserverAccelInformPeakNoises = 1000.0;
 inline constexpr double kMinObserverDoubtNis = 0.0, kMaxObserverDoubtNis = 1000.0;  // 0 = off; else ≥ 1 (core)
 inline constexpr double kMinObserverQuietMotionNoises = 0.0, kMaxObserverQuietMotionNoises = 1000.0;
+inline constexpr double kMinObserverModelFormSigma = 0.0, kMaxObserverModelFormSigma = 1.0;
 
 // The option names, in registration order.
 inline constexpr const char* kObserverOptionNames[] = {"--observer-x-noise-m", "--observer-a-noise-mps2",
                                                        "--observer-process-mps2", "--observer-gate-chi2",
                                                        "--observer-capacity-sigmas",
                                                        "--observer-accel-inform-peak-noises",
-                                                       "--observer-doubt-nis", "--observer-quiet-motion-noises"};
+                                                       "--observer-doubt-nis", "--observer-quiet-motion-noises",
+                                                       "--observer-model-form-sigma",
+                                                       "--observer-doubt-model-form-sigma"};
 
 // Registers the options; each help starts with `help_prefix` (e.g. "With --wall-sensors: ").
 void add_observer_options(CLI::App& app, ObserverOptionTexts& texts, const std::string& help_prefix);
