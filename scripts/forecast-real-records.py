@@ -224,6 +224,18 @@ def apply_logistic(w, X):
     return [1.0 / (1.0 + math.exp(-max(-50.0, min(50.0, sum(a * b for a, b in zip(w, x)))))) for x in X]
 
 
+def leave_one_event_out(rows, members, key):
+    """Each event's rows get, under `key`, the calibration fitted on the other events' rows only."""
+    for ev in sorted({x["event"] for x in rows}):
+        train = [x for x in rows if x["event"] != ev]
+        test = [x for x in rows if x["event"] == ev]
+        if not train:
+            continue
+        wv = fit_logistic(features(train, members), [x["outcome"] for x in train])
+        for x, p in zip(test, apply_logistic(wv, features(test, members))):
+            x[key] = p
+
+
 def table(name, s):
     lines = [f"{name}: {s['forecasts']} forecasts, base rate {s['base_rate']:.3f}, Brier {s['brier']:.4f}, "
              f"skill {s['brier_skill']:.3f}, max |obs - P| (bins >= 30) {s['max_abs_error']:.3f}, "
@@ -322,28 +334,14 @@ def main():
         for x, p in zip(rows, apply_logistic(refit, features(rows, a.members))):
             x["p_refit"] = p
         # On `fit` itself: leave one event out.
-        for ev in sorted({x["event"] for x in fit_rows}):
-            train = [x for x in fit_rows if x["event"] != ev]
-            test = [x for x in fit_rows if x["event"] == ev]
-            if not train:
-                continue
-            wv = fit_logistic(features(train, a.members), [x["outcome"] for x in train])
-            for x, p in zip(test, apply_logistic(wv, features(test, a.members))):
-                x["p_refit_loeo"] = p
+        leave_one_event_out(fit_rows, a.members, "p_refit_loeo")
     refit_all = None
     if a.refit_all:
         # The shipped coefficients: every event's forecasts. Scored leave one *event* out over all events, so that no
         # forecast is scored by coefficients its own earthquake helped fit (SPEC section 10 "Real records").
         refit_all = fit_logistic(features(rows, a.members), [x["outcome"] for x in rows])
         summary["refit_all_coefficients"] = refit_all
-        for ev in sorted({x["event"] for x in rows}):
-            train = [x for x in rows if x["event"] != ev]
-            test = [x for x in rows if x["event"] == ev]
-            if not train:
-                continue
-            wv = fit_logistic(features(train, a.members), [x["outcome"] for x in train])
-            for x, p in zip(test, apply_logistic(wv, features(test, a.members))):
-                x["p_refit_all_loeo"] = p
+        leave_one_event_out(rows, a.members, "p_refit_all_loeo")
     for st in sets + ["all"]:
         sel = [x for x in rows if st == "all" or x["set"] == st]
         if not sel or not any(x["outcome"] for x in sel):
