@@ -24,19 +24,7 @@ trap 'rm -rf "$tmp"' EXIT
 cc -shared -fPIC -O2 -o "$tmp/libinsn.so" "$root/tests/bench/qemu_insn_count.c"
 
 suite=$root/sim/suites/npr9998-2015
-/usr/bin/python3 - "$suite/set01.txt" "$tmp/set01_x_1khz.txt" <<'PY'
-import sys
-rows = [l.split() for l in open(sys.argv[1]) if l.strip() and not l.startswith("#")]
-t, x = [float(r[0]) for r in rows], [float(r[1]) for r in rows]
-dt = t[1] - t[0]
-with open(sys.argv[2], "w") as f:
-    f.write("# set 1 X of sim/suites/npr9998-2015 resampled to 1 kHz (linear); columns: time_s x_mps2\n")
-    for k in range(round(t[-1] / 0.001) + 1):
-        tk = k * 0.001
-        i = min(int(tk / dt + 1e-9), len(x) - 2)
-        a = (tk - t[i]) / dt
-        f.write("%.3f %.9e\n" % (tk, x[i] + (x[i + 1] - x[i]) * a))
-PY
+/usr/bin/python3 "$root/tests/support/resample_1khz.py" "$suite/set01.txt" "$tmp/set01_x_1khz.txt"
 rec=(--record "$tmp/set01_x_1khz.txt" --units mps2 --scale-pga 0.25)
 "$x86" simulate "${rec[@]}" --r ana --sensors-out "$tmp/sensors.csv" --sensor-bias-m 0.002 \
   --sensor-accel-noise-mps2 0.05 >/dev/null

@@ -19,19 +19,7 @@ mkdir -p "$dir/records"
 
 # Set 1 X resampled to 1 kHz (linear between the 5 ms samples): one 1 ms sub-step per sample.
 khz=$dir/records/set01_x_1khz.txt
-"$python" - "$suite/set01.txt" "$khz" <<'PY'
-import sys
-rows = [l.split() for l in open(sys.argv[1]) if l.strip() and not l.startswith("#")]
-t, x = [float(r[0]) for r in rows], [float(r[1]) for r in rows]
-dt = t[1] - t[0]
-with open(sys.argv[2], "w") as f:
-    f.write("# set 1 X of sim/suites/npr9998-2015 resampled to 1 kHz (linear); columns: time_s x_mps2\n")
-    for k in range(round(t[-1] / 0.001) + 1):
-        tk = k * 0.001
-        i = min(int(tk / dt + 1e-9), len(x) - 2)
-        a = (tk - t[i]) / dt
-        f.write("%.3f %.9e\n" % (tk, x[i] + (x[i + 1] - x[i]) * a))
-PY
+"$python" "$root/tests/support/resample_1khz.py" "$suite/set01.txt" "$khz"
 
 # name|model options|truth options (each with the record)
 cases=(
