@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Calibration candidates for the ensemble forecast (issue 29, docs/BENCHMARKS.md "The second calibration").
+"""Calibration candidates for the ensemble forecast (issue 29, docs/benchmarks-history.md "The second calibration").
 
 Reads the forecast.csv of `rockwatch study --forecast` runs and scores recalibrations of the raw P with the study's
 folds: leave one record out, every fitted parameter (the logistic coefficients, an isotonic map) fitted on the other

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Is the ensemble forecast right? (issue 29 item 4, a first measurement; docs/BENCHMARKS.md "Ensemble forecast").
+"""Is the ensemble forecast right? (issue 29 item 4, a first measurement; docs/benchmarks-history.md "Ensemble forecast").
 
 Runs `rockwatch simulate --forecast-members N --forecast-horizon-s H --alarms --json --out HISTORY` over the shipped
 suite's horizontal records (sets 4-11 x X/Y) at several PGA levels around the paper wall's capacity, and scores each

@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # aarch64 instructions per sample of rockwatch-monitor at 1 kHz, open loop and with --observer (docs/BENCHMARKS.md,
-# "The monitor on 64-bit ARM"; issue 45): the cross-built monitor (scripts/cross-build.sh) runs offline under
-# qemu-aarch64 with tests/bench/qemu_insn_count.c counting every guest instruction; the per-sample figure is
-# (count over the whole log - count over its first second) / (samples - first second's samples), so start-up, the
-# configuration and the summary cancel. Guest user-space instructions only: the kernel's share (reading the log,
-# writing the output log) is not counted. The last column: the x86-64 monitor of X86_BUILD_DIR counted the same way
-# by callgrind (when valgrind is installed).
+# "What a Raspberry Pi 4/5 costs per wall at 1 kHz"; issue 45): the cross-built monitor (scripts/cross-build.sh)
+# runs offline under qemu-aarch64 with tests/bench/qemu_insn_count.c counting every guest instruction; the per-sample
+# figure is (count over the whole log - count over its first second) / (samples - first second's samples), so
+# start-up, the configuration and the summary cancel. Guest user-space instructions only: the kernel's share
+# (reading the log, writing the output log) is not counted. The last column: the x86-64 monitor of X86_BUILD_DIR
+# counted the same way by callgrind (when valgrind is installed).
 # Input: set 1 X of the shipped suite resampled to 1 kHz (linear), PGA 0.25 g, model r_exp; the wall sensors
 # (--observer) of a true wall with r_ana (x_mid, a_mid at 1 kHz, bias 2 mm, accelerometer noise 0.05 m/s^2).
 #

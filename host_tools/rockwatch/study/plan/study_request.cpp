@@ -343,7 +343,7 @@ void parse_analysis(const CLI::App& app, const RawOptions& raw, StudyRequest& q)
 }
 
 // --forecast and its settings. The defaults (100 members, 3 s, every 0.1 s) are those of the first evaluation
-// (scripts/forecast-evaluation.py, docs/BENCHMARKS.md "Ensemble forecast").
+// (scripts/forecast-evaluation.py, docs/benchmarks-history.md "Ensemble forecast").
 void parse_forecast(const CLI::App& app, const RawOptions& raw, StudyRequest& q) {
   if (!raw.forecast) {
     for (const char* name : {"--forecast-members", "--forecast-horizon-s", "--forecast-every-s", "--forecast-seed",

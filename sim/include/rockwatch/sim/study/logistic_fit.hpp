@@ -5,7 +5,7 @@
 // Not sim::fit_logistic_regression (forecast_calibration.hpp), the recalibration's fit: that one is a ridge-penalised
 // maximum a posteriori fit (the ridge in the gradient too, up to 100 Newton steps); this one is the maximum-likelihood
 // fit whose Newton steps are only damped by the ridge (50 at most), as the baseline's published figures were computed
-// (docs/BENCHMARKS.md, "Forecast evaluation"). Keeping both keeps both sets of figures bit for bit.
+// (docs/BENCHMARKS.md, "Is it right? `rockwatch study --forecast`"). Keeping both keeps both sets of figures bit for bit.
 #pragma once
 
 #include <cstddef>
