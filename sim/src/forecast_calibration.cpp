@@ -14,18 +14,9 @@ struct Shipped {
   double c[kCalibrationFeatures];
 };
 
-// Fitted on real records (issue 40; SPEC §10 "Calibrated P"; docs/BENCHMARKS.md "Model error: the forecast on real
-// records"): every forecast of every event of scripts/forecast-real-records.py (24 horizontal records of 12
-// earthquakes, r exp and ana, 0.8-1.6 x each record's collapse PGA, 200 members: 41 286 forecasts per horizon), maximum
-// likelihood. Held out, leave one *event* out over all 12 (no forecast scored by coefficients its earthquake helped
-// fit): Brier skill 0.381 at 5 s and 0.394 at 3 s, every reliability bin of >= 30 within 0.052 and 0.084:
-//   scripts/forecast-real-records.py --refit-all --horizon 3    (H = 3 s)
-//   scripts/forecast-real-records.py --refit-all --horizon 5    (H = 5 s)
-// "refit-all coefficients". Fitted on the 6 *fit* events alone (issue 40's first fit: 3 s 1.6705, 1.1060, -1.6454,
-// 1.7205, -0.1613; 5 s 2.0483, 1.1369, -1.5329, 1.3965, -0.2053) they over-stated the other 6 events' P by up to
-// 0.25 (5 s skill 0.330 there): those events' strong phases are shorter. Before issue 40 the shipped ones were fitted
-// on the synthetic suite's default study (3 s: -1.0152, 0.8666, -0.3957, 2.0933, -0.1229; 5 s: -0.5162, 0.9988,
-// -0.5098, 1.9034, -0.2585): on real records they under-stated P by up to 0.36 (a P of 0.14 where 0.43 followed).
+// Fitted on real records (issue 40; SPEC §10 "Calibrated P"), maximum likelihood over every forecast of every event of
+// scripts/forecast-real-records.py: `--refit-all --horizon 3` and `--horizon 5`, its "refit-all coefficients".
+// Measured, and the coefficients before: docs/BENCHMARKS.md, "Model error: the forecast on real records".
 constexpr Shipped kShipped[] = {
     {3.0, {0.1931, 0.7251, -0.0623, 0.3788, 0.0570}},
     {5.0, {0.7490, 0.7810, -0.0428, -0.1359, 0.0542}},

@@ -166,10 +166,8 @@ class OutputFile {
 // - once for every sample the call finishes: MonitorLoop encoding and sending its outputs (wall_state_t and
 //   wall_estimate_t, an alarm_event_t at a transition), paid from the engine's budget with the sample's end.
 // The numbers: the image's own part of a call (its instructions less those in the engine's calls: the "d" lines'
-// ticks_engine; scripts/m4-monitor.sh's image_overhead_insn_by_samples_published), measured on set 1 X 0.25 g, r exp,
-// the wall's sensors, --rate 1000 --observer --work-budget 28000, 20 001 samples (docs/BENCHMARKS.md, "The monitor on
-// the wire"): with no sample published at most 3 379 (median 3 006) → 4 000 a call; with one published median 12 714,
-// at most 15 142 (an alarm_event_t too), i.e. 9 708 typical and 11 763 at most a sample → 12 500 a sample.
+// ticks_engine; scripts/m4-monitor.sh's image_overhead_insn_by_samples_published), at most rounded up.
+// Measured: docs/BENCHMARKS.md, "The monitor on the wire".
 // m4_monitor_wire fails when a call's own part exceeds 4 000 + 12 500 per sample published.
 constexpr std::int32_t kImageCallOverheadUnits = 4000;
 constexpr std::int32_t kImageUnitsPerSample = 12500;

@@ -70,13 +70,11 @@ struct StepReport {
   bool work_shed = false;         // the engine's queue was full: an event was not located (core/work_meter.hpp)
 };
 
-// The chatter rule's K (SPEC §3): impacts located inside one integration step, in every engine. Chosen by measurement
-// (docs/BENCHMARKS.md, "The chatter rule"; default study at 1 ms against the engine before the rule): K = 1 changes 16
-// verdicts and moves 60 survivors by > 0.5 mm; K = 2 and 4 change the same 4 chaotic runs (7 and 4 survivors moved);
-// K = 8 one (0 moved); every K keeps Table 3's means within 0.0012 g and fixed = double on 1760/1760 verdicts. The
-// worst M4 sample of a chattering survivor grows with K (113 625, 205 663, 395 713 instructions at K = 2, 4, 8), so
-// K = 2: the knee. The macro is there only to repeat that measurement (a build with -DROCKWATCH_CHATTER_IMPACTS=N);
-// the tools and the firmware use the default.
+// The chatter rule's K (SPEC §3): impacts located inside one integration step, in every engine. Chosen by measurement,
+// K = 2 the knee between the double engine's answer moved and the worst M4 sample (K = 1, 2, 4, 8 against the engine
+// before the rule). Measured: docs/BENCHMARKS.md, "The chatter rule".
+// The macro is there only to repeat that measurement (a build with -DROCKWATCH_CHATTER_IMPACTS=N); the tools and the
+// firmware use the default.
 #ifndef ROCKWATCH_CHATTER_IMPACTS
 #define ROCKWATCH_CHATTER_IMPACTS 2
 #endif
