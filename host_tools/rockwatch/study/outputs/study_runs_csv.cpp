@@ -150,8 +150,8 @@ class RowReader {
   }
 
   UsageError error(std::size_t column, const std::string& expected) const {
-    return UsageError(where_ + ": " + header_[column] + " must be " + expected + " (got " + quoted(fields_[column]) +
-                      ")");
+    return UsageError(where_ + ": " + header_[column] + " must be " + expected + " (got " +
+                      options::quoted(fields_[column]) + ")");
   }
 
  private:
@@ -312,7 +312,7 @@ std::size_t read_runs_csv(const std::string& path, const study::StudyPlan& plan,
   std::string line;
   const std::string expected_header = runs_csv_header(plan);
   if (!std::getline(in, line) || line != expected_header) {
-    throw UsageError(path + ":1: expected the header " + expected_header + " (got " + quoted(line) +
+    throw UsageError(path + ":1: expected the header " + expected_header + " (got " + options::quoted(line) +
                      "): the file belongs to another study (with or without --dt-check, --alarms, --arith fixed?)");
   }
   std::size_t read = 0;
