@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""ctest-summary.py LABEL JUNIT_XML: one line of what a ctest run ran and skipped (scripts/test.sh, issue 42).
+"""ctest-summary.py LABEL JUNIT_XML...: one line of what a preset's ctest runs ran and skipped (scripts/test.sh, issue 42).
 
-Reads the JUnit file of `ctest --output-junit`: a test is run (status "run" or "fail") or skipped ("notrun": ctest's
+Reads the JUnit files of `ctest --output-junit` (several when a preset's tests ran in more than one ctest call): a test is run (status "run" or "fail") or skipped ("notrun": ctest's
 SKIP_RETURN_CODE, or not run at all). A test that ran but printed "SKIPPED: <what>" (a test case of a suite skipped
 inside it, tests/support/ci_skip.hpp) is named too. Prints e.g.
   release: 212 run (210 passed, 2 failed), 1 skipped: test_python_module; skipped inside: PythonPlot.X
@@ -9,12 +9,14 @@ inside it, tests/support/ci_skip.hpp) is named too. Prints e.g.
 import sys
 import xml.etree.ElementTree as ET
 
-label, path = sys.argv[1], sys.argv[2]
-try:
-    cases = ET.parse(path).getroot().iter("testcase")
-except (OSError, ET.ParseError) as e:
-    print(f"{label}: no ctest results ({e})")
-    sys.exit(0)
+label, paths = sys.argv[1], sys.argv[2:]
+cases = []
+for path in paths:
+    try:
+        cases += list(ET.parse(path).getroot().iter("testcase"))
+    except (OSError, ET.ParseError) as e:
+        print(f"{label}: no ctest results ({e})")
+        sys.exit(0)
 run, failed, skipped, inside = 0, [], [], []
 for c in cases:
     name, status = c.get("name"), c.get("status")

@@ -28,7 +28,7 @@ mkdir -p "$work/src"
 git archive HEAD | tar -x -C "$work/src"
 [ -e "$work/src/node_modules" ] || ln -s "$root/node_modules" "$work/src/node_modules"
 cmake -S "$work/src" -B "$work/build" -G Ninja -DCMAKE_BUILD_TYPE=Release >"$work/configure.log"
-survived=() killed=()
+survived=() killed=() broken=()
 for m in "${mutants[@]}"; do
   IFS='|' read -r name targets regex env <<<"$m"
   if [ ${#selected[@]} -gt 0 ] && [[ " ${selected[*]} " != *" $name "* ]]; then continue; fi
@@ -37,14 +37,21 @@ for m in "${mutants[@]}"; do
   (cd "$work/src" && patch -s -p1 <"$patch")
   status=0
   # shellcheck disable=SC2086  # the targets are words
+  # A mutant that does not build is not a mutant the tests killed: it is reported as broken and fails the run.
   if ! cmake --build "$work/build" -j "$(nproc)" $(printf -- '--target %s ' $targets) >"$work/$name.build.log" 2>&1; then
-    echo "   build failed (see $work/$name.build.log): counted as killed"
-    status=1
-    : >"$work/$name.ctest.log"
-  else
-    (cd "$work/build" && env $env ctest -R "$regex" --output-on-failure >"$work/$name.ctest.log" 2>&1) || status=$?
+    echo "   BROKEN: the mutant does not build (see $work/$name.build.log)"
+    broken+=("$name")
+    (cd "$work/src" && patch -s -R -p1 <"$patch")
+    continue
   fi
+  (cd "$work/build" && env $env ctest -R "$regex" --output-on-failure >"$work/$name.ctest.log" 2>&1) || status=$?
   (cd "$work/src" && patch -s -R -p1 <"$patch")
+  # The entries must have run: a regex that matches nothing passes ctest with "No tests were found".
+  if grep -q "No tests were found" "$work/$name.ctest.log"; then
+    echo "   BROKEN: no ctest entry matches $regex"
+    broken+=("$name")
+    continue
+  fi
   if [ "$status" -ne 0 ]; then
     killed+=("$name")
     echo "   killed: $(grep -E 'Failed|Timeout' "$work/$name.ctest.log" | head -3 | tr -s ' ' | paste -sd ';' -)"
@@ -53,5 +60,6 @@ for m in "${mutants[@]}"; do
     echo "   SURVIVED: $regex passed with the mutant"
   fi
 done
-echo "== mutants killed: ${#killed[@]} (${killed[*]:-}); survived: ${#survived[@]} (${survived[*]:-})"
-[ ${#survived[@]} -eq 0 ]
+echo "== mutants killed: ${#killed[@]} (${killed[*]:-}); survived: ${#survived[@]} (${survived[*]:-});" \
+  "broken: ${#broken[@]} (${broken[*]:-})"
+[ ${#survived[@]} -eq 0 ] && [ ${#broken[@]} -eq 0 ]

@@ -1,19 +1,40 @@
 #!/usr/bin/env bash
 # Builds and runs every test suite twice: the release build, then the debug build under
-# AddressSanitizer + UndefinedBehaviorSanitizer; then the fuzzing smoke run (clang build of the libFuzzer targets,
-# the kept regression inputs, about a minute of fuzzing: scripts/fuzz.sh, docs/RELIABILITY.md).
+# AddressSanitizer + UndefinedBehaviorSanitizer; the aarch64 cross build and its check under qemu (ctest
+# arm64_cross_check); then the fuzzing smoke run (clang build of the libFuzzer targets, the kept regression inputs,
+# about a minute of fuzzing: scripts/fuzz.sh, docs/RELIABILITY.md).
+#
+# A pipeline (issue 42: the fresh-clone CI within 24 min on 2 cores): a test run leaves a core idle about half its time
+# (its tests wait on sockets, paced replays and child processes), so the next build runs beside it in the background at
+# nice 19: the tests keep the CPU whenever they want it, and the build takes what they leave. Every test's time is
+# within a quarter of its timeout with one core busy (docs/BENCHMARKS.md "The test loop"), which is at most what a
+# niced build beside it costs. The order:
+#   release: build                    (foreground)
+#   release: test (all but arm64)     beside  debug: build (background)
+#   debug: test                       beside  arm64: build (background, nice 10), fuzz: build (background, nice 19)
+#   release: test arm64_cross_check   beside  fuzz: build (if not done)
+#   fuzz: smoke
+# A background build's output goes to build/ci-<name>.log (printed when it fails).
 # Prints how long each stage took at the end (docs/BENCHMARKS.md, "The test loop"). Exits non-zero on any failure.
 # Ends, pass or fail, with a line of the suites run and skipped per preset (scripts/ctest-summary.py). Under CI=true
 # a test that would skip for a missing tool or service fails instead (tests/support/no_skip_in_ci.sh, ci_skip.hpp),
 # and any skip left fails the run: CI expects 0 skipped.
+#
+#   scripts/test.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
 stage_times=()
 suites_line=()
+declare -A bg_pid=()
 print_suites() {
   echo "== suites run and skipped: ${suites_line[*]:-no ctest run finished}"
 }
-trap print_suites EXIT
+finish() {
+  local pid
+  for pid in "${bg_pid[@]}"; do kill -- "-$pid" 2>/dev/null || kill "$pid" 2>/dev/null || true; done
+  print_suites
+}
+trap finish EXIT
 # CPU seconds (user + system) of this shell's finished child processes so far: cutime + cstime of /proc/PID/stat.
 ticks=$(getconf CLK_TCK)
 child_cpu() {
@@ -21,35 +42,65 @@ child_cpu() {
   read -r -a f </proc/$$/stat
   echo $(((f[15] + f[16]) / ticks))
 }
-stage() {  # stage NAME: starts NAME's clocks; stage_done records them
+stage() {  # stage NAME: starts NAME's clock; stage_done records it
   echo "== $1 ($(date +%T))"
   stage_start=$SECONDS
-  stage_cpu=$(child_cpu)
   stage_name=$1
 }
 stage_done() {
-  stage_times+=("$(printf '%-14s %4d s wall %5d s CPU' "$stage_name" $((SECONDS - stage_start)) \
-    $(($(child_cpu) - stage_cpu)))")
+  stage_times+=("$(printf '%-26s %4d s wall, from %4d s' "$stage_name" $((SECONDS - stage_start)) "$stage_start")")
 }
-for preset in release debug; do
-  stage "$preset: build"
-  ./scripts/build.sh "$preset"
-  stage_done
-  if [ "$preset" = release ]; then
-    # The aarch64 cross build of the two programs (build/arm64), which ctest arm64_cross_check runs under qemu.
-    stage "arm64: build"
-    ./scripts/cross-build.sh --no-deps
-    stage_done
+log_of() { echo "build/ci-$(tr -cs 'a-z0-9' '-' <<<"$1" | sed 's/-$//').log"; }
+# bg_start NAME NICE COMMAND...: runs COMMAND in the background at NICE (its own process group, so a failure elsewhere
+# stops all of it); its output in build/ci-NAME.log, its status and times in that file's .status.
+bg_start() {
+  local name=$1 niceness=$2
+  shift 2
+  local log
+  log=$(log_of "$name")
+  mkdir -p build
+  rm -f "$log.status"
+  echo "== $name ($(date +%T), in the background at nice $niceness: $log)"
+  set -m
+  (
+    start=$SECONDS
+    status=0
+    nice -n "$niceness" "$@" >"$log" 2>&1 </dev/null || status=$?
+    echo "$status $start $SECONDS" >"$log.status"
+  ) &
+  bg_pid[$name]=$!
+  set +m
+}
+# bg_wait NAME: waits for NAME; on failure prints the end of its log and exits.
+bg_wait() {
+  local name=$1 log status start end
+  log=$(log_of "$name")
+  wait "${bg_pid[$name]}" || true
+  unset "bg_pid[$name]"
+  read -r status start end <"$log.status" || { status=1 start=0 end=0; }
+  stage_times+=("$(printf '%-26s %4d s wall, from %4d s (background)' "$name" $((end - start)) "$start")")
+  if [ "$status" -ne 0 ]; then
+    tail -n 60 "$log" >&2
+    echo "FAILED: $name (exit status $status; the whole output: $log)" >&2
+    exit "$status"
   fi
-  # The end-to-end tests run LCM over real UDP multicast on loopback (they skip, saying why, when it is unavailable,
-  # and fail under CI=true); after the build, which installs iproute2.
-  source scripts/multicast-route.sh
-  stage "$preset: test"
-  junit="$PWD/build/$preset/ctest-junit.xml"
+  echo "== $name done ($(date +%T), $((end - start)) s)"
+}
+# run_ctest PRESET JUNIT [CTEST ARGUMENTS...]: one ctest call; its JUnit file kept for the preset's summary line.
+run_ctest() {
+  local preset=$1 junit="$PWD/build/$1/$2"
+  shift 2
   rm -f "$junit"
   ctest_status=0
-  ctest --preset "$preset" -j "$(nproc)" --output-junit "$junit" || ctest_status=$?
-  summary=$(/usr/bin/python3 scripts/ctest-summary.py "$preset" "$junit")
+  ctest --preset "$preset" -j "$(nproc)" --output-junit "$junit" "$@" || ctest_status=$?
+}
+# summarise PRESET JUNIT...: the preset's line of suites run and skipped; fails on a failure, or a skip under CI=true.
+summarise() {
+  local preset=$1 summary
+  shift
+  local files=()
+  for f in "$@"; do files+=("$PWD/build/$preset/$f"); done
+  summary=$(/usr/bin/python3 scripts/ctest-summary.py "$preset" "${files[@]}")
   suites_line+=("$summary;")
   echo "$summary"
   [ "$ctest_status" -eq 0 ] || exit "$ctest_status"
@@ -57,14 +108,48 @@ for preset in release debug; do
     echo "FAILED: tests skipped under CI=true: $summary" >&2
     exit 1
   fi
-  stage_done
-done
-stage "fuzz: build"
-./scripts/build.sh fuzz
+}
+
+stage "release: build"
+./scripts/build.sh release
 stage_done
+# The end-to-end tests run LCM over real UDP multicast on loopback (they skip, saying why, when it is unavailable,
+# and fail under CI=true); after the build, which installs iproute2.
+source scripts/multicast-route.sh
+
+bg_start "debug: build" 19 ./scripts/build.sh debug
+stage "release: test"
+run_ctest release ctest-junit.xml -E '^arm64_cross_check$'
+release_status=$ctest_status
+stage_done
+[ "$release_status" -eq 0 ] || { summarise release ctest-junit.xml; }
+bg_wait "debug: build"
+
+# The aarch64 cross build of the two programs (build/arm64), which ctest arm64_cross_check runs under qemu; the
+# libFuzzer targets. Both beside the debug tests, the cross build first (nice 10 before 19).
+bg_start "arm64: build" 10 ./scripts/cross-build.sh --no-deps
+bg_start "fuzz: build" 19 ./scripts/build.sh fuzz
+stage "debug: test"
+run_ctest debug ctest-junit.xml
+stage_done
+summarise debug ctest-junit.xml
+
+bg_wait "arm64: build"
+stage "release: arm64 check"
+run_ctest release ctest-junit-arm64.xml -R '^arm64_cross_check$'
+arm64_status=$ctest_status
+stage_done
+ctest_status=$((release_status > arm64_status ? release_status : arm64_status))
+# The release line first, as before: the debug one was added when its tests finished.
+debug_line=${suites_line[0]}
+suites_line=()
+summarise release ctest-junit.xml ctest-junit-arm64.xml
+suites_line+=("$debug_line")
+
+bg_wait "fuzz: build"
 stage "fuzz: smoke"
 ./scripts/fuzz.sh smoke  # (its build step finds everything up to date)
 stage_done
 echo "== stage times"
 printf '%s\n' "${stage_times[@]}"
-printf '%-14s %4d s wall %5d s CPU\n' total "$SECONDS" "$(child_cpu)"
+printf '%-26s %4d s wall %5d s CPU\n' total "$SECONDS" "$(child_cpu)"
