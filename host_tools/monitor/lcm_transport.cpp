@@ -108,34 +108,6 @@ bool LcmTransport::publish(const char* channel, const std::uint8_t* data, std::s
   return lcm_publish(lcm_.getUnderlyingLCM(), channel, data, static_cast<unsigned int>(size)) == 0;
 }
 
-LcmInput::LcmInput(lcm::LCM& lcm, firmware::MonitorLoop& loop)
-    : lcm_(lcm), loop_(loop), queue_capacity_(input_queue_capacity(loop.settings().sample_rate_hz)) {
-  const firmware::MonitorChannels& c = loop.settings().channels;
-  lcm_t* const raw = lcm_.getUnderlyingLCM();
-  accel_ = lcm_subscribe(raw, exact_channel_regex(c.accel).c_str(), &LcmInput::on_raw, this);
-  batch_ = lcm_subscribe(raw, exact_channel_regex(c.accel_batch).c_str(), &LcmInput::on_raw, this);
-  if (accel_ != nullptr) lcm_subscription_set_queue_capacity(accel_, queue_capacity_);
-  if (batch_ != nullptr) lcm_subscription_set_queue_capacity(batch_, queue_capacity_);
-  if (loop.settings().engine.observer_enabled) {
-    sensor_ = lcm_subscribe(raw, exact_channel_regex(c.wall_sensor).c_str(), &LcmInput::on_raw, this);
-    if (sensor_ != nullptr) lcm_subscription_set_queue_capacity(sensor_, queue_capacity_);
-  }
-}
-
-LcmInput::~LcmInput() {
-  if (accel_ != nullptr) lcm_unsubscribe(lcm_.getUnderlyingLCM(), accel_);
-  if (batch_ != nullptr) lcm_unsubscribe(lcm_.getUnderlyingLCM(), batch_);
-  if (sensor_ != nullptr) lcm_unsubscribe(lcm_.getUnderlyingLCM(), sensor_);
-}
-
-void LcmInput::on_raw(const lcm_recv_buf_t* rbuf, const char* channel, void* user) {
-  LcmInput* const self = static_cast<LcmInput*>(user);
-  ++self->messages_;
-  const std::int64_t receive_utime = rbuf->recv_utime > 0 ? rbuf->recv_utime : realtime_utime();
-  const auto size = rbuf->data_size > 0 ? static_cast<std::size_t>(rbuf->data_size) : std::size_t{0};
-  self->loop_.on_message(channel, static_cast<const std::uint8_t*>(rbuf->data), size, receive_utime);
-}
-
 bool LogTransport::publish(const char* channel, const std::uint8_t* data, std::size_t size) {
   if (size > static_cast<std::size_t>(INT32_MAX)) {
     ++failures_;

@@ -1,6 +1,6 @@
-// The Linux adapter of the monitor loop: firmware::Transport over liblcm, the subscription that hands the
-// raw bytes of the two input channels to MonitorLoop::on_message, the clocks, and the offline transport that writes
-// an LCM log instead of sending.
+// The Linux adapter of the monitor loop: firmware::Transport over liblcm, the clocks, the receive buffer a udpm://
+// URL asks for, and the offline transport that writes an LCM log instead of sending. The monitor never receives
+// through liblcm: liblcm's subscription (the benchmark's --receive-path liblcm) is tests/bench/lcm_input_source.hpp.
 #pragma once
 
 #include <cstddef>
@@ -26,7 +26,8 @@ std::string exact_channel_regex(const std::string& channel);
 //  1. liblcm's receive thread reads every datagram of the multicast group into a queue and silently discards a
 //     message when every subscription it matches already holds its queue capacity of messages the program has not
 //     handled yet. LCM's default capacity is 30: 3 ms of single samples at 10 kHz, so a monitor descheduled for a few
-//     milliseconds lost samples. LcmInput sets the capacity of its subscriptions to input_queue_capacity(rate).
+//     milliseconds lost samples. A subscription to the input channels (the benchmark's,
+//     tests/bench/lcm_input_source.hpp) sets its capacity to input_queue_capacity(rate).
 //  2. The kernel drops datagrams when the socket's receive buffer is full (the LCM receive thread did not run). The
 //     udpm URL option recv_buf_size=BYTES asks for a larger one (SO_RCVBUF); the kernel caps the request at
 //     net.core.rmem_max and doubles it. with_receive_buffer() adds recv_buf_size to a udpm:// URL that has none.
@@ -66,38 +67,6 @@ class LcmTransport final : public firmware::Transport {
 
  private:
   lcm::LCM& lcm_;
-};
-
-// Subscribes the loop's two input channels (and the wall-sensor channel with the observer; only those, exactly) and passes every message's raw bytes to
-// MonitorLoop::on_message with the receive time LCM stamped on it (CLOCK_REALTIME µs; now when LCM gave none).
-// Both subscriptions hold up to input_queue_capacity(the loop's sample rate) unhandled messages (not LCM's 30).
-// Any other subscription of the same LCM instance to an input channel needs the same capacity: liblcm keeps a
-// message when one matching subscription has room, then hands it to each subscription that has messages counted.
-// Unsubscribes on destruction. Messages arrive while the owner calls lcm.handle()/handleTimeout().
-class LcmInput {
- public:
-  LcmInput(lcm::LCM& lcm, firmware::MonitorLoop& loop);
-  ~LcmInput();
-  LcmInput(const LcmInput&) = delete;
-  LcmInput& operator=(const LcmInput&) = delete;
-  bool good() const {
-    return accel_ != nullptr && batch_ != nullptr && (!loop_.settings().engine.observer_enabled || sensor_ != nullptr);
-  }
-  std::int64_t messages() const { return messages_; }
-  int queue_capacity() const { return queue_capacity_; }
-
- private:
-  static void on_raw(const lcm_recv_buf_t* rbuf, const char* channel, void* self);
-
-  lcm::LCM& lcm_;
-  firmware::MonitorLoop& loop_;
-  // The C API: lcm-cpp's callbacks take the channel as a std::string, a heap allocation per message for names over
-  // 15 characters (ROCKWATCH_ACCEL_BATCH) — the soak's allocation count found its twin on the publishing side.
-  lcm_subscription_t* accel_ = nullptr;
-  lcm_subscription_t* batch_ = nullptr;
-  lcm_subscription_t* sensor_ = nullptr;  // the wall-sensor channel, with the observer only
-  int queue_capacity_ = 0;
-  std::int64_t messages_ = 0;
 };
 
 // Offline mode: every published message becomes an event of an LCM log, timestamped with the time set by
