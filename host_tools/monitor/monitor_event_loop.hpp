@@ -15,11 +15,33 @@
 #include "forecast_schedule.hpp"
 #include "log_flusher.hpp"
 #include "monitor_clock.hpp"
+#include "monitor_forecast.hpp"
 #include "monitor_input_source.hpp"
 #include "rockwatch/firmware/multi_wall_monitor.hpp"
 #include "service_notify.hpp"
+#include "traffic_log.hpp"
 
 namespace rockwatch::monitor {
+
+// Where every input's messages go: into the traffic log (live --log; before the outputs they cause, so the log
+// reads in order), the forecast's feed (--forecast: a wait-free copy of the ground, monitor_forecast.hpp), then the
+// walls. Null: not in this run.
+class LoopInputSink final : public InputMessageSink {
+ public:
+  LoopInputSink(firmware::MultiWallMonitor& walls, TrafficLog* log, ForecastFeed* feed)
+      : walls_(walls), log_(log), feed_(feed) {}
+  void on_input_message(const char* channel, const std::uint8_t* data, std::size_t size,
+                        std::int64_t receive_utime) override {
+    if (log_ != nullptr) log_->add(channel, data, size, receive_utime);
+    if (feed_ != nullptr) feed_->on_input(channel, data, size);
+    walls_.on_message(channel, data, size, receive_utime);
+  }
+
+ private:
+  firmware::MultiWallMonitor& walls_;
+  TrafficLog* log_;
+  ForecastFeed* feed_;
+};
 
 // What the loop runs beside the input; null: not in this mode.
 struct LoopServices {

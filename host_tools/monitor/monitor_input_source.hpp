@@ -12,9 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "datagram_input.hpp"
-#include "monitor_forecast.hpp"
 #include "rockwatch/firmware/multi_wall_monitor.hpp"
-#include "traffic_log.hpp"
 
 namespace rockwatch::monitor {
 
@@ -46,26 +44,6 @@ class LiveInput : public InputSource {
   virtual bool start(firmware::MultiWallMonitor& walls, std::string* problem) = 0;
   // SO_BUSY_POLL on the input's socket (--busy-poll-us). False with *problem when the input has no socket of its own.
   virtual bool set_busy_poll(int us, std::string* problem) = 0;
-};
-
-// Where every input's messages go: into the traffic log (live --log; before the outputs they cause, so the log
-// reads in order), the forecast's feed (--forecast: a wait-free copy of the ground, monitor_forecast.hpp), then the
-// walls. Null: not in this run.
-class LoopInputSink final : public InputMessageSink {
- public:
-  LoopInputSink(firmware::MultiWallMonitor& walls, TrafficLog* log, ForecastFeed* feed)
-      : walls_(walls), log_(log), feed_(feed) {}
-  void on_input_message(const char* channel, const std::uint8_t* data, std::size_t size,
-                        std::int64_t receive_utime) override {
-    if (log_ != nullptr) log_->add(channel, data, size, receive_utime);
-    if (feed_ != nullptr) feed_->on_input(channel, data, size);
-    walls_.on_message(channel, data, size, receive_utime);
-  }
-
- private:
-  firmware::MultiWallMonitor& walls_;
-  TrafficLog* log_;
-  ForecastFeed* feed_;
 };
 
 }  // namespace rockwatch::monitor

@@ -12,7 +12,9 @@
 // (docs/BENCHMARKS.md, "Forecast").
 //
 // --receive-path is handed to the monitor: its own checked datagram path (default) or liblcm's receive thread, so
-// the two can be measured side by side in one session (docs/BENCHMARKS.md). --monitor-args: more arguments for the
+// the two can be measured side by side in one session (docs/BENCHMARKS.md). liblcm's needs MONITOR_EXE =
+// rockwatch-monitor-liblcm (built here, tests/bench: the same monitor loop with lcm_input_source.hpp as its input);
+// rockwatch-monitor reads with its own path only. --monitor-args: more arguments for the
 // monitor, split at spaces (e.g. "--realtime 50 --cpu 1"); the monitor's summary "timing" object (what the system
 // granted) is printed on a third line. --cpu N pins this program's threads (publisher and subscriber) to CPU N, after
 // the monitor is started (which keeps its own affinity).

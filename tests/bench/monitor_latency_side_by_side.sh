@@ -32,6 +32,7 @@ done
 
 bench=$build/tests/bench/bench_monitor_latency
 monitor=$build/host_tools/rockwatch-monitor
+monitor_liblcm=$build/tests/bench/rockwatch-monitor-liblcm  # the same loop with liblcm's receive thread as its input
 url="udpm://239.255.76.67:$port?ttl=0"
 
 one() {  # CASE PATH
@@ -47,8 +48,9 @@ one() {  # CASE PATH
     *) echo "unknown case $1" >&2; exit 2 ;;
   esac
   if [ "$2" = liblcm ] && [ "$1" = busy-poll ]; then return; fi  # liblcm owns its socket
-  local out
-  out=$("${prefix[@]}" "$bench" "$monitor" --rate $rate --seconds $seconds --batch $batch --lcm-url "$url" --receive-path "$2" \
+  local out exe=$monitor
+  if [ "$2" = liblcm ]; then exe=$monitor_liblcm; fi
+  out=$("${prefix[@]}" "$bench" "$exe" --rate $rate --seconds $seconds --batch $batch --lcm-url "$url" --receive-path "$2" \
         ${margs:+--monitor-args "$margs"} "${bargs[@]}" 2>/dev/null || true)
   echo "$1 $2 $(echo "$out" | head -1)"
   echo "$out" | sed -n 's/^  monitor timing: /    timing: /p'
