@@ -18,6 +18,8 @@
 #include "rockwatch/core/static_check.hpp"
 #include "rockwatch/core/stepper_alarm_chain.hpp"
 #include "rockwatch/core/wall.hpp"
+#include "rockwatch/core/wall_observer.hpp"
+#include "rockwatch/core/observer/generated/observer_model.hpp"
 
 template class rockwatch::core::RockingStepper<double>;
 template class rockwatch::core::RockingStepper<float>;
@@ -52,6 +54,10 @@ FixedInstabilityIndicators fixed_indicators(const FixedInstabilityConstants& c, 
   return evaluate_instability(c, s, FixedStepReport{});
 }
 }  // namespace rockwatch::core::compile_check
+
+// The wall observer over both steppers, every member (its parts: core/observer/).
+template class rockwatch::core::WallObserver<rockwatch::core::RockingStepper<double>>;
+template class rockwatch::core::WallObserver<rockwatch::core::FixedRockingStepper>;
 
 // The stepper → indicators → alarm chain over both steppers.
 template class rockwatch::core::StepperAlarmChain<rockwatch::core::RockingStepper<double>>;

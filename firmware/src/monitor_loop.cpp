@@ -544,6 +544,16 @@ void MonitorLoop::publish_estimate(std::int64_t utime, std::int64_t seq, const E
   m.k_estimate_ps2 = e.observer.k_estimate_ps2;
   m.sigma_k_ps2 = e.observer.sigma_k_ps2;
   m.clamped = c.clamped;
+  const core::ObserverSensorStatus& xs = e.observer.x_status;
+  const core::ObserverSensorStatus& as = e.observer.a_status;
+  m.x_innovation_var_m2 = xs.innovation_variance;
+  m.x_test_ratio = xs.test_ratio;
+  m.x_rejected = xs.rejected;
+  m.x_last_fused_utime = xs.last_fused_us;
+  m.a_innovation_var_m2ps4 = as.innovation_variance;
+  m.a_test_ratio = as.test_ratio;
+  m.a_rejected = as.rejected;
+  m.a_last_fused_utime = as.last_fused_us;
   const int size = m.getEncodedSize();
   if (size <= static_cast<int>(sizeof out_buffer_) &&
       m.encode(out_buffer_, 0, static_cast<int>(sizeof out_buffer_)) == size) {

@@ -4,6 +4,10 @@
 // capacity of a thinner wall learned (and a far thinner one clamped, flagged).
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
 
 #include "rockwatch/core/restitution.hpp"
 #include "rockwatch/core/rocking_stepper.hpp"
@@ -178,6 +182,85 @@ TEST(WallObserver, GatesOutliersAndCountsThem) {
   CHECK(std::fabs(run.model.state().x_m - run.truth.state().x_m) < 2e-3);
 }
 
+// Each sensor's fusion status (EKF2's innovation status): an accepted reading passes with a test ratio below 1 and
+// sets the time of the last fusion; a rejected one says so with a ratio above 1 and leaves that time as it was.
+TEST(WallObserver, KeepsEachSensorsInnovationVarianceAndTestRatio) {
+  FreeRocking run(0.85, 0.85, 0.03);
+  for (int k = 0; k < 50; ++k) run.step();
+  const ObserverSensorStatus ok = run.observer.x_status();
+  CHECK_FALSE(ok.rejected);
+  CHECK(ok.fused);
+  LONGS_EQUAL(run.t_us, ok.last_fused_us);
+  CHECK(ok.test_ratio >= 0.0 && ok.test_ratio < 1.0);
+  CHECK(ok.innovation_variance >= 0.5e-3 * 0.5e-3);  // at least the transducer's own variance
+  DOUBLES_EQUAL(run.observer.last_innovation_x_m(), ok.innovation, 0.0);
+  DOUBLES_EQUAL(ok.innovation * ok.innovation / (16.0 * ok.innovation_variance), ok.test_ratio, 1e-12);
+  const std::int64_t accepted_us = run.t_us;
+  // One reading 5 cm off: gated out.
+  run.t_us += kDtUs;
+  run.truth.step(0.0, 0.0);
+  run.observer.push(displacement(run.t_us, run.truth.state().x_m + 0.05));
+  const StepReport<double> mr = run.model.step(0.0, 0.0);
+  run.observer.after_step(run.model, mr, 0.0, 0.0, run.t_us, kDtUs);
+  const ObserverSensorStatus bad = run.observer.x_status();
+  CHECK(bad.rejected);
+  CHECK(bad.test_ratio > 1.0);
+  DOUBLES_EQUAL(0.05, bad.innovation, 3e-3);
+  LONGS_EQUAL(accepted_us, bad.last_fused_us);
+  // No accelerometer yet: nothing tried, nothing fused.
+  const ObserverSensorStatus a = run.observer.a_status();
+  CHECK_FALSE(a.fused);
+  CHECK_FALSE(a.rejected);
+  LONGS_EQUAL(0, a.last_fused_us);
+  DOUBLES_EQUAL(0.0, a.test_ratio, 0.0);
+}
+
+// The accelerometer's status, in both arithmetics: readings of the real wall pass (ratio < 1), one 20 m/s² off does
+// not (ratio > 1, rejected).
+TEST(WallObserver, TheAccelerometersStatusSaysWhichReadingsPassed) {
+  RockingStepper<double> truth, dmodel;
+  truth.init(setup_with_r(0.85));
+  dmodel.init(setup_with_r(0.85));
+  FixedRockingStepper fmodel;
+  CHECK(fmodel.init(setup_with_r(0.85)) == FixedSetupError::ok);
+  truth.set_state(0.05, 0.0, 0.0, 0.0);
+  dmodel.set_state(0.05, 0.0, 0.0, 0.0);
+  fmodel.set_state(LengthQ1_62(0.05), SpeedQ3_60{}, AccelQ7_56{}, AccelQ7_56{});
+  WallObserver<RockingStepper<double>> dobs;
+  WallObserver<FixedRockingStepper> fobs;
+  CHECK(dobs.init(ObserverOptions{}, setup_with_r(0.85), paper_wall()) == ObserverError::ok);
+  CHECK(fobs.init(ObserverOptions{}, setup_with_r(0.85), paper_wall()) == ObserverError::ok);
+  Noise noise(5);
+  std::int64_t t = 0;
+  for (int k = 0; k < 41; ++k) {
+    t += kDtUs;
+    truth.step(0.0, 0.0);
+    WallSensorSample s;
+    s.utime_us = t;
+    s.a_mid_mps2 = truth.state().xdd_mps2 - 9.81 * truth.state().x_m / paper_wall().h1_m + 0.05 * noise.normal();
+    if (k == 40) s.a_mid_mps2 += 20.0;
+    s.a_valid = true;
+    dobs.push(s);
+    fobs.push(s);
+    dobs.after_step(dmodel, dmodel.step(0.0, 0.0), 0.0, 0.0, t, kDtUs);
+    fobs.after_step(fmodel, fmodel.step(AccelQ7_56{}, AccelQ7_56{}), AccelQ7_56{}, AccelQ7_56{}, t, kDtUs);
+    if (k == 39) {
+      for (const ObserverSensorStatus& st : {dobs.a_status(), fobs.a_status()}) {
+        CHECK_FALSE(st.rejected);
+        CHECK(st.fused);
+        LONGS_EQUAL(t, st.last_fused_us);
+        CHECK(st.test_ratio < 1.0);
+        CHECK(st.innovation_variance >= 0.05 * 0.05 * 0.999);
+      }
+    }
+  }
+  for (const ObserverSensorStatus& st : {dobs.a_status(), fobs.a_status()}) {
+    CHECK(st.rejected);
+    CHECK(st.test_ratio > 1.0);
+    LONGS_EQUAL(t - kDtUs, st.last_fused_us);
+  }
+}
+
 TEST(WallObserver, DiscardsNotFiniteOutOfRangeAndStuckReadings) {
   FreeRocking run(0.85, 0.85, 0.03);
   WallSensorSample s = displacement(run.t_us + kDtUs, std::nan(""));
@@ -264,6 +347,60 @@ TEST(WallObserver, RefusesSettingsOutOfRangeNamingWhich) {
   o.dropout_s = -1.0;
   CHECK(observer.init(o, setup_with_r(0.8), paper_wall()) == ObserverError::timing_out_of_range);
   STRCMP_CONTAINS("dropout", observer_error_message(ObserverError::timing_out_of_range));
+}
+
+namespace {
+
+// docs/observer_parameters.md's table as kObserverParameters gives it (the docs are checked against this).
+std::string parameter_table_markdown() {
+  std::string t = "| setting | accepted | default | unit | meaning | init() refuses with |\n"
+                  "| --- | --- | --- | --- | --- | --- |\n";
+  const char* groups[] = {"ok", "noise_out_of_range", "prior_out_of_range", "gate_out_of_range",
+                          "timing_out_of_range", "range_out_of_range", "doubt_out_of_range"};
+  for (const ObserverParameter& p : kObserverParameters) {
+    char def[32];
+    std::snprintf(def, sizeof def, "%g", p.value(ObserverOptions{}));
+    t += std::string("| `") + p.name + "` | " + (p.zero_allowed ? "0 or " : "") + (p.min_open ? "(" : "[") +
+         p.min_text + ", " + p.max_text + "] | " + def + " | " + p.unit + " | " + p.meaning + " | `" +
+         groups[static_cast<int>(p.group)] + "` |\n";
+  }
+  return t;
+}
+
+}  // namespace
+
+// One table of ranges: validation, messages and docs come from kObserverParameters.
+TEST(WallObserver, EachSettingsRangeIsOneRowOfTheTableThatValidatesAndNamesIt) {
+  for (const ObserverParameter& p : kObserverParameters) {
+    ObserverOptions o;
+    CHECK_TEXT(p.accepts(p.value(o)), p.name);  // the defaults are accepted
+    STRCMP_CONTAINS(p.name, observer_error_message(p.group));
+    CHECK(observer_parameter(p.name) == &p);
+  }
+  CHECK(observer_parameter("no_such_setting") == nullptr);
+  ObserverOptions o;
+  o.stuck_after = 1;
+  STRCMP_EQUAL("stuck_after", first_observer_parameter_out_of_range(o)->name);
+  CHECK(validate_observer_options(o) == ObserverError::gate_out_of_range);
+  o = ObserverOptions{};
+  o.doubt_nis = 0.5;  // neither 0 (off) nor in [1, 1000]
+  CHECK(validate_observer_options(o) == ObserverError::doubt_out_of_range);
+  o.doubt_nis = 0.0;
+  CHECK(validate_observer_options(o) == ObserverError::ok);
+  // docs/observer_parameters.md carries the same table between its markers.
+  std::ifstream in(std::string(ROCKWATCH_TEST_DATA_DIR) + "/../../docs/observer_parameters.md");
+  CHECK_TEXT(in.good(), "docs/observer_parameters.md");
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string doc = text.str(), begin = "<!-- table: generated from core::kObserverParameters -->\n",
+                    end = "<!-- end of table -->";
+  const std::size_t b = doc.find(begin), e = doc.find(end);
+  CHECK_TEXT(b != std::string::npos && e != std::string::npos && e > b, "the table's markers");
+  const std::string expected = parameter_table_markdown();
+  if (doc.substr(b + begin.size(), e - b - begin.size()) != expected) {
+    std::printf("\ndocs/observer_parameters.md should carry, between its markers:\n%s", expected.c_str());
+    FAIL("docs/observer_parameters.md's table is not core::kObserverParameters");
+  }
 }
 
 TEST(WallObserver, FixedPointObserverFollowsTheDoubleOne) {

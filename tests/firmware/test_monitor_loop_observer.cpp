@@ -448,6 +448,66 @@ TEST(MonitorLoopObserver, FixedAndDoubleEnginesAgreeOnTheSameStream) {
   for (std::size_t k = 0; k < fa.size() && k < da.size(); ++k) LONGS_EQUAL(fa[k].level, da[k].level);
 }
 
+// Each sensor's fusion status (wall_estimate_t schema 3) is the observer's, through the message's encoding, in both
+// arithmetics; a reading far off is published rejected with a test ratio above 1, the last fused time unchanged.
+TEST(MonitorLoopObserver, PublishesEachSensorsFusionStatus) {
+  for (const fw::MonitorArithmetic arithmetic :
+       {fw::MonitorArithmetic::fixed_point, fw::MonitorArithmetic::double_precision}) {
+    Rig rig(observer_settings(arithmetic));
+    rig.run(300);
+    const core::ObserverSensorStatus x = arithmetic == fw::MonitorArithmetic::fixed_point
+                                             ? rig.fixed.observer().x_status()
+                                             : rig.dbl.observer().x_status();
+    const Estimate ok = rig.last_estimate();
+    CHECK_TRUE(ok.x_innovation_var_m2 == x.innovation_variance);
+    CHECK_TRUE(ok.x_test_ratio == x.test_ratio);
+    CHECK_TRUE(ok.innovation_x_m == x.innovation);
+    CHECK_TRUE(ok.x_last_fused_utime == x.last_fused_us);
+    CHECK_FALSE(ok.x_rejected);
+    CHECK_TRUE(ok.x_test_ratio < 1.0);
+    CHECK_TRUE(ok.x_innovation_var_m2 >= 0.5e-3 * 0.5e-3 * 0.999);  // at least the transducer's variance
+    CHECK_TRUE(ok.x_last_fused_utime == utime_of(299));
+    // No accelerometer in this stream: nothing tried, nothing fused.
+    CHECK_FALSE(ok.a_rejected);
+    CHECK_TRUE(ok.a_last_fused_utime == 0 && ok.a_innovation_var_m2ps4 == 0.0 && ok.a_test_ratio == 0.0);
+    // One reading 10 cm off.
+    const std::int64_t seq = rig.next_seq++;
+    const double x_true = rig.true_x(seq, shaking_ug(seq));
+    rig.sensor(utime_of(seq), x_true + 0.1);
+    rig.ground(seq, shaking_ug(seq));
+    const Estimate bad = rig.last_estimate();
+    CHECK_TRUE(bad.x_rejected);
+    CHECK_TRUE(bad.x_test_ratio > 1.0);
+    CHECK_TRUE(bad.x_last_fused_utime == utime_of(299));
+    CHECK_TRUE(has(bad.sensor_health, Estimate::SENSOR_REJECTED));
+  }
+}
+
+// The appended fields survive LCM's encoding (append-only: the fields before them keep their places).
+TEST(MonitorLoopObserver, TheEstimateMessageRoundTripsWithTheSensorStatus) {
+  Estimate m{};
+  m.utime = 123456789;
+  m.schema_version = Estimate::SCHEMA_VERSION;
+  m.clamped = 7;
+  m.x_innovation_var_m2 = 2.5e-7;
+  m.x_test_ratio = 0.25;
+  m.x_rejected = 0;
+  m.x_last_fused_utime = 123450000;
+  m.a_innovation_var_m2ps4 = 3.5e-3;
+  m.a_test_ratio = 4.5;
+  m.a_rejected = 1;
+  m.a_last_fused_utime = 123440000;
+  const std::vector<std::uint8_t> bytes = encode(m);
+  Estimate d{};
+  LONGS_EQUAL(static_cast<long>(bytes.size()), d.decode(bytes.data(), 0, static_cast<int>(bytes.size())));
+  LONGS_EQUAL(3, Estimate::SCHEMA_VERSION);
+  CHECK_TRUE(d.utime == m.utime && d.clamped == m.clamped && d.schema_version == m.schema_version);
+  CHECK_TRUE(d.x_innovation_var_m2 == m.x_innovation_var_m2 && d.x_test_ratio == m.x_test_ratio);
+  CHECK_TRUE(d.x_rejected == 0 && d.x_last_fused_utime == m.x_last_fused_utime);
+  CHECK_TRUE(d.a_innovation_var_m2ps4 == m.a_innovation_var_m2ps4 && d.a_test_ratio == m.a_test_ratio);
+  CHECK_TRUE(d.a_rejected == 1 && d.a_last_fused_utime == m.a_last_fused_utime);
+}
+
 TEST(MonitorLoopObserver, WithoutTheObserverTheSensorChannelIsNotAnInput) {
   fw::MonitorSettings off = observer_settings();
   off.engine.observer_enabled = false;

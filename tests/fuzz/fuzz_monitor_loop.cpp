@@ -57,7 +57,7 @@ class CheckingTransport : public fw::Transport {
     } else if (std::strcmp(channel, "ROCKWATCH_WALL_ESTIMATE") == 0) {
       wall_estimate_t m;
       ROCKWATCH_FUZZ_CHECK(decodes(m, data, size));
-      ROCKWATCH_FUZZ_CHECK(m.schema_version == wall_estimate_t::SCHEMA_VERSION);  // 2 since the capacity estimate
+      ROCKWATCH_FUZZ_CHECK(m.schema_version == wall_estimate_t::SCHEMA_VERSION);  // 3 since the sensors' status
       ROCKWATCH_FUZZ_CHECK(std::isfinite(m.x_inst_estimate_m) && m.x_inst_estimate_m >= 0.0);
       ROCKWATCH_FUZZ_CHECK(std::isfinite(m.sigma_x_inst_m) && m.sigma_x_inst_m >= 0.0);
       ROCKWATCH_FUZZ_CHECK(m.seq > last_estimate_seq);

@@ -80,6 +80,16 @@ json status_json(const rockwatch::monitor_status_t& s) {
               {"worst_step_ns", s.worst_step_ns}};
 }
 
+// One sensor's fusion status as wall_estimate_t carries it; last_fused_utime null until a reading was accepted.
+json sensor_status_json(double innovation, double variance, double test_ratio, bool rejected,
+                        std::int64_t last_fused_utime) {
+  return json{{"innovation", number_or_null(innovation)},
+              {"innovation_variance", number_or_null(variance)},
+              {"test_ratio", number_or_null(test_ratio)},
+              {"rejected", rejected},
+              {"last_fused_utime", last_fused_utime != 0 ? json(last_fused_utime) : json(nullptr)}};
+}
+
 json estimate_json(const rockwatch::wall_estimate_t& e) {
   return json{{"utime", e.utime},
               {"x_m", number_or_null(e.x_m)},
@@ -94,7 +104,13 @@ json estimate_json(const rockwatch::wall_estimate_t& e) {
               {"sensor_samples", e.sensor_samples},
               {"x_updates", e.x_updates},
               {"rejected", e.rejected},
-              {"dropouts", e.dropouts}};
+              {"dropouts", e.dropouts},
+              // Each sensor's fusion status (wall_estimate_t schema 3): the page's table per sensor.
+              {"sensors",
+               {{"x", sensor_status_json(e.innovation_x_m, e.x_innovation_var_m2, e.x_test_ratio, e.x_rejected,
+                                         e.x_last_fused_utime)},
+                {"a", sensor_status_json(e.innovation_a_mps2, e.a_innovation_var_m2ps4, e.a_test_ratio, e.a_rejected,
+                                         e.a_last_fused_utime)}}}};
 }
 
 json forecast_json(const rockwatch::wall_forecast_t& f) {

@@ -224,6 +224,9 @@ struct ObserverSample {
   double omega_estimate_rps = 0.0, sigma_omega_rps = 0.0;
   double c_estimate_mps2 = 0.0, sigma_c_mps2 = 0.0;
   double k_estimate_ps2 = 0.0, sigma_k_ps2 = 0.0;
+  // Each sensor's fusion status (innovation, its variance, test ratio, rejected, last fused): the displacement
+  // transducer's [m] and the accelerometer's [m/s²].
+  ObserverSensorStatus x_status{}, a_status{};
 };
 
 struct EngineSample {
@@ -265,6 +268,8 @@ ObserverSample observer_sample(const Observer& observer, const ObserverStepRepor
   o.k_estimate_ps2 = observer.k_estimate_ps2();
   o.sigma_k_ps2 = observer.sigma_k_ps2();
   o.sigma_omega_rps = observer.sigma_omega_rps();
+  o.x_status = observer.x_status();
+  o.a_status = observer.a_status();
   return o;
 }
 

@@ -136,6 +136,18 @@
     pBox.hidden = true;  // shown at the first forecast
     view.pBox = pBox;
     card.appendChild(pBox);
+    // The observer's sensors (wall_estimate_t): per sensor its last innovation, the innovation's σ, the test ratio
+    // (above 1 the χ² gate rejects), the verdict and when a reading of it last corrected the state. Hidden until the
+    // first estimate (the monitor runs the observer).
+    view.sensorsBox = $('div', 'sensors-box');
+    view.sensorsBox.appendChild($('p', 'chart-title', 'observer sensors: last reading tried against the model ' +
+      '(test ratio = innovation² / (gate · variance); above 1 the gate rejects it) and the last accepted one'));
+    view.sensorsEl = $('div', 'sensors');
+    view.sensorsEl.dataset.testid = 'observer-sensors';
+    view.sensorsEl.dataset.wall = name;
+    view.sensorsBox.appendChild(view.sensorsEl);
+    view.sensorsBox.hidden = true;
+    card.appendChild(view.sensorsBox);
     const lists = $('div', 'lists');
     const tBox = $('div'), sBox = $('div');
     tBox.appendChild($('p', 'chart-title', 'alarm transitions (latest first; the last 50)'));
@@ -225,6 +237,7 @@
         fmt(f.horizon_s, 1, 's') + ' (' + f.members + ' members, ' + fmt(f.compute_us / 1000, 1, 'ms') + ')' :
       f.status === 'at_rest' ? 'wall at rest' : f.status === 'collapsed' ? '1 (collapsed)' : 'waiting for input';
     if (f) view.pBox.hidden = false;
+    renderSensors(view);
     renderTransitions(view);
     renderStatus(view);
     if (haveCharts) renderCharts(view);
@@ -277,6 +290,35 @@
       table.appendChild(tr);
     }
     view.transitionsEl.replaceChildren(table);
+  }
+
+  // One row per observer sensor: x (displacement transducer, mm) and a (accelerometer, m/s²).
+  function renderSensors(view) {
+    const est = view.estimateData;
+    if (!est || !est.sensors) { view.sensorsBox.hidden = true; return; }
+    view.sensorsBox.hidden = false;
+    const table = $('table', 'sensor-status');
+    const head = $('tr');
+    for (const h of ['sensor', 'innovation', 'σ innovation', 'test ratio', 'gate', 'last fused (UTC)']) {
+      head.appendChild($('th', null, h));
+    }
+    table.appendChild(head);
+    const rows = [['x', 'displacement', (v) => mm(v)], ['a', 'acceleration', (v) => fmt(v, 3, 'm/s²')]];
+    for (const [key, label, show] of rows) {
+      const s = est.sensors[key];
+      if (!s) continue;
+      const tried = s.innovation_variance !== null && s.innovation_variance > 0;
+      const tr = $('tr', s.rejected ? 'rejected' : '');
+      tr.dataset.sensor = key;
+      tr.appendChild($('td', null, label));
+      tr.appendChild($('td', null, tried ? show(s.innovation) : '—'));
+      tr.appendChild($('td', null, tried ? show(Math.sqrt(s.innovation_variance)) : '—'));
+      tr.appendChild($('td', null, tried ? fmt(s.test_ratio, 2) : '—'));
+      tr.appendChild($('td', null, !tried ? 'none yet' : s.rejected ? 'rejected' : 'passed'));
+      tr.appendChild($('td', null, s.last_fused_utime === null ? 'never' : clock(s.last_fused_utime / 1e6)));
+      table.appendChild(tr);
+    }
+    view.sensorsEl.replaceChildren(table);
   }
 
   function renderStatus(view) {

@@ -180,6 +180,34 @@ TEST(DashboardStore, WallsAppearFromTheirChannelsAndUndecodableMessagesAreCounte
   DOUBLES_EQUAL(0.001, s["walls"][1]["x_m"].get<double>(), 0.0);
 }
 
+// The observer's sensors (wall_estimate_t schema 3) reach the page as one status per sensor: the accelerometer's
+// rejected reading with its test ratio, the displacement's last fused time; null where nothing was fused.
+TEST(DashboardStore, TheEstimateCarriesEachSensorsFusionStatus) {
+  SnapshotStore store{StoreSettings{}};
+  store.on_state("wall", state(0, kStartUtime, 0.001, 1));
+  rockwatch::wall_estimate_t e{};
+  e.utime = kStartUtime;
+  e.innovation_x_m = 2e-4;
+  e.x_innovation_var_m2 = 4e-7;
+  e.x_test_ratio = 0.00625;
+  e.x_last_fused_utime = kStartUtime - 5000;
+  e.innovation_a_mps2 = 3.0;
+  e.a_innovation_var_m2ps4 = 0.01;
+  e.a_test_ratio = 56.25;
+  e.a_rejected = 1;
+  store.on_estimate("wall", e);
+  const json s = store.state_json();
+  const json& sensors = s["walls"][0]["estimate"]["sensors"];
+  DOUBLES_EQUAL(2e-4, sensors["x"]["innovation"].get<double>(), 0.0);
+  DOUBLES_EQUAL(4e-7, sensors["x"]["innovation_variance"].get<double>(), 0.0);
+  DOUBLES_EQUAL(0.00625, sensors["x"]["test_ratio"].get<double>(), 0.0);
+  CHECK_FALSE(sensors["x"]["rejected"].get<bool>());
+  CHECK(sensors["x"]["last_fused_utime"].get<std::int64_t>() == kStartUtime - 5000);
+  CHECK(sensors["a"]["rejected"].get<bool>());
+  DOUBLES_EQUAL(56.25, sensors["a"]["test_ratio"].get<double>(), 0.0);
+  CHECK(sensors["a"]["last_fused_utime"].is_null());
+}
+
 TEST(DashboardStore, HistoryKeepsAtMost30PointsPerSecondAndTheLast30Seconds) {
   SnapshotStore store{StoreSettings{}};
   feed(store, 0, 40.0);  // 8000 states at 200 Hz

@@ -21,16 +21,32 @@ struct ObserverOptionTexts {
   std::string model_form_sigma, doubt_model_form_sigma;
 };
 
-// The ranges core::validate_observer_options accepts.
-inline constexpr double kMinObserverXNoise_m = 1e-6, kMaxObserverXNoise_m = 0.1;
-inline constexpr double kMinObserverANoise_mps2 = 1e-4, kMaxObserverANoise_mps2 = 10.0;
-inline constexpr double kMinObserverProcess_mps2 = 1e-4, kMaxObserverProcess_mps2 = 100.0;
-inline constexpr double kMinObserverGateChi2 = 1.0, kMaxObserverGateChi2 = 1000.0;
-inline constexpr double kMinObserverCapacitySigmas = 0.0, kMaxObserverCapacitySigmas = 10.0;
-inline constexpr double kMinObserverAccelInformPeakNoises = 0.0, kMaxObserverAccelInformPeakNoises = 1000.0;
-inline constexpr double kMinObserverDoubtNis = 0.0, kMaxObserverDoubtNis = 1000.0;  // 0 = off; else ≥ 1 (core)
-inline constexpr double kMinObserverQuietMotionNoises = 0.0, kMaxObserverQuietMotionNoises = 1000.0;
-inline constexpr double kMinObserverModelFormSigma = 0.0, kMaxObserverModelFormSigma = 1.0;
+// The ranges core::validate_observer_options accepts: its table's (core::kObserverParameters), not a copy.
+inline constexpr const core::ObserverParameter& observer_range(const char* field) {
+  return *core::observer_parameter(field);  // a name not in the table does not compile (null dereference)
+}
+inline constexpr double kMinObserverXNoise_m = observer_range("x_noise_m").min,
+                        kMaxObserverXNoise_m = observer_range("x_noise_m").max;
+inline constexpr double kMinObserverANoise_mps2 = observer_range("a_noise_mps2").min,
+                        kMaxObserverANoise_mps2 = observer_range("a_noise_mps2").max;
+inline constexpr double kMinObserverProcess_mps2 = observer_range("process_accel_mps2").min,
+                        kMaxObserverProcess_mps2 = observer_range("process_accel_mps2").max;
+inline constexpr double kMinObserverGateChi2 = observer_range("gate_chi2").min,
+                        kMaxObserverGateChi2 = observer_range("gate_chi2").max;
+inline constexpr double kMinObserverCapacitySigmas = observer_range("alarm_capacity_sigmas").min,
+                        kMaxObserverCapacitySigmas = observer_range("alarm_capacity_sigmas").max;
+inline constexpr double kMinObserverAccelInformPeakNoises = observer_range("accel_inform_peak_noises").min,
+                        kMaxObserverAccelInformPeakNoises = observer_range("accel_inform_peak_noises").max;
+// 0 = off (zero_allowed); values in (0, 1) pass here and are refused by the core's own check, naming the range.
+inline constexpr double kMinObserverDoubtNis = 0.0, kMaxObserverDoubtNis = observer_range("doubt_nis").max;
+static_assert(observer_range("doubt_nis").zero_allowed, "--observer-doubt-nis 0 turns model doubt off");
+inline constexpr double kMinObserverQuietMotionNoises = observer_range("quiet_motion_spread_noises").min,
+                        kMaxObserverQuietMotionNoises = observer_range("quiet_motion_spread_noises").max;
+inline constexpr double kMinObserverModelFormSigma = observer_range("model_form_sigma").min,
+                        kMaxObserverModelFormSigma = observer_range("model_form_sigma").max;
+static_assert(observer_range("doubt_model_form_sigma").min == kMinObserverModelFormSigma &&
+                  observer_range("doubt_model_form_sigma").max == kMaxObserverModelFormSigma,
+              "--observer-doubt-model-form-sigma shares --observer-model-form-sigma's range");
 
 // The option names, in registration order.
 inline constexpr const char* kObserverOptionNames[] = {"--observer-x-noise-m", "--observer-a-noise-mps2",

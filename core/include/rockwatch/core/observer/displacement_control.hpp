@@ -1,0 +1,133 @@
+// The displacement transducer's control (core/wall_observer.hpp): when a reading is fused (not when it is stuck),
+// what an accepted one records, what rejections mean (a fault on a quiet ground, motion the model does not have,
+// a re-initialisation while the ground shakes), the sensor's loss and activity, and model doubt from its NIS.
+// H, the innovation and the gate are displacement_fusion.hpp's.
+// Part of WallObserver (observer/wall_observer_class.hpp); core/wall_observer.hpp includes every part.
+#pragma once
+
+#include "rockwatch/core/observer/wall_observer_class.hpp"
+
+namespace rockwatch::core {
+
+template <typename Stepper>
+inline void WallObserver<Stepper>::control_x(Stepper& stepper, const WallSensorSample& s, std::int64_t age_us,
+                                             Input ug, Input vg, bool quiet, ObserverStepReport& out) {
+  // Stuck: the same reading again and again while the wall rocks.
+  if (have_last_raw_ && s.x_mid_m == last_raw_x_) {
+    ++identical_run_;
+  } else {
+    identical_run_ = 0;
+  }
+  have_last_raw_ = true;
+  last_raw_x_ = s.x_mid_m;
+  if (identical_run_ + 1 >= stuck_after_ && stepper.moving()) {
+    ++counters_.stuck;
+    out.flags |= observer_flag::stuck;
+    return;
+  }
+  const Scalar z = Scalar(s.x_mid_m);
+  if (fuse_x(stepper, z, age_us, ug, vg)) {
+    const Scalar y = last_innovation_x_;
+    ++counters_.x_updates;
+    ++out.x_updates;
+    out.corrected = out.corrected || stepper.moving();
+    innovation_x_sq_sum_ = innovation_x_sq_sum_ + y * y;
+    consecutive_rejections_ = 0;
+    last_x_used_us_ = last_x_accepted_us_ = s.utime_us;
+    have_x_used_ = have_x_accepted_ = true;
+    lost_ = false;
+    return;
+  }
+  ++counters_.rejected;
+  out.flags |= observer_flag::rejected;
+  ++consecutive_rejections_;
+  // The sensor is sending, just disagreeing: not lost (rejections are flagged on their own).
+  last_x_used_us_ = s.utime_us;
+  have_x_used_ = true;
+  lost_ = false;
+  if (quiet) {
+    // The ground is quiet: a rigid wall does not start rocking by itself, so a reading that disagrees is a sensor
+    // fault, not a re-initialisation — unless it keeps disagreeing and moves (a fault reads a constant or jumps
+    // once): then the wall moves where the model says it cannot (a lower threshold, crushed hinges, an elastic
+    // phase), the most informative reading there is (issue 40). The run's readings' spread decides.
+    if (!stepper.moving()) {
+      if (consecutive_rejections_ == 1) {
+        quiet_lo_ = quiet_hi_ = z;
+      } else {
+        if (z < quiet_lo_) quiet_lo_ = z;
+        if (z > quiet_hi_) quiet_hi_ = z;
+      }
+      if (quiet_spread_x_ > Scalar(0) && consecutive_rejections_ >= reinit_after_ &&
+          quiet_hi_ - quiet_lo_ >= quiet_spread_x_) {
+        ++counters_.quiet_motion;
+        if (doubt_nis_ > Cov(0)) doubt_ = true;
+        reinitialise(stepper, z, ug, vg, out);
+        return;
+      }
+      ++counters_.motion_while_quiet;
+      out.flags |= observer_flag::motion_while_quiet;
+    } else {
+      ++counters_.jumps;
+      out.flags |= observer_flag::jump;
+    }
+    return;
+  }
+  if (consecutive_rejections_ >= reinit_after_) reinitialise(stepper, z, ug, vg, out);
+}
+
+// The displacement's innovation y and its variance s: the running NIS average, and model doubt while it is above
+// doubt_nis (ObserverOptions).
+template <typename Stepper>
+inline void WallObserver<Stepper>::note_innovation(Cov y, Cov s) {
+  if (!(doubt_nis_ > Cov(0)) || !(s > Cov(0))) return;
+  Cov nis = y * y / s;
+  if (nis > gate_) nis = gate_;
+  nis_avg_ = nis_avg_ + (nis - nis_avg_) * doubt_alpha_;
+  doubt_ = nis_avg_ > doubt_nis_;
+}
+
+// After the step's updates, while in doubt: σ(κc), σ(κk) and σ(√r) at least their floors. The pending prediction
+// (flush) leaves these diagonal entries as they are but for their walks; a larger diagonal keeps P positive
+// semi-definite.
+template <typename Stepper>
+inline void WallObserver<Stepper>::hold_doubt_floors() {
+  if (p_(C, C) < doubt_c_var_) p_(C, C) = doubt_c_var_;
+  if (p_(K, K) < doubt_c_var_) p_(K, K) = doubt_c_var_;
+  if (p_(E, E) < doubt_e_var_) p_(E, E) = doubt_e_var_;
+}
+
+// The measurement has disagreed with the model for reinit_after samples while the ground shakes: the real wall
+// moves where the model does not (or the sensor is back after a dropout). Restart the motion at the reading with
+// a wide velocity prior; what was learned (ê, b̂) stays.
+template <typename Stepper>
+inline void WallObserver<Stepper>::reinitialise(Stepper& stepper, Scalar z, Input ug, Input vg,
+                                                ObserverStepReport& out) {
+  const Scalar x = z - b_;
+  Traits::set_motion(stepper, x, Scalar(0), ug, vg);
+  Traits::set_sqrt_r(stepper, e_);
+  zero_motion_covariance();
+  p_(X, X) = r_x_;
+  p_(V, V) = reinit_v_var_;
+  consecutive_rejections_ = 0;
+  ++counters_.reinitialised;
+  out.flags |= observer_flag::reinitialised;
+  out.corrected = true;
+}
+
+// At the step's end: the displacement sensor active (a sample accepted within the dropout time) and lost (no usable
+// sample for dropout_s). Loss counts from the last usable displacement sample, or from the first step when there was
+// none. A sensor that keeps sending but is always gated out is not lost (it is flagged rejected), but not active.
+template <typename Stepper>
+inline void WallObserver<Stepper>::x_health(std::int64_t t_us, ObserverStepReport& out) {
+  const std::int64_t since_us = time_difference_us(t_us, have_x_used_ ? last_x_used_us_ : first_t_us_);
+  if (have_x_accepted_ && time_difference_us(t_us, last_x_accepted_us_) <= dropout_us_) {
+    out.flags |= observer_flag::x_active;
+  }
+  if (since_us > dropout_us_) {
+    if (!lost_) ++counters_.dropouts;
+    lost_ = true;
+  }
+  if (lost_) out.flags |= observer_flag::sensor_lost;
+}
+
+}  // namespace rockwatch::core

@@ -1,0 +1,563 @@
+// The wall observer's class (core/wall_observer.hpp, which describes the filter): its interface — init, the sensor
+// samples in (push), the pieces of a step (begin_step, run_updates, end_step, end_sample), the published estimates —
+// and its members. The work is in the parts that define its private members (core/wall_observer.hpp includes them
+// all): prediction.hpp (the covariance through a step), fusion_update.hpp (the scalar update every sensor shares),
+// and per sensor a fusion file (H, innovation, gate) and a control file (when to fuse, health rules, resets):
+// displacement_*.hpp, acceleration_*.hpp.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <type_traits>
+
+#include <Eigen/Core>
+
+#include "rockwatch/core/fixed_point64.hpp"
+#include "rockwatch/core/fixed_point_eigen.hpp"
+#include "rockwatch/core/fixed_rocking_stepper.hpp"
+#include "rockwatch/core/model.hpp"
+#include "rockwatch/core/observer/observer_options.hpp"
+#include "rockwatch/core/observer/observer_types.hpp"
+#include "rockwatch/core/observer/stepper_traits.hpp"
+#include "rockwatch/core/rocking_stepper.hpp"
+#include "rockwatch/core/wall.hpp"
+#include "rockwatch/core/work_meter.hpp"
+
+namespace rockwatch::core {
+
+template <typename Stepper>
+class WallObserver {
+ public:
+  using Traits = ObserverStepperTraits<Stepper>;
+  using Scalar = typename Traits::Scalar;
+  using Input = typename Traits::Input;
+  using Report = typename Traits::Report;
+  using Cov = typename Traits::Cov;
+  using StepOutcome = ObserverStepReport;
+  static constexpr int kStates = 6;
+  using Mat = Eigen::Matrix<Cov, kStates, kStates>;
+  using Vec = Eigen::Matrix<Scalar, kStates, 1>;
+  // Sensor samples waiting for the ground stream: as many as the engine's queue of input samples holds
+  // (StepperAlarmChain::kMaxPendingSamples), so that samples finished at later calls (carry-over) find theirs.
+  static constexpr int kQueueCapacity = 64;
+  // What each piece costs when metered (StepperAlarmChain; work units = Cortex-M4 instructions for the fixed-point
+  // observer, upper bounds measured on the emulated M4: docs/FIXED_POINT.md "Bounded work per call").
+  static constexpr ObserverWorkCosts kWork = Traits::kWork;
+  enum : int { X = 0, V = 1, E = 2, B = 3, C = 4, K = 5 };
+
+  // Initialisation time (double): the stepper's setup (its dt is the step) and the wall. Starts at rest with
+  // ê = √r of the setup and b̂ = 0.
+  ObserverError init(const ObserverOptions& o, const StepperSetup<double>& setup, const WallParameters& wall) {
+    const ObserverError err = validate_observer_options(o);
+    if (err != ObserverError::ok) return err;
+    if (!(setup.dt_s > 0.0 && setup.dt_s <= 0.1)) return ObserverError::timing_out_of_range;
+    const double h = setup.dt_s;
+    const ModelConstants<double>& c = setup.model;
+    for (int i = 0; i < 2; ++i) {
+      const double s = i == 1 ? 1.0 : -1.0;
+      const double k = (c.c4_fp[i] + c.c4_g * setup.g_mps2) / c.c1;  // p4/p1 at ü = 0, G = g [1/s²]
+      k0_[i] = Cov(k);
+      f0_[i] = Cov(-s * (c.c6_fp[i] + c.c6_g * setup.g_mps2) / c.c1);  // ẍ at the hinge, ü = 0 [m/s²]
+      x_inst0_[i] = Cov(setup.x_inst_m[i]);
+    }
+    h_ = Cov(h);
+    half_h_ = Cov(h / 2.0);
+    quarter_h2_ = Cov(h * h / 4.0);
+    const double sa2 = o.process_accel_mps2 * o.process_accel_mps2;
+    q_ = Mat::Zero();
+    q_(X, X) = Cov(sa2 * h * h * h * h / 4.0);
+    q_(X, V) = q_(V, X) = Cov(sa2 * h * h * h / 2.0);
+    q_(V, V) = Cov(sa2 * h * h);
+    q_(E, E) = Cov(o.r_walk * o.r_walk);
+    q_(B, B) = Cov(o.bias_walk_m * o.bias_walk_m);
+    q_(C, C) = q_(K, K) = Cov(o.capacity_walk * o.capacity_walk);
+    capacity_sigma0_ = Cov(o.capacity_sigma0);
+    alarm_capacity_sigmas_ = Cov(o.alarm_capacity_sigmas);
+    r_x_ = Cov(o.x_noise_m * o.x_noise_m);
+    r_a_ = Cov(o.a_noise_mps2 * o.a_noise_mps2);
+    gate_ = Cov(o.gate_chi2);
+    g_over_h1_ = Scalar(setup.g_mps2 / wall.h1_m);
+    inv_h1_ = Scalar(1.0 / wall.h1_m);
+    v_min_ = Scalar(o.v_min_mps);
+    inform_var_ = Cov(o.inform_sigmas * o.inform_sigmas);
+    inform_peak_var_ = Cov(o.inform_peak_noises * o.inform_peak_noises);
+    inform_peak_x2_ = inform_peak_var_ * r_x_;
+    accel_inform_peak_x2_ = Cov(o.accel_inform_peak_noises * o.accel_inform_peak_noises) * r_x_;
+    x_range_ = o.x_range_m;
+    a_range_ = o.a_range_mps2;
+    us_to_s_ = Scalar(1e-6);
+    reinit_v_var_ = Cov(0.05 * 0.05);
+    const double threshold = std::fmin(threshold_mps2(c, Side::negative, setup.g_mps2),
+                                       threshold_mps2(c, Side::positive, setup.g_mps2));
+    quiet_ug_ = Scalar(o.quiet_fraction * threshold);
+    dropout_us_ = std::int64_t(o.dropout_s * 1e6 + 0.5);
+    max_age_us_ = std::int64_t(o.max_age_s * 1e6 + 0.5);
+    reinit_after_ = o.reinit_after;
+    doubt_nis_ = Cov(o.doubt_nis);
+    doubt_alpha_ = Cov(1.0 / o.doubt_window);
+    doubt_c_var_ = Cov(o.doubt_capacity_sigma * o.doubt_capacity_sigma);
+    doubt_e_var_ = Cov(o.doubt_r_sigma * o.doubt_r_sigma);
+    model_form_var_ = Cov(o.model_form_sigma * o.model_form_sigma);
+    doubt_model_form_var_ = Cov(o.doubt_model_form_sigma * o.doubt_model_form_sigma);
+    quiet_spread_x_ = Scalar(o.quiet_motion_spread_noises * o.x_noise_m);
+    reopen_after_ = o.capacity_reopen_after;
+    rest_after_ = o.rest_from_accel_after;
+    stuck_after_ = o.stuck_after;
+    e0_ = Scalar(setup.sqrt_r);
+    e_sigma0_ = Cov(o.r_sigma0);
+    b_sigma0_ = Cov(o.bias_sigma0_m);
+    start();
+    return ObserverError::ok;
+  }
+
+  // A new run: ê = √r of the setup, b̂ = 0, priors, queue empty, counters zero.
+  void start() {
+    e_ = e0_;
+    b_ = Scalar(0);
+    p_ = Mat::Zero();
+    p_(E, E) = e_sigma0_ * e_sigma0_;
+    p_(B, B) = b_sigma0_ * b_sigma0_;
+    kc_ = kk_ = Scalar(1);
+    refresh_parameters();
+    p_(C, C) = p_(K, K) = capacity_sigma0_ * capacity_sigma0_;
+    x_prev_ = Scalar(0);
+    reset_transition();
+    head_ = count_ = 0;
+    counters_ = ObserverCounters{};
+    last_x_used_us_ = last_x_accepted_us_ = last_a_used_us_ = 0;
+    have_x_used_ = have_x_accepted_ = have_a_used_ = have_first_t_ = false;
+    first_t_us_ = 0;
+    pending_flags_ = 0;
+    lost_ = false;
+    consecutive_rejections_ = 0;
+    consecutive_a_rejections_ = 0;
+    rest_votes_ = 0;
+    identical_run_ = 0;
+    have_last_raw_ = false;
+    last_raw_x_ = 0.0;
+    impact_last_step_ = false;
+    last_impact_us_ = INT64_MIN;
+    peak_x_ = Scalar(0);
+    last_innovation_x_ = Scalar(0);
+    last_innovation_a_ = Scalar(0);
+    var_x_ = var_a_ = Cov(0);
+    rejected_x_ = rejected_a_ = false;
+    innovation_x_sq_sum_ = Scalar(0);
+    nis_avg_ = Cov(1);
+    doubt_ = false;
+    quiet_lo_ = quiet_hi_ = Scalar(0);
+  }
+
+  // The wall's motion restarted from rest (long gap, publisher restart): what was learned (ê, b̂) stays.
+  void restart_motion() {
+    flush();
+    zero_motion_covariance();
+    consecutive_rejections_ = 0;
+  }
+
+  // A sensor sample arrives. Checked, then queued until the ground stream reaches its time. Returns the flags it
+  // raised (not_finite, out_of_range, queue_overflow, sensor_flag).
+  std::uint32_t push(WallSensorSample s) {
+    ++counters_.samples;
+    std::uint32_t flags = 0;
+    if (s.sensor_status != 0) {
+      ++counters_.sensor_flags;
+      flags |= observer_flag::sensor_flag;
+    }
+    if (s.x_valid && !(s.x_mid_m == s.x_mid_m && s.x_mid_m - s.x_mid_m == 0.0)) {
+      s.x_valid = false;
+      ++counters_.not_finite;
+      flags |= observer_flag::not_finite;
+    } else if (s.x_valid && !(std::fabs(s.x_mid_m) <= x_range_)) {
+      s.x_valid = false;
+      ++counters_.out_of_range;
+      flags |= observer_flag::out_of_range;
+    }
+    if (s.a_valid && !(s.a_mid_mps2 == s.a_mid_mps2 && s.a_mid_mps2 - s.a_mid_mps2 == 0.0)) {
+      s.a_valid = false;
+      ++counters_.not_finite;
+      flags |= observer_flag::not_finite;
+    } else if (s.a_valid && !(std::fabs(s.a_mid_mps2) <= a_range_)) {
+      s.a_valid = false;
+      ++counters_.out_of_range;
+      flags |= observer_flag::out_of_range;
+    }
+    if (count_ == kQueueCapacity) {  // no ground samples to apply them to: the oldest goes
+      head_ = (head_ + 1) % kQueueCapacity;
+      --count_;
+      ++counters_.queue_overflow;
+      flags |= observer_flag::queue_overflow;
+    }
+    queue_[(head_ + count_) % kQueueCapacity] = s;
+    ++count_;
+    pending_flags_ |= flags;
+    return flags;
+  }
+
+  // After the stepper's step that ends at `t_us` with input (ug, vg) at its end (report: what the stepper did):
+  // covariance prediction through the step (and its impact), then every queued sample with utime ≤ t_us, in
+  // order, then the end of the sample (the covariance brought up to date). Corrects the stepper's state and √r.
+  // All at once: begin_step(), run_updates() without a meter, end_step(), end_sample() (tests and tools that step the
+  // observer by hand; StepperAlarmChain runs the pieces, metered, and end_sample() once per input sample).
+  ObserverStepReport after_step(Stepper& stepper, const Report& report, Input ug, Input vg, std::int64_t t_us,
+                                std::int64_t step_us) {
+    begin_step(stepper, report, ug, vg, t_us, step_us);
+    UnmeteredWork meter;
+    run_updates(stepper, meter);
+    const ObserverStepReport out = end_step(stepper);
+    end_sample();
+    return out;
+  }
+
+  // The pieces of after_step (the chain's carry-over, core/work_meter.hpp). begin_step: the prediction through the
+  // step, composed into the sample's transition (kWork.substep). run_updates: the queued samples with utime ≤ t_us,
+  // in order, one piece each (kWork.update, the covariance brought up to date first); false when the meter cannot
+  // pay for the next one (nothing of it done: the next call goes on from there). A shedding meter (the engine's queue
+  // is full) drops the due samples instead (counted and flagged queue_overflow). end_step: the step's bookkeeping
+  // and its report. end_sample: once per input sample, the covariance brought up to date (kWork.sample_end, with the
+  // chain's alarm scales).
+  void begin_step(Stepper& stepper, const Report& report, Input ug, Input vg, std::int64_t t_us, std::int64_t step_us) {
+    step_out_ = ObserverStepReport{};
+    step_out_.flags = pending_flags_;
+    pending_flags_ = 0;
+    step_impact_ = report.impacts_total > 0;
+    if (step_impact_) last_impact_us_ = t_us;
+    predict(stepper, report);
+    step_ug_ = ug;
+    step_vg_ = vg;
+    step_t_us_ = t_us;
+    step_us_ = step_us;
+    step_quiet_ = abs(Traits::input(ug)) < quiet_ug_;
+  }
+  template <typename Meter>
+  bool run_updates(Stepper& stepper, Meter& meter) {
+    ObserverStepReport& out = step_out_;
+    while (count_ > 0 && queue_[head_].utime_us <= step_t_us_) {
+      if (meter.shed) {  // the engine sheds: the sample is dropped, not applied (its check paid, as a stale one's)
+        if (!meter.take(kWork.dropped)) return false;
+        head_ = (head_ + 1) % kQueueCapacity;
+        --count_;
+        ++counters_.queue_overflow;
+        out.flags |= observer_flag::queue_overflow;
+        continue;
+      }
+      const std::int64_t age_us = time_difference_us(step_t_us_, queue_[head_].utime_us);
+      const bool stale = age_us > max_age_us_;
+      // A sample dropped (stale, or nothing left to estimate) costs its check only; one applied, its updates.
+      if (!meter.take(stale || stepper.collapsed() ? kWork.dropped : kWork.update)) return false;
+      const WallSensorSample s = queue_[head_];
+      head_ = (head_ + 1) % kQueueCapacity;
+      --count_;
+      if (stale) {
+        ++counters_.stale;
+        out.flags |= observer_flag::stale;
+        continue;
+      }
+      if (age_us > step_us_) {
+        ++counters_.misaligned;
+        out.flags |= observer_flag::misaligned;
+      }
+      if (stepper.collapsed()) continue;  // nothing left to estimate
+      // The updates need the covariance of now: the sample's transition so far applied.
+      flush();
+      // Each sensor's control decides whether and how its reading is fused (displacement first: the accelerometer's
+      // rules ask whether the displacement agreed).
+      if (s.x_valid) control_x(stepper, s, age_us, step_ug_, step_vg_, step_quiet_, out);
+      control_a(stepper, s, out);
+    }
+    return true;
+  }
+  ObserverStepReport end_step(const Stepper& stepper) {
+    ObserverStepReport& out = step_out_;
+    const std::int64_t t_us = step_t_us_;
+    impact_last_step_ = step_impact_;
+    if (!have_first_t_) {
+      have_first_t_ = true;
+      first_t_us_ = t_us;
+    }
+    x_health(t_us, out);
+    if (a_used_recent(t_us)) out.flags |= observer_flag::a_active;
+    if (doubt_) {
+      out.flags |= observer_flag::model_doubt;
+      ++counters_.model_doubt;
+      hold_doubt_floors();
+    }
+    x_prev_ = Traits::x(stepper);
+    return out;
+  }
+  void end_sample() { flush(); }
+
+  // Estimates (double, for publishing), computed in the covariance's arithmetic Cov (double for the double observer,
+  // as before; single precision on the M4F's FPU for the fixed-point one: 7 significant digits, what a published
+  // estimate needs, without soft double's divisions and roots), then widened.
+  double r_estimate() const {
+    const Cov e = ec_;
+    return pub(e * e);
+  }
+  double sqrt_r_estimate() const { return to_d(e_); }
+  double bias_m() const { return to_d(b_); }
+  // Model doubt (ObserverOptions::doubt_nis) and the displacement's running NIS average behind it.
+  bool model_doubt() const { return doubt_; }
+  double nis_average() const { return pub(nis_avg_); }  // Cov: double, or the M4F's single precision
+  double sigma_x_m() const { return root(p_(X, X)); }
+  double sigma_xd_mps() const { return root(p_(V, V)); }
+  double sigma_r() const { return pub(Cov(2) * ec_ * root_c(p_(E, E))); }
+  double sigma_bias_m() const { return root(p_(B, B)); }
+  // The capacity (SPEC §9), side +1 (the negative side's: x_inst_estimate_m(Side::negative)); c [m/s²] and k [1/s²]
+  // at ü = v̈ = 0 per unit p1, ω = √k [rad/s], x_inst = c/k [m]; σ by first-order propagation of the covariance.
+  double capacity_scale() const { return to_d(kc_); }
+  double stiffness_scale() const { return to_d(kk_); }
+  double sigma_capacity_scale() const { return root(p_(C, C)); }
+  double sigma_stiffness_scale() const { return root(p_(K, K)); }
+  double c_estimate_mps2(Side s = Side::positive) const { return pub(kcc_ * abs_cov(f0_[side_index(s)])); }
+  double sigma_c_mps2(Side s = Side::positive) const { return pub(root_c(p_(C, C)) * abs_cov(f0_[side_index(s)])); }
+  double k_estimate_ps2(Side s = Side::positive) const { return pub(k_c(s)); }
+  double sigma_k_ps2(Side s = Side::positive) const { return pub(sigma_k_c(s)); }
+  double omega_estimate_rps(Side s = Side::positive) const { return pub(std::sqrt(k_c(s))); }
+  double sigma_omega_rps(Side s = Side::positive) const {
+    const Cov w = std::sqrt(k_c(s));
+    return w > Cov(0) ? pub(sigma_k_c(s) / (Cov(2) * w)) : 0.0;
+  }
+  double x_inst_estimate_m(Side s = Side::positive) const { return pub(x_inst_c(s)); }
+  // The published σ(x_inst): the filter's (the variance of κc/κk by first-order propagation) and the model's form
+  // (ObserverOptions::model_form_sigma, doubt_model_form_sigma once model doubt was raised) in quadrature.
+  double sigma_x_inst_m(Side s = Side::positive) const {
+    const Cov f = sigma_x_inst_c(s), x = x_inst_c(s);
+    const Cov form = counters_.model_doubt > 0 ? doubt_model_form_var_ : model_form_var_;
+    return pub(root_c(f * f + form * x * x));
+  }
+  // The filter's own σ(x_inst), without the model's form: what its consistency (NEES) is judged by.
+  double sigma_x_inst_filter_m(Side s = Side::positive) const { return pub(sigma_x_inst_c(s)); }
+  // The x_inst the alarm may rely on: x_inst,est − k_σ·σ(x_inst) (ObserverOptions::alarm_capacity_sigmas), at least
+  // 0.3 × nominal.
+  double x_inst_alarm_m(Side s = Side::positive) const { return pub(x_inst_alarm_c(s)); }
+  // What the alarm's constants are scaled by (StepperAlarmChain::step_observed): x_inst_alarm / x_inst,nominal and κk.
+  // False when the observer has nothing of its own (the nominal wall: margin 0 and κ = 1 would give 1, 1 anyway).
+  bool alarm_scales(double& q, double& kk) const {
+    q = pub(x_inst_alarm_c(Side::positive) / x_inst0_[1]);
+    kk = to_d(kk_);
+    return q > 0.0 && kk > 0.0;
+  }
+  // The energy barrier per unit p1, c²/(2k) [m²/s²].
+  double barrier_estimate_m2ps2(Side s = Side::positive) const {
+    const Cov c = kcc_ * abs_cov(f0_[side_index(s)]), k = k_c(s);
+    return k > Cov(0) ? pub(c * c / (Cov(2) * k)) : 0.0;
+  }
+  // Each sensor's fusion status (ObserverSensorStatus): its last innovation, variance, test ratio and verdict, and
+  // its last accepted reading's time. The test ratio in the covariance's arithmetic (single precision on the M4F).
+  ObserverSensorStatus x_status() const {
+    return sensor_status(last_innovation_x_, var_x_, rejected_x_, have_x_accepted_, last_x_accepted_us_);
+  }
+  ObserverSensorStatus a_status() const {
+    return sensor_status(last_innovation_a_, var_a_, rejected_a_, have_a_used_, last_a_used_us_);
+  }
+  double last_innovation_x_m() const { return to_d(last_innovation_x_); }
+  double last_innovation_a_mps2() const { return to_d(last_innovation_a_); }
+  double rms_innovation_x_m() const {
+    return counters_.x_updates > 0 ? std::sqrt(to_d(innovation_x_sq_sum_) / double(counters_.x_updates)) : 0.0;
+  }
+  bool sensor_lost() const { return lost_; }
+  const ObserverCounters& counters() const { return counters_; }
+  const Mat& covariance() const { return p_; }
+  Scalar e() const { return e_; }
+  Scalar b() const { return b_; }
+  Scalar kc() const { return kc_; }
+  Scalar kk() const { return kk_; }
+
+ private:
+  static double to_d(double v) { return v; }
+  // The published σ from a variance: in double for the double observer; for the fixed-point one in single
+  // precision (the M4F's VSQRT.F32: 7 significant digits, what a published σ needs, for ~100 instructions instead of
+  // soft double's square root, ~1 000). Negative variances (rounding) publish 0.
+  static double root(Cov v) {
+    if constexpr (std::is_same_v<Cov, double>) {
+      return std::sqrt(std::fmax(0.0, v));
+    } else {
+      if (!(v > Cov(0))) return 0.0;
+      return static_cast<double>(std::sqrt(v));
+    }
+  }
+  template <typename F>
+  static double to_d(const F& v) {
+    return v.to_double();
+  }
+  static Scalar abs(Scalar v) { return v < Scalar(0) ? -v : v; }
+  static Cov abs_cov(Cov v) { return v < Cov(0) ? -v : v; }
+  static double pub(Cov v) { return static_cast<double>(v); }
+  // The parameters in the covariance's arithmetic, converted once when they change (start, apply).
+  void refresh_parameters() {
+    ec_ = cov(e_);
+    kcc_ = cov(kc_);
+    kkc_ = cov(kk_);
+  }
+  static Cov root_c(Cov v) {
+    if constexpr (std::is_same_v<Cov, double>) {
+      return std::sqrt(std::fmax(0.0, v));
+    } else {
+      return v > Cov(0) ? std::sqrt(v) : Cov(0);
+    }
+  }
+  Cov k_c(Side s) const { return kkc_ * abs_cov(k0_[side_index(s)]); }
+  Cov sigma_k_c(Side s) const { return root_c(p_(K, K)) * abs_cov(k0_[side_index(s)]); }
+  Cov x_inst_c(Side s) const { return kcc_ / kkc_ * x_inst0_[side_index(s)]; }
+  Cov sigma_x_inst_c(Side s) const {
+    const Cov ratio = kcc_ / kkc_;
+    const Cov var = p_(C, C) - Cov(2) * ratio * p_(C, K) + ratio * ratio * p_(K, K);
+    return x_inst0_[side_index(s)] / kkc_ * root_c(var);
+  }
+  ObserverSensorStatus sensor_status(Scalar y, Cov s, bool rejected, bool fused, std::int64_t fused_us) const {
+    ObserverSensorStatus st;
+    const Cov yc = cov(y);
+    st.innovation = to_d(y);
+    st.innovation_variance = pub(s);
+    st.test_ratio = s > Cov(0) ? pub(yc * yc / (gate_ * s)) : 0.0;
+    st.rejected = rejected;
+    st.fused = fused;
+    st.last_fused_us = fused ? fused_us : 0;
+    return st;
+  }
+  Cov x_inst_alarm_c(Side s) const {
+    const Cov lowest = Cov(0.3) * x_inst0_[side_index(s)];
+    const Cov v = x_inst_c(s) - alarm_capacity_sigmas_ * sigma_x_inst_c(s);
+    return v > lowest ? v : lowest;
+  }
+ public:
+  // The state's fixed point to the covariance's single precision and back (the M4's libgcc converts int64 ↔ float
+  // through soft double, ~100 instructions each). To: the high and low words of the raw value's magnitude converted
+  // by the FPU (VCVT.F32.U32: correctly rounded on host and M4 alike), hi·2³² + lo, times 2^−53 (exact), the sign:
+  // within one unit in the last place (2 roundings; correctly rounded below 2^32 units, |v| < 4.8e-7). Back: v·2^53
+  // (exact) truncated towards zero, in integer code, saturating at ±1024 (Q10.53's range), NaN 0. Identities for
+  // the double observer.
+  static Cov cov(Scalar v) {
+    if constexpr (std::is_same_v<Scalar, Cov>) {
+      return v;
+    } else {
+      static_assert(Scalar::kFracBits == 53, "the observer's scalar is Q10.53");
+      const std::int64_t raw = v.raw();
+      const auto u = static_cast<std::uint64_t>(raw);
+      const std::uint64_t m = raw < 0 ? std::uint64_t(0) - u : u;
+      const auto hi = static_cast<std::uint32_t>(m >> 32), lo = static_cast<std::uint32_t>(m & 0xFFFFFFFFu);
+      const float magnitude = (static_cast<float>(hi) * 0x1p32f + static_cast<float>(lo)) * 0x1p-53f;
+      return raw < 0 ? -magnitude : magnitude;
+    }
+  }
+  static Scalar from_cov(Cov v) {
+    if constexpr (std::is_same_v<Scalar, Cov>) {
+      return v;
+    } else {
+      const auto bits = __builtin_bit_cast(std::uint32_t, v);
+      const bool negative = (bits >> 31) != 0;
+      const int biased = static_cast<int>((bits >> 23) & 0xFFu);
+      if (biased == 0xFF && (bits & 0x7FFFFFu) != 0) return Scalar(0);  // NaN
+      const std::uint64_t m = (bits & 0x7FFFFFu) | 0x800000u;
+      const int sh = biased - 97;  // v·2^53 = m·2^(biased − 150 + 53)
+      if (biased == 0 || sh <= -24) return Scalar(0);  // below 2^−53 (zero, subnormal): truncated to 0
+      if (sh >= 40) return negative ? Scalar::lowest() : Scalar::highest();  // |v| ≥ 1024 (or ±Inf)
+      const std::uint64_t magnitude = sh >= 0 ? m << sh : m >> -sh;
+      const auto r = static_cast<std::int64_t>(magnitude);
+      return Scalar::from_raw(negative ? -r : r);
+    }
+  }
+
+
+ private:
+  // Prediction (observer/prediction.hpp).
+  void zero_motion_covariance();
+  void predict(const Stepper& stepper, const Report& report);
+  void reset_transition();
+  void zero_motion_transition();
+  void compose(const Cov* fx, const Cov* fv);
+  Cov current_vv() const;
+  void flush();
+  void transition(int i, Scalar x0, Scalar x1, Cov* fx, Cov* fv) const;
+  // The update every sensor shares (observer/fusion_update.hpp).
+  bool scalar_update(Cov (&ph)[kStates], Cov s, Cov y, Vec& correction, bool learn = true);
+  bool informative(Scalar x) const { return informative(x, inform_peak_x2_); }
+  bool informative(Scalar x, Cov peak_x2) const;
+  void symmetrise();
+  void apply(Stepper& stepper, const Vec& dz, Input ug, Input vg);
+  static bool clamp_to(Scalar& v, Scalar lo, Scalar hi);
+  // The displacement transducer: fusion (observer/displacement_fusion.hpp) and control
+  // (observer/displacement_control.hpp).
+  bool fuse_x(Stepper& stepper, Scalar z, std::int64_t age_us, Input ug, Input vg);
+  void control_x(Stepper& stepper, const WallSensorSample& s, std::int64_t age_us, Input ug, Input vg, bool quiet,
+                 ObserverStepReport& out);
+  void note_innovation(Cov y, Cov s);
+  void hold_doubt_floors();
+  void reinitialise(Stepper& stepper, Scalar z, Input ug, Input vg, ObserverStepReport& out);
+  void x_health(std::int64_t t_us, ObserverStepReport& out);
+  // The accelerometer: fusion (observer/acceleration_fusion.hpp) and control (observer/acceleration_control.hpp).
+  bool fuse_a(Stepper& stepper, const WallSensorSample& s, Scalar ug_s, Input vg, Input ug, bool learn_a);
+  void control_a(Stepper& stepper, const WallSensorSample& s, ObserverStepReport& out);
+  void reopen_capacity(Cov kappa_error);
+  void put_to_rest(Stepper& stepper, Input ug, Input vg);
+  bool a_used_recent(std::int64_t t_us) const;
+
+  // Constants (init).
+  Cov k0_[2]{};        // the nominal k_s = p4/p1 at ü = 0, G = g per side [1/s²]
+  Cov x_inst0_[2]{};   // the nominal x_inst per side [m]
+  Cov h_{}, half_h_{}, quarter_h2_{};  // the step h, h/2, h²/4 [s, s, s²]
+  Cov capacity_sigma0_{};
+  Cov alarm_capacity_sigmas_ = Cov(0.5);
+  Mat q_{};            // process noise per step
+  Cov f0_[2]{};        // ẍ at the hinge with ü = 0 per side [m/s²]
+  Cov r_x_{}, r_a_{}, gate_{}, reinit_v_var_{};
+  Scalar g_over_h1_{}, v_min_{}, us_to_s_{}, quiet_ug_{};
+  Scalar inv_h1_{};     // 1/h1 [1/m]
+  Cov inform_var_{}, inform_peak_var_{};  // inform_sigmas², inform_peak_noises² [-]
+  Cov inform_peak_x2_{};  // inform_peak_noises² × x_noise² [m²]
+  Cov accel_inform_peak_x2_{};  // accel_inform_peak_noises² × x_noise² [m²]
+  Scalar e0_{};
+  Cov e_sigma0_{}, b_sigma0_{};
+  double x_range_ = 0.5, a_range_ = 80.0;
+  std::int64_t dropout_us_ = 250000, max_age_us_ = 50000;
+  std::int32_t reinit_after_ = 8, stuck_after_ = 40, reopen_after_ = 16, rest_after_ = 8;
+  Cov doubt_nis_{}, doubt_alpha_{}, doubt_c_var_{}, doubt_e_var_{};  // model doubt (ObserverOptions) [-]
+  Cov model_form_var_{}, doubt_model_form_var_{};  // model_form_sigma², doubt_model_form_sigma² [-]
+  Scalar quiet_spread_x_{};  // quiet_motion_spread_noises × x_noise [m]
+  // State.
+  Scalar e_{}, b_{};
+  Scalar kc_{1}, kk_{1};  // κc, κk [-]
+  Cov ec_{}, kcc_{1}, kkc_{1};  // e, κc, κk in Cov (refresh_parameters)
+  Scalar x_prev_{};       // x at the end of the previous step (after its corrections) [m]
+  Mat p_{};
+  // The prediction pending since the last flush (predict, compose, flush): rows X and V of Φ, Φ = I, the noise of
+  // x, ẋ (XX, XV, VV), whether it is zero, and the steps whose parameter walks are still to add.
+  Cov phi_x_[kStates]{}, phi_v_[kStates]{};
+  bool phi_identity_ = true;
+  Cov qa_[3]{};
+  bool qa_zero_ = true;
+  int walk_steps_ = 0;
+  // The step in progress (begin_step .. end_step): its report, input, end, length, and whether the ground is quiet
+  // and the step held an impact.
+  ObserverStepReport step_out_{};
+  Input step_ug_{}, step_vg_{};
+  std::int64_t step_t_us_ = 0, step_us_ = 0;
+  bool step_quiet_ = false, step_impact_ = false;
+  WallSensorSample queue_[kQueueCapacity]{};
+  int head_ = 0, count_ = 0;
+  std::uint32_t pending_flags_ = 0;
+  ObserverCounters counters_{};
+  bool have_first_t_ = false;
+  std::int64_t first_t_us_ = 0;
+  bool have_x_used_ = false, have_x_accepted_ = false, have_a_used_ = false, lost_ = false;
+  std::int64_t last_x_used_us_ = 0, last_x_accepted_us_ = 0, last_a_used_us_ = 0;  // sample times [µs]
+  std::int32_t consecutive_rejections_ = 0, identical_run_ = 0;
+  Cov nis_avg_{1};         // the displacement's NIS, averaged over about doubt_window samples [-]
+  bool doubt_ = false;     // model doubt (nis_avg_ > doubt_nis_, or motion read on a quiet ground)
+  Scalar quiet_lo_{}, quiet_hi_{};  // the readings' range over the run of rejections while quiet [m]
+  std::int32_t consecutive_a_rejections_ = 0;  // accelerations gated out in a row (informative motion, x agreeing)
+  std::int32_t rest_votes_ = 0;  // accelerations in a row that read a wall at rest while the model rocked
+  bool have_last_raw_ = false;
+  double last_raw_x_ = 0.0;
+  bool impact_last_step_ = false;
+  std::int64_t last_impact_us_ = INT64_MIN;  // the end of the last step with an impact [µs]
+  Scalar peak_x_{};  // the model's largest |x| since the last impact (the half-cycle's amplitude) [m]
+  Scalar last_innovation_x_{}, last_innovation_a_{}, innovation_x_sq_sum_{};
+  // The last reading tried per sensor (ObserverSensorStatus): its innovation's variance and whether it was gated out.
+  Cov var_x_{}, var_a_{};  // [m², m²/s⁴]
+  bool rejected_x_ = false, rejected_a_ = false;
+};
+
+}  // namespace rockwatch::core
+
