@@ -25,6 +25,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 stage_times=()
 suites_line=()
+timeout_lines=()
 declare -A bg_pid=()
 print_suites() {
   echo "== suites run and skipped: ${suites_line[*]:-no ctest run finished}"
@@ -103,6 +104,8 @@ summarise() {
   summary=$(/usr/bin/python3 scripts/ctest-summary.py "$preset" "${files[@]}")
   suites_line+=("$summary;")
   echo "$summary"
+  # The entries closest to their timeouts (each must stay within a quarter of it): informational.
+  timeout_lines+=("$(/usr/bin/python3 scripts/ctest-timeouts.py "$preset" "build/$preset" "${files[@]}")")
   [ "$ctest_status" -eq 0 ] || exit "$ctest_status"
   if [ "${CI:-}" = true ] && ! grep -q ", 0 skipped" <<<"$summary"; then
     echo "FAILED: tests skipped under CI=true: $summary" >&2
@@ -150,6 +153,8 @@ bg_wait "fuzz: build"
 stage "fuzz: smoke"
 ./scripts/fuzz.sh smoke  # (its build step finds everything up to date)
 stage_done
+echo "== entries against their timeouts"
+printf '%s\n' "${timeout_lines[@]}"
 echo "== stage times"
 printf '%s\n' "${stage_times[@]}"
 printf '%-26s %4d s wall %5d s CPU\n' total "$SECONDS" "$(child_cpu)"
