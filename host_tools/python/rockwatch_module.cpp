@@ -1,10 +1,11 @@
 // `import rockwatch`: the engine of the `rockwatch` tool for Python (docs/python.md).
 //
 // Nothing here computes but simulate's scaling to a PGA (the one line of the tool's input preparation, repeated: the
-// tool scales as it reads files, the module's simulate takes samples). Every function reads its arguments through the
-// tool's own option parsers (a CLI11 application with the options registered by the shared functions of
-// host_tools/options and rockwatch/common, fed `--option=value` text with 17 significant digits, which round-trips
-// every double), so the validation and the messages are the tool's; then it calls what the command calls
+// tool scales as it reads files, the module's simulate takes samples). Every function fills the typed settings the
+// command's parser fills from its texts (WallSettings, RecordSelectionSettings, SimulateSettings, StaticSettings,
+// IdentifySettings) and checks them with the same function (check_wall_settings, check_record_selection,
+// apply_simulate_settings, build_static_request, build_identify_request), so the validation and the messages are the
+// tool's, naming the option the keyword stands for; no argument text is made. Then it calls what the command calls
 // (records::read_record through prepare_input, sim::analyse, sim::response_spectrum and the intensity measures,
 // core::run_static_check, sim::identify) and returns what the command's --json prints, with the same keys
 // (simulate's result_json itself). Errors the tool reports as "rockwatch COMMAND: error: MESSAGE" (exit 2) are
@@ -20,7 +21,6 @@
 #include <variant>
 #include <vector>
 
-#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -32,7 +32,6 @@
 #include "common/records_in/wall_sensors.hpp"
 #include "rockwatch/core/wall.hpp"
 #include "rockwatch/options/alarm_options.hpp"
-#include "rockwatch/options/command_line.hpp"
 #include "rockwatch/options/engine_options.hpp"
 #include "rockwatch/options/observer_options.hpp"
 #include "rockwatch/options/option_values.hpp"
@@ -66,25 +65,12 @@ namespace {
 using Json = nlohmann::ordered_json;
 using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
-// A double as option text that converts back to the same double.
-std::string number_arg(double value) {
+// A double as text that converts back to the same double (Wall's repr).
+std::string repr_number(double value) {
   char text[40];
   std::snprintf(text, sizeof text, "%.17g", value);
   return text;
 }
-
-// A command line for one of the tool's option sets: "--name=value" (so a value starting with '-' is a value).
-struct Arguments {
-  std::vector<std::string> words{"rockwatch-python"};
-  void add(const std::string& option, const std::string& value) { words.push_back(option + "=" + value); }
-  void add(const std::string& option, double value) { add(option, number_arg(value)); }
-  void flag(const std::string& option) { words.push_back(option); }
-  void parse(CLI::App& app, const std::string& command) const {
-    std::vector<const char*> argv;
-    for (const std::string& w : words) argv.push_back(w.c_str());
-    options::parse_command_line(app, static_cast<int>(argv.size()), argv.data(), command);
-  }
-};
 
 py::object to_python(const Json& j) {
   switch (j.type()) {
@@ -139,20 +125,16 @@ Record read_record(const std::string& path, const std::optional<std::string>& un
                    const std::optional<double>& gain_counts_per_mps2, const std::optional<std::string>& channel,
                    const std::optional<std::string>& component, const std::optional<std::string>& vertical,
                    const std::optional<std::string>& vertical_channel, double g_mps2) {
-  CLI::App app;
-  cli::RecordOptionTexts texts;
-  cli::add_record_options(app, texts, cli::VerticalOptions::allowed);
-  Arguments args;
-  args.add("--record", path);
-  if (units) args.add("--units", *units);
-  if (dt_s) args.add("--dt", *dt_s);
-  if (gain_counts_per_mps2) args.add("--gain", *gain_counts_per_mps2);
-  if (channel) args.add("--channel", *channel);
-  if (component) args.add("--component", *component);
-  if (vertical) args.add("--vertical", *vertical);
-  if (vertical_channel) args.add("--vertical-channel", *vertical_channel);
-  args.parse(app, "simulate");
-  const cli::InputRequest request{cli::parse_record_selection(app, texts, g_mps2), std::nullopt, g_mps2};
+  cli::RecordSelectionSettings s;  // simulate's record options
+  s.record = path;
+  s.units = units;
+  s.dt_s = dt_s;
+  s.gain_counts_per_mps2 = gain_counts_per_mps2;
+  s.channel = channel;
+  s.component = component;
+  s.vertical = vertical;
+  s.vertical_channel = vertical_channel;
+  const cli::InputRequest request{cli::check_record_selection(s, g_mps2), std::nullopt, g_mps2};
   cli::InputMotion in;
   {
     py::gil_scoped_release release;
@@ -178,34 +160,22 @@ struct Wall {
   options::WallChoice choice;
 };
 
-struct WallFields {
-  std::optional<double> b_m, h1_m, h2_m, rho_kgpm3, fp_npm, a, a_prime, g_mps2;
-};
-
-Wall make_wall(const std::optional<std::string>& wall_file, const WallFields& f) {
-  CLI::App app;
-  options::WallOptionTexts texts;
-  options::add_wall_options(app, texts);
-  Arguments args;
-  if (wall_file) args.add("--wall-file", *wall_file);
-  const std::pair<const char*, const std::optional<double>*> fields[] = {
-      {"--b", &f.b_m},     {"--h1", &f.h1_m}, {"--h2", &f.h2_m},           {"--rho", &f.rho_kgpm3},
-      {"--fp", &f.fp_npm}, {"--a", &f.a},     {"--a-prime", &f.a_prime}, {"--g", &f.g_mps2}};
-  for (const auto& [option, value] : fields) {
-    if (*value) args.add(option, **value);
-  }
-  args.parse(app, "simulate");
-  return Wall{options::parse_wall_options(app, texts)};
+// The wall options' fields (b_m is --b, ...) over the paper wall or a wall file (--wall-file).
+Wall make_wall(const std::optional<std::string>& wall_file, std::optional<double> b_m, std::optional<double> h1_m,
+               std::optional<double> h2_m, std::optional<double> rho_kgpm3, std::optional<double> fp_npm,
+               std::optional<double> a, std::optional<double> a_prime, std::optional<double> g_mps2) {
+  const options::WallSettings s{std::nullopt, wall_file, b_m, h1_m, h2_m, rho_kgpm3, fp_npm, a, a_prime, g_mps2};
+  return Wall{options::check_wall_settings(s)};
 }
 
 std::string wall_repr(const Wall& w) {
   const core::WallParameters& p = w.choice.wall;
-  std::string text = "rockwatch.Wall(b_m=" + number_arg(p.b_m) + ", h1_m=" + number_arg(p.h1_m) +
-                     ", h2_m=" + number_arg(p.h2_m) + ", rho_kgpm3=" + number_arg(p.rho_kgpm3) +
-                     ", fp_npm=" + number_arg(p.fp_npm) + ", a=" + number_arg(p.a) + ", a_prime=" + number_arg(p.a_prime) +
-                     ", g_mps2=" + number_arg(p.g_mps2);
+  std::string text = "rockwatch.Wall(b_m=" + repr_number(p.b_m) + ", h1_m=" + repr_number(p.h1_m) +
+                     ", h2_m=" + repr_number(p.h2_m) + ", rho_kgpm3=" + repr_number(p.rho_kgpm3) +
+                     ", fp_npm=" + repr_number(p.fp_npm) + ", a=" + repr_number(p.a) +
+                     ", a_prime=" + repr_number(p.a_prime) + ", g_mps2=" + repr_number(p.g_mps2);
   if (w.choice.wall_file_path) text += ", wall_file=" + options::quoted(*w.choice.wall_file_path);
-  if (w.choice.r_from_file) text += ", r=" + number_arg(*w.choice.r_from_file);
+  if (w.choice.r_from_file) text += ", r=" + repr_number(*w.choice.r_from_file);
   return text + ")";
 }
 
@@ -222,12 +192,6 @@ std::variant<std::string, double> restitution_setting(const py::object& r) {
                          py::repr(r).cast<std::string>() + ")");
   }
   return r.cast<double>();
-}
-
-// The same as --r's text (identify still reads its arguments through the command's parser).
-std::string restitution_text(const py::object& r) {
-  const std::variant<std::string, double> v = restitution_setting(r);
-  return std::holds_alternative<std::string>(v) ? std::get<std::string>(v) : number_arg(std::get<double>(v));
 }
 
 py::object simulate(const Array& accel_mps2, double dt_s, const std::optional<Wall>& wall_arg, const py::object& r,
@@ -353,33 +317,35 @@ py::object static_check(const std::optional<Wall>& wall, const std::optional<dou
                         const std::optional<std::string>& spectrum, const std::optional<double>& p,
                         const std::optional<double>& tb_s, const std::optional<double>& tc_s,
                         const std::optional<double>& td_s) {
-  Arguments args;
-  if (wall) {  // the wall's fields (only h1 + h2, Fp, a, rho and g enter the static check)
+  cli::StaticSettings s{};
+  if (wall) {  // the wall's fields, as if given (only h1 + h2, Fp, a, rho and g enter the static check)
     const core::WallParameters& w = wall->choice.wall;
-    if (!b_m) args.add("--b", w.b_m);
+    s.b_m = w.b_m;
     if (!h_m && !h1_m && !h2_m) {
-      args.add("--h1", w.h1_m);
-      args.add("--h2", w.h2_m);
+      s.h1_m = w.h1_m;
+      s.h2_m = w.h2_m;
     }
-    if (!fp_npm) args.add("--fp", w.fp_npm);
-    if (!a && w.fp_npm != 0.0) args.add("--a", w.a);
-    if (!rho_kgpm3) args.add("--rho", w.rho_kgpm3);
-    if (!g_mps2) args.add("--g", w.g_mps2);
+    s.fp_npm = w.fp_npm;
+    if (w.fp_npm != 0.0) s.a = w.a;
+    s.rho_kgpm3 = w.rho_kgpm3;
+    s.g_mps2 = w.g_mps2;
   }
-  const std::pair<const char*, const std::optional<double>*> fields[] = {
-      {"--b", &b_m},     {"--h", &h_m},   {"--h1", &h1_m},          {"--h2", &h2_m},    {"--fp", &fp_npm},
-      {"--a", &a},       {"--psi", &psi_rad}, {"--rho", &rho_kgpm3}, {"--g", &g_mps2}, {"--lambda", &lambda},
-      {"--p", &p},       {"--tb", &tb_s}, {"--tc", &tc_s},          {"--td", &td_s}};
-  for (const auto& [option, value] : fields) {
-    if (*value) args.add(option, **value);
+  // The keywords given replace the wall's fields.
+  const std::pair<std::optional<double> cli::StaticSettings::*, const std::optional<double>*> fields[] = {
+      {&cli::StaticSettings::b_m, &b_m},         {&cli::StaticSettings::h_m, &h_m},
+      {&cli::StaticSettings::h1_m, &h1_m},       {&cli::StaticSettings::h2_m, &h2_m},
+      {&cli::StaticSettings::fp_npm, &fp_npm},   {&cli::StaticSettings::a, &a},
+      {&cli::StaticSettings::psi_rad, &psi_rad}, {&cli::StaticSettings::rho_kgpm3, &rho_kgpm3},
+      {&cli::StaticSettings::g_mps2, &g_mps2},   {&cli::StaticSettings::lambda, &lambda},
+      {&cli::StaticSettings::p, &p},             {&cli::StaticSettings::tb_s, &tb_s},
+      {&cli::StaticSettings::tc_s, &tc_s},       {&cli::StaticSettings::td_s, &td_s}};
+  for (const auto& [member, value] : fields) {
+    if (*value) s.*member = *value;
   }
-  if (code) args.add("--code", *code);
-  if (spectrum) args.add("--spectrum", *spectrum);
-  args.flag("--json");
-  std::vector<const char*> argv;
-  for (const std::string& w : args.words) argv.push_back(w.c_str());
-  const cli::StaticParse parsed = cli::parse_static_arguments(static_cast<int>(argv.size()), argv.data());
-  const cli::StaticRequest& q = *parsed.request;
+  s.code = code;
+  s.spectrum = spectrum;
+  s.json = true;
+  const cli::StaticRequest q = cli::build_static_request(s);
   std::vector<core::StaticResult> results;
   for (const cli::StaticCase& c : q.cases) {
     core::StaticResult r;
@@ -439,21 +405,6 @@ Spectrum response_spectrum(const Array& accel_mps2, double dt_s, const py::objec
 
 // --------------------------------------------------------------------------------------------------------- identify
 
-// A Wall as the wall options of a command: the wall file (and the fields given over it) or the fields given.
-void add_wall_arguments(Arguments& args, const Wall& wall) {
-  const options::WallChoice& c = wall.choice;
-  if (c.wall_file_path) args.add("--wall-file", *c.wall_file_path);
-  const core::WallParameters& w = c.wall;
-  const std::pair<const char*, double> fields[] = {{"--b", w.b_m},        {"--h1", w.h1_m}, {"--h2", w.h2_m},
-                                                   {"--rho", w.rho_kgpm3}, {"--fp", w.fp_npm}, {"--a", w.a},
-                                                   {"--a-prime", w.a_prime}, {"--g", w.g_mps2}};
-  for (const auto& [option, value] : fields) {
-    for (const std::string& given : c.options_given) {
-      if (given == option) args.add(option, value);
-    }
-  }
-}
-
 // `rockwatch identify --json` on these files: its JSON as a dict, plus the fitted curve (t_s, measured_m, fitted_m).
 py::object identify(const std::string& wall_sensors, const std::optional<std::string>& record,
                     const std::optional<std::string>& units, const std::optional<double>& dt_s,
@@ -462,26 +413,23 @@ py::object identify(const std::string& wall_sensors, const std::optional<std::st
                     const std::optional<double>& max_step_s, const std::optional<std::string>& wall_out,
                     const std::optional<long long>& bootstrap, const std::optional<unsigned long long>& bootstrap_seed,
                     const std::optional<long long>& jobs) {
-  Arguments args;
-  args.add("--wall-sensors", wall_sensors);
-  if (record) args.add("--record", *record);
-  if (units) args.add("--units", *units);
-  if (dt_s) args.add("--dt", *dt_s);
-  if (channel) args.add("--channel", *channel);
-  if (component) args.add("--component", *component);
-  if (scale_pga_g) args.add("--scale-pga", *scale_pga_g);
-  if (wall) add_wall_arguments(args, *wall);
-  if (!r.is_none()) args.add("--r", restitution_text(r));
-  if (max_step_s) args.add("--max-step", *max_step_s);
-  if (wall_out) args.add("--wall-out", *wall_out);
-  if (bootstrap) args.add("--bootstrap", std::to_string(*bootstrap));
-  if (bootstrap_seed) args.add("--bootstrap-seed", std::to_string(*bootstrap_seed));
-  if (jobs) args.add("--jobs", std::to_string(*jobs));
-  args.flag("--json");
-  std::vector<const char*> argv;
-  for (const std::string& w : args.words) argv.push_back(w.c_str());
-  const cli::IdentifyParse parsed = cli::parse_identify_arguments(static_cast<int>(argv.size()), argv.data());
-  const cli::IdentifyRequest& q = *parsed.request;
+  cli::IdentifySettings s;
+  s.wall_sensors = wall_sensors;
+  s.record.record = record;  // identify's record options, as read_record's
+  s.record.units = units;
+  s.record.dt_s = dt_s;
+  s.record.channel = channel;
+  s.record.component = component;
+  s.scale_pga_g = scale_pga_g;
+  if (wall) s.wall = wall->choice;
+  if (!r.is_none()) s.r = restitution_setting(r);
+  s.max_step_s = max_step_s;
+  s.wall_out = wall_out;
+  s.bootstrap = bootstrap;
+  s.bootstrap_seed = bootstrap_seed;
+  s.jobs = jobs;
+  s.json = true;
+  const cli::IdentifyRequest q = cli::build_identify_request(s);
   // As the command runs it (identify_command.cpp).
   sim::IdentificationInput in = cli::identification_input(q);
   sim::IdentificationResult result;
@@ -572,7 +520,7 @@ PYBIND11_MODULE(rockwatch, m) {
       .def(py::init([](std::optional<double> b_m, std::optional<double> h1_m, std::optional<double> h2_m,
                        std::optional<double> rho_kgpm3, std::optional<double> fp_npm, std::optional<double> a,
                        std::optional<double> a_prime, std::optional<double> g_mps2) {
-             return make_wall(std::nullopt, WallFields{b_m, h1_m, h2_m, rho_kgpm3, fp_npm, a, a_prime, g_mps2});
+             return make_wall(std::nullopt, b_m, h1_m, h2_m, rho_kgpm3, fp_npm, a, a_prime, g_mps2);
            }),
            py::kw_only(), py::arg("b_m") = py::none(), py::arg("h1_m") = py::none(), py::arg("h2_m") = py::none(),
            py::arg("rho_kgpm3") = py::none(), py::arg("fp_npm") = py::none(), py::arg("a") = py::none(),
@@ -584,7 +532,7 @@ PYBIND11_MODULE(rockwatch, m) {
                   [](const std::string& path, std::optional<double> b_m, std::optional<double> h1_m,
                      std::optional<double> h2_m, std::optional<double> rho_kgpm3, std::optional<double> fp_npm,
                      std::optional<double> a, std::optional<double> a_prime, std::optional<double> g_mps2) {
-                    return make_wall(path, WallFields{b_m, h1_m, h2_m, rho_kgpm3, fp_npm, a, a_prime, g_mps2});
+                    return make_wall(path, b_m, h1_m, h2_m, rho_kgpm3, fp_npm, a, a_prime, g_mps2);
                   },
                   py::arg("path"), py::kw_only(), py::arg("b_m") = py::none(), py::arg("h1_m") = py::none(),
                   py::arg("h2_m") = py::none(), py::arg("rho_kgpm3") = py::none(), py::arg("fp_npm") = py::none(),

@@ -259,6 +259,18 @@ def test_bad_arguments_raise_the_tools_message():
         (lambda: rockwatch.identify("/nonexistent.csv"), ["identify", "--wall-sensors", "/nonexistent.csv"]),
         (lambda: rockwatch.identify(ELC, bootstrap=-1), ["identify", "--wall-sensors", ELC, "--bootstrap=-1"]),
         (lambda: rockwatch.Wall.from_file(ELC), ["simulate", "--record", ELC, "--wall-file", ELC]),
+        # The typed settings' checks (one function for the parser and the module): non-finite numbers, combinations.
+        (lambda: rockwatch.Wall(b_m=float("nan")), ["simulate", "--record", ELC, "--b", "nan"]),
+        (lambda: rockwatch.static_check(b_m=float("inf")), ["static", "--b", "inf"]),
+        (lambda: rockwatch.static_check(lambda_=0.5, code="ntc2008"), ["static", "--lambda", "0.5", "--code", "ntc2008"]),
+        (lambda: rockwatch.static_check(p=2.5), ["static", "--p", "2.5"]),
+        (lambda: rockwatch.static_check(spectrum="custom", p=2.5), ["static", "--spectrum", "custom", "--p", "2.5"]),
+        (lambda: rockwatch.read_record(ELC, dt_s=-1), ["simulate", "--record", ELC, "--dt=-1"]),
+        (lambda: rockwatch.read_record(ELC, component="Q"), ["simulate", "--record", ELC, "--component", "Q"]),
+        (lambda: rockwatch.identify(ELC, jobs=2), ["identify", "--wall-sensors", ELC, "--jobs", "2"]),
+        (lambda: rockwatch.identify(ELC, units="g"), ["identify", "--wall-sensors", ELC, "--units", "g"]),
+        (lambda: rockwatch.identify(ELC, record=ELC, max_step_s=0),
+         ["identify", "--wall-sensors", ELC, "--record", ELC, "--max-step", "0"]),
     ]
     for call, args in cases:
         assert message(call) == cli(*args, expect=2), args

@@ -1,7 +1,9 @@
 #include "rockwatch/options/wall_options.hpp"
 
 #include <cmath>
+#include <optional>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "rockwatch/core/model.hpp"
@@ -20,29 +22,30 @@ struct WallField {
   const char* option;  // the option that sets it
   double core::WallParameters::*member;
   std::string WallOptionTexts::*text;
+  std::optional<double> WallSettings::*value;
 };
 
 constexpr WallField kWallFields[] = {
-    {"b", "--b", &core::WallParameters::b_m, &WallOptionTexts::b},
-    {"h1", "--h1", &core::WallParameters::h1_m, &WallOptionTexts::h1},
-    {"h2", "--h2", &core::WallParameters::h2_m, &WallOptionTexts::h2},
-    {"rho", "--rho", &core::WallParameters::rho_kgpm3, &WallOptionTexts::rho},
-    {"fp", "--fp", &core::WallParameters::fp_npm, &WallOptionTexts::fp},
-    {"a", "--a", &core::WallParameters::a, &WallOptionTexts::a},
-    {"a_prime", "--a-prime", &core::WallParameters::a_prime, &WallOptionTexts::a_prime},
-    {"g", "--g", &core::WallParameters::g_mps2, &WallOptionTexts::g},
+    {"b", "--b", &core::WallParameters::b_m, &WallOptionTexts::b, &WallSettings::b_m},
+    {"h1", "--h1", &core::WallParameters::h1_m, &WallOptionTexts::h1, &WallSettings::h1_m},
+    {"h2", "--h2", &core::WallParameters::h2_m, &WallOptionTexts::h2, &WallSettings::h2_m},
+    {"rho", "--rho", &core::WallParameters::rho_kgpm3, &WallOptionTexts::rho, &WallSettings::rho_kgpm3},
+    {"fp", "--fp", &core::WallParameters::fp_npm, &WallOptionTexts::fp, &WallSettings::fp_npm},
+    {"a", "--a", &core::WallParameters::a, &WallOptionTexts::a, &WallSettings::a},
+    {"a_prime", "--a-prime", &core::WallParameters::a_prime, &WallOptionTexts::a_prime, &WallSettings::a_prime},
+    {"g", "--g", &core::WallParameters::g_mps2, &WallOptionTexts::g, &WallSettings::g_mps2},
 };
 
 // Names the option at fault, and says when its value was the base wall's rather than the user's.
-[[noreturn]] void report_invalid_wall(const CLI::App& app, const core::WallParameters& wall,
+[[noreturn]] void report_invalid_wall(const WallSettings& given, const core::WallParameters& wall,
                                       const core::WallCheck& check) {
   for (const WallField& f : kWallFields) {
     if (std::string(check.field) != f.field) continue;
     std::string message = std::string(f.option) + " " + check.message + " (got " + number_text(wall.*f.member);
-    if (!given(app, f.option)) message += given(app, "--wall-file") ? ", the wall file's value" : ", the paper wall's value";
+    if (!(given.*f.value)) message += given.wall_file ? ", the wall file's value" : ", the paper wall's value";
     const bool compares_with_b =
         check.code == core::WallError::h1_not_above_b || check.code == core::WallError::h2_not_above_b;
-    if (compares_with_b && given(app, "--b")) message += "; --b " + number_text(wall.b_m);
+    if (compares_with_b && given.b_m) message += "; --b " + number_text(wall.b_m);
     throw UsageError(message + ")");
   }
   throw UsageError(std::string("wall parameter ") + check.field + " " + check.message);
@@ -69,40 +72,58 @@ void add_wall_options(CLI::App& app, WallOptionTexts& texts) {
       ->type_name("MPS2");
 }
 
-WallChoice parse_wall_options(const CLI::App& app, const WallOptionTexts& texts) {
-  if (texts.wall != "paper") {
-    throw UsageError("--wall must be paper, the only built-in wall (got " + quoted(texts.wall) +
+WallChoice check_wall_settings(const WallSettings& s) {
+  const std::string name = s.wall.value_or("paper");
+  if (name != "paper") {
+    throw UsageError("--wall must be paper, the only built-in wall (got " + quoted(name) +
                      "); set its dimensions with --b, --h1, --h2, --rho, --fp, --a, --a-prime");
   }
   WallChoice choice;
-  choice.name = texts.wall;
-  if (given(app, "--wall-file")) {
-    if (given(app, "--wall")) throw UsageError("--wall and --wall-file both name the base wall: give one");
-    if (texts.wall_file.empty()) throw UsageError("--wall-file needs a file name");
-    const WallFile file = read_wall_file("--wall-file", texts.wall_file);
+  choice.name = name;
+  if (s.wall_file) {
+    if (s.wall) throw UsageError("--wall and --wall-file both name the base wall: give one");
+    if (s.wall_file->empty()) throw UsageError("--wall-file needs a file name");
+    const WallFile file = read_wall_file("--wall-file", *s.wall_file);
     choice.name = "file";
     choice.wall = file.wall;
-    choice.wall_file_path = texts.wall_file;
+    choice.wall_file_path = *s.wall_file;
     choice.r_from_file = file.r;
   }
   for (const WallField& f : kWallFields) {
-    if (!given(app, f.option)) continue;
-    choice.wall.*f.member = parse_finite_number(f.option, texts.*f.text);
+    if (!(s.*f.value)) continue;
+    // The command line's values are finite already; the module's may not be.
+    choice.wall.*f.member = check_finite_number(f.option, *(s.*f.value));
     choice.options_given.emplace_back(f.option);
   }
   const core::WallCheck check = core::validate_wall(choice.wall);
-  if (!check.ok()) report_invalid_wall(app, choice.wall, check);
+  if (!check.ok()) report_invalid_wall(s, choice.wall, check);
   return choice;
 }
 
-core::Restitution restitution_of(const CLI::App& app, const WallChoice& wall, const std::string& r_text) {
-  if (!given(app, "--r") && wall.r_from_file) {
-    core::Restitution r;
-    r.kind = core::RestitutionKind::value;
-    r.value = *wall.r_from_file;
-    return r;
+WallChoice parse_wall_options(const CLI::App& app, const WallOptionTexts& texts) {
+  WallSettings s;
+  if (given(app, "--wall")) s.wall = texts.wall;
+  if (given(app, "--wall-file")) s.wall_file = texts.wall_file;
+  for (const WallField& f : kWallFields) {
+    if (given(app, f.option)) s.*f.value = parse_finite_number(f.option, texts.*f.text);
   }
-  return parse_restitution("--r", r_text);
+  return check_wall_settings(s);
+}
+
+core::Restitution restitution_of(const CLI::App& app, const WallChoice& wall, const std::string& r_text) {
+  return restitution_of(given(app, "--r") ? std::optional<RestitutionSetting>(r_text) : std::nullopt, wall, r_text);
+}
+
+core::Restitution restitution_of(const std::optional<RestitutionSetting>& r, const WallChoice& wall,
+                                 const std::string& default_text) {
+  if (!r && wall.r_from_file) {
+    core::Restitution from_file;
+    from_file.kind = core::RestitutionKind::value;
+    from_file.value = *wall.r_from_file;
+    return from_file;
+  }
+  if (r && std::holds_alternative<double>(*r)) return restitution_value("--r", std::get<double>(*r));
+  return parse_restitution("--r", r ? std::get<std::string>(*r) : default_text);
 }
 
 void check_computable(const core::WallParameters& wall, const sim::AnalysisOptions& options) {

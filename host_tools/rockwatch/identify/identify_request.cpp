@@ -1,6 +1,9 @@
 #include "identify/identify_request.hpp"
 
+#include <cstdint>
+#include <optional>
 #include <string>
+#include <utility>
 
 #include "common/process/output_file.hpp"
 #include "rockwatch/core/stepper_alarm_chain.hpp"
@@ -68,6 +71,89 @@ void add_options(CLI::App& app, RawOptions& raw) {
 
 }  // namespace
 
+namespace {
+
+// The whole numbers' ranges and messages, one place for the command line's texts and the module's integers.
+struct WholeOption {
+  const char* option;
+  std::uint64_t max;
+  const char* expected;
+};
+constexpr WholeOption kBootstrap{"--bootstrap", 10000, "a whole number from 0 to 10000"};
+constexpr WholeOption kBootstrapSeed{"--bootstrap-seed", UINT64_MAX, "a whole number from 0 to 2^64-1"};
+constexpr WholeOption kJobs{"--jobs", 256, "a whole number from 0 (every hardware thread) to 256"};
+
+[[noreturn]] void refuse_whole(const WholeOption& o, const std::string& text) {
+  throw UsageError(std::string(o.option) + " must be " + o.expected + " (got " + options::quoted(text) + ")");
+}
+
+std::uint64_t parse_whole(const WholeOption& o, const std::string& text) {
+  const std::optional<std::uint64_t> n = whole_number(text, 0, o.max);
+  if (!n) refuse_whole(o, text);
+  return *n;
+}
+
+std::uint64_t check_whole(const WholeOption& o, long long value) {
+  if (value < 0 || static_cast<std::uint64_t>(value) > o.max) refuse_whole(o, std::to_string(value));
+  return static_cast<std::uint64_t>(value);
+}
+
+// The record options a snap-back test (no record) cannot take, in the order they are reported.
+const char* record_option_without_record(const IdentifySettings& s) {
+  const RecordSelectionSettings& r = s.record;
+  const std::pair<const char*, bool> options[] = {
+      {"--vertical", bool(r.vertical)},   {"--vertical-from-suite", r.vertical_from_suite},
+      {"--channel", bool(r.channel)},     {"--vertical-channel", bool(r.vertical_channel)},
+      {"--gain", bool(r.gain_counts_per_mps2)}, {"--units", bool(r.units)},
+      {"--dt", bool(r.dt_s)},             {"--component", bool(r.component)},
+      {"--set", bool(r.set)},             {"--scale-pga", bool(s.scale_pga_g)}};
+  for (const auto& [option, given_option] : options) {
+    if (given_option) return option;
+  }
+  return nullptr;
+}
+
+std::string output_path(const char* option, const std::string& path) {
+  if (path.empty()) throw UsageError(std::string(option) + " needs a file name");
+  check_output_file(option, path);
+  return path;
+}
+
+}  // namespace
+
+IdentifyRequest build_identify_request(const IdentifySettings& s) {
+  IdentifyRequest q;
+  if (!s.wall_sensors || s.wall_sensors->empty()) {
+    throw UsageError("--wall-sensors FILE.csv is required: the test's displacement transducer samples");
+  }
+  check_input_file("--wall-sensors", *s.wall_sensors, "a wall-sensor CSV file");
+  q.wall_sensors_path = *s.wall_sensors;
+  const WallChoice& wall = s.wall;
+  q.start_wall = wall.wall;
+  q.start_wall_text = wall.wall_file_path ? "wall file " + *wall.wall_file_path : wall.name + " wall";
+  for (const std::string& o : wall.options_given) q.start_wall_text += (o == wall.options_given.front() ? " with " : ", ") + o;
+  q.start_r = restitution_of(s.r, wall, "exp");
+  if (s.record.record || s.record.suite) {
+    q.record = check_record_selection(s.record, q.start_wall.g_mps2);
+    if (s.scale_pga_g) q.scale_pga_g = check_positive_number("--scale-pga", *s.scale_pga_g, " (a multiple of g)");
+  } else if (const char* option = record_option_without_record(s)) {
+    throw UsageError(std::string(option) + " needs a record (--record or --suite); without one the test is a "
+                     "snap-back test on ground at rest");
+  }
+  if (s.max_step_s) q.max_step_s = check_positive_number("--max-step", *s.max_step_s, " s");
+  q.json = s.json;
+  if (s.plot) q.plot_path = output_path("--plot", *s.plot);
+  if (s.wall_out) q.wall_out_path = output_path("--wall-out", *s.wall_out);
+  if (s.bootstrap) q.bootstrap = int(check_whole(kBootstrap, *s.bootstrap));
+  if (s.bootstrap_seed) q.bootstrap_seed = *s.bootstrap_seed;
+  if (s.jobs) q.jobs = std::size_t(check_whole(kJobs, *s.jobs));
+  if (q.bootstrap == 0) {
+    if (s.bootstrap_seed) throw UsageError("--bootstrap-seed needs --bootstrap N (N >= 1)");
+    if (s.jobs) throw UsageError("--jobs needs --bootstrap N (N >= 1)");
+  }
+  return q;
+}
+
 IdentifyParse parse_identify_arguments(int argc, const char* const* argv) {
   CLI::App app{"Identify a wall's capacity, stiffness and restitution from a test record (snap-back or forced).",
                "rockwatch identify"};
@@ -76,65 +162,22 @@ IdentifyParse parse_identify_arguments(int argc, const char* const* argv) {
   if (std::optional<std::string> help = parse_command_line(app, argc, argv, "identify")) {
     return IdentifyParse{std::nullopt, std::move(*help)};
   }
-  IdentifyRequest q;
-  if (!given(app, "--wall-sensors") || raw.wall_sensors.empty()) {
-    throw UsageError("--wall-sensors FILE.csv is required: the test's displacement transducer samples");
-  }
-  check_input_file("--wall-sensors", raw.wall_sensors, "a wall-sensor CSV file");
-  q.wall_sensors_path = raw.wall_sensors;
-  const WallChoice wall = parse_wall_options(app, raw.wall);
-  q.start_wall = wall.wall;
-  q.start_wall_text = wall.wall_file_path ? "wall file " + *wall.wall_file_path : wall.name + " wall";
-  for (const std::string& o : wall.options_given) q.start_wall_text += (o == wall.options_given.front() ? " with " : ", ") + o;
-  q.start_r = restitution_of(app, wall, raw.r);
-  if (given(app, "--record") || given(app, "--suite")) {
-    q.record = parse_record_selection(app, raw.record, q.start_wall.g_mps2);
-    if (given(app, "--scale-pga")) q.scale_pga_g = parse_positive_number("--scale-pga", raw.scale_pga, " (a multiple of g)");
-  } else {
-    for (const char* option : {"--vertical", "--vertical-from-suite", "--channel", "--vertical-channel", "--gain",
-                               "--units", "--dt", "--component", "--set", "--scale-pga"}) {
-      if (given(app, option)) {
-        throw UsageError(std::string(option) + " needs a record (--record or --suite); without one the test is a "
-                         "snap-back test on ground at rest");
-      }
-    }
-  }
-  if (given(app, "--max-step")) q.max_step_s = parse_positive_number("--max-step", raw.max_step, " s");
-  q.json = raw.json;
-  if (given(app, "--plot")) {
-    if (raw.plot.empty()) throw UsageError("--plot needs a file name");
-    check_output_file("--plot", raw.plot);
-    q.plot_path = raw.plot;
-  }
-  if (given(app, "--wall-out")) {
-    if (raw.wall_out.empty()) throw UsageError("--wall-out needs a file name");
-    check_output_file("--wall-out", raw.wall_out);
-    q.wall_out_path = raw.wall_out;
-  }
-  if (given(app, "--bootstrap")) {
-    const std::optional<std::uint64_t> n = whole_number(raw.bootstrap, 0, 10000);
-    if (!n) throw UsageError("--bootstrap must be a whole number from 0 to 10000 (got " + options::quoted(raw.bootstrap) + ")");
-    q.bootstrap = int(*n);
-  }
-  if (given(app, "--bootstrap-seed")) {
-    const std::optional<std::uint64_t> seed = whole_number(raw.bootstrap_seed, 0, UINT64_MAX);
-    if (!seed) {
-      throw UsageError("--bootstrap-seed must be a whole number from 0 to 2^64-1 (got " +
-                       options::quoted(raw.bootstrap_seed) + ")");
-    }
-    q.bootstrap_seed = *seed;
-  }
-  if (given(app, "--jobs")) {
-    const std::optional<std::uint64_t> jobs = whole_number(raw.jobs, 0, 256);
-    if (!jobs) throw UsageError("--jobs must be a whole number from 0 (every hardware thread) to 256 (got " + options::quoted(raw.jobs) + ")");
-    q.jobs = std::size_t(*jobs);
-  }
-  if (q.bootstrap == 0) {
-    for (const char* option : {"--bootstrap-seed", "--jobs"}) {
-      if (given(app, option)) throw UsageError(std::string(option) + " needs --bootstrap N (N >= 1)");
-    }
-  }
-  return IdentifyParse{q, {}};
+  IdentifySettings s;
+  if (given(app, "--wall-sensors")) s.wall_sensors = raw.wall_sensors;
+  // The missing --wall-sensors is the first thing said, before the wall and the record are read.
+  if (!s.wall_sensors || s.wall_sensors->empty()) return IdentifyParse{build_identify_request(s), {}};
+  s.wall = parse_wall_options(app, raw.wall);
+  if (given(app, "--r")) s.r = raw.r;
+  s.record = record_selection_settings(app, raw.record);
+  if (given(app, "--scale-pga")) s.scale_pga_g = parse_finite_number("--scale-pga", raw.scale_pga);
+  if (given(app, "--max-step")) s.max_step_s = parse_finite_number("--max-step", raw.max_step);
+  s.json = raw.json;
+  if (given(app, "--plot")) s.plot = raw.plot;
+  if (given(app, "--wall-out")) s.wall_out = raw.wall_out;
+  if (given(app, "--bootstrap")) s.bootstrap = static_cast<long long>(parse_whole(kBootstrap, raw.bootstrap));
+  if (given(app, "--bootstrap-seed")) s.bootstrap_seed = parse_whole(kBootstrapSeed, raw.bootstrap_seed);
+  if (given(app, "--jobs")) s.jobs = static_cast<long long>(parse_whole(kJobs, raw.jobs));
+  return IdentifyParse{build_identify_request(s), {}};
 }
 
 sim::IdentificationInput identification_input(const IdentifyRequest& q) {

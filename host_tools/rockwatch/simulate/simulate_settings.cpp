@@ -17,17 +17,6 @@ namespace {
 constexpr double kMaxIntegrationSteps = 1e8;
 constexpr double kMaxHistoryRows = 2e7;  // a run keeping the history holds every step in memory before writing
 
-core::Restitution restitution_of(const SimulateSettings& s) {
-  if (!s.r && s.wall.r_from_file) {
-    core::Restitution r;
-    r.kind = core::RestitutionKind::value;
-    r.value = *s.wall.r_from_file;
-    return r;
-  }
-  if (s.r && std::holds_alternative<double>(*s.r)) return restitution_value("--r", std::get<double>(*s.r));
-  return parse_restitution("--r", s.r ? std::get<std::string>(*s.r) : std::string("exp"));
-}
-
 }  // namespace
 
 void apply_simulate_settings(const SimulateSettings& s, SimulateRequest& q) {
@@ -36,7 +25,7 @@ void apply_simulate_settings(const SimulateSettings& s, SimulateRequest& q) {
   q.wall_options_given = s.wall.options_given;
   q.wall_file_path = s.wall.wall_file_path;
   if (s.scale_pga_g) q.scale_pga_g = check_positive_number("--scale-pga", *s.scale_pga_g, " (a multiple of g)");
-  q.analysis.restitution = restitution_of(s);
+  q.analysis.restitution = restitution_of(s.r, s.wall, "exp");
   q.analysis.model = parse_model("--model", s.model);
   check_computable(q.wall, q.analysis);
   apply_alarm_options(s.alarm, q.analysis);

@@ -93,8 +93,9 @@ void add_options(CLI::App& app, RawOptions& raw) {
   app.footer(kFooter);
 }
 
-void reject_together(const CLI::App& app, const char* first, const char* second, const std::string& why) {
-  if (given(app, first) && given(app, second)) {
+void reject_together(bool first_given, const char* first, bool second_given, const char* second,
+                     const std::string& why) {
+  if (first_given && second_given) {
     throw UsageError(std::string(first) + " cannot be combined with " + second + ": " + why);
   }
 }
@@ -104,26 +105,27 @@ constexpr const char* kSpectrumNames = "npr9998-2015, ec8-1A, ec8-2A or custom";
 struct CustomParameter {
   const char* option;
   std::string RawOptions::*text;
+  std::optional<double> StaticSettings::*value;
   double core::SpectrumShape::*member;
 };
 
 constexpr CustomParameter kCustomParameters[] = {
-    {"--p", &RawOptions::p, &core::SpectrumShape::p},
-    {"--tb", &RawOptions::tb, &core::SpectrumShape::tb_s},
-    {"--tc", &RawOptions::tc, &core::SpectrumShape::tc_s},
-    {"--td", &RawOptions::td, &core::SpectrumShape::td_s},
+    {"--p", &RawOptions::p, &StaticSettings::p, &core::SpectrumShape::p},
+    {"--tb", &RawOptions::tb, &StaticSettings::tb_s, &core::SpectrumShape::tb_s},
+    {"--tc", &RawOptions::tc, &StaticSettings::tc_s, &core::SpectrumShape::tc_s},
+    {"--td", &RawOptions::td, &StaticSettings::td_s, &core::SpectrumShape::td_s},
 };
 
-core::SpectrumShape parse_custom_spectrum(const CLI::App& app, const RawOptions& raw) {
+core::SpectrumShape parse_custom_spectrum(const StaticSettings& raw) {
   std::string missing;
   for (const CustomParameter& c : kCustomParameters) {
-    if (!given(app, c.option)) missing += (missing.empty() ? "" : ", ") + std::string(c.option);
+    if (!(raw.*c.value)) missing += (missing.empty() ? "" : ", ") + std::string(c.option);
   }
   if (!missing.empty()) {
     throw UsageError("--spectrum custom needs --p, --tb, --tc and --td (missing " + missing + ")");
   }
   core::SpectrumShape s = core::spectrum_custom(0.0, 0.0, 0.0, 0.0);
-  for (const CustomParameter& c : kCustomParameters) s.*c.member = parse_finite_number(c.option, raw.*c.text);
+  for (const CustomParameter& c : kCustomParameters) s.*c.member = check_finite_number(c.option, *(raw.*c.value));
   if (!(s.p >= 1.0)) throw UsageError("--p must be >= 1: the plateau amplifies the PGA (got " + number_text(s.p) + ")");
   if (!(s.tb_s > 0.0)) throw UsageError("--tb must be > 0 s (got " + number_text(s.tb_s) + ")");
   if (!(s.tc_s > s.tb_s)) {
@@ -137,42 +139,45 @@ core::SpectrumShape parse_custom_spectrum(const CLI::App& app, const RawOptions&
   return s;
 }
 
-core::SpectrumShape parse_spectrum(const CLI::App& app, const RawOptions& raw) {
-  if (raw.spectrum == "custom") return parse_custom_spectrum(app, raw);
+core::SpectrumShape parse_spectrum(const StaticSettings& settings) {
+  const std::string name = settings.spectrum.value_or("npr9998-2015");
+  if (name == "custom") return parse_custom_spectrum(settings);
   for (const CustomParameter& c : kCustomParameters) {
-    if (given(app, c.option)) {
+    if (settings.*c.value) {
       throw UsageError(std::string(c.option) + " sets a custom spectrum: it needs --spectrum custom (got --spectrum " +
-                       quoted(raw.spectrum) + ")");
+                       quoted(name) + ")");
     }
   }
   core::SpectrumShape s;
-  if (raw.spectrum == "vertical-default") {
+  if (name == "vertical-default") {
     throw UsageError("--spectrum vertical-default is the vertical shape; the static check needs a horizontal one: " +
                      std::string(kSpectrumNames));
   }
-  if (!core::parse_spectrum_name(raw.spectrum.c_str(), s)) {
-    throw UsageError("--spectrum must be " + std::string(kSpectrumNames) + " (got " + quoted(raw.spectrum) + ")");
+  if (!core::parse_spectrum_name(name.c_str(), s)) {
+    throw UsageError("--spectrum must be " + std::string(kSpectrumNames) + " (got " + quoted(name) + ")");
   }
   return s;
 }
 
-std::vector<StaticCase> parse_cases(const CLI::App& app, const RawOptions& raw) {
-  reject_together(app, "--lambda", "--code", "give one instability factor, or the code(s) that set it");
-  if (given(app, "--lambda")) {
-    const double lambda = parse_finite_number("--lambda", raw.lambda);
+std::vector<StaticCase> parse_cases(const StaticSettings& raw) {
+  reject_together(bool(raw.lambda), "--lambda", bool(raw.code), "--code",
+                  "give one instability factor, or the code(s) that set it");
+  if (raw.lambda) {
+    const double lambda = check_finite_number("--lambda", *raw.lambda);
     if (!(lambda > 0.0 && lambda < 1.0)) {
       throw UsageError("--lambda must be in (0, 1), exclusive: x_eq,max = lambda X lies between rest and instability "
                        "(got " + number_text(lambda) + ")");
     }
     return {StaticCase{std::nullopt, lambda}};
   }
-  if (raw.code == "both") {
+  const std::string code_name = raw.code.value_or("both");
+  if (code_name == "both") {
     return {StaticCase{core::InstabilityCode::ntc2008, core::code_lambda(core::InstabilityCode::ntc2008)},
             StaticCase{core::InstabilityCode::nzsee2016, core::code_lambda(core::InstabilityCode::nzsee2016)}};
   }
   core::InstabilityCode code{};
-  if (!core::parse_code_name(raw.code.c_str(), code)) {
-    throw UsageError("--code must be ntc2008 (lambda 0.4), nzsee2016 (lambda 0.6) or both (got " + quoted(raw.code) +
+  if (!core::parse_code_name(code_name.c_str(), code)) {
+    throw UsageError("--code must be ntc2008 (lambda 0.4), nzsee2016 (lambda 0.6) or both (got " + quoted(code_name) +
                      ")");
   }
   return {StaticCase{code, core::code_lambda(code)}};
@@ -182,35 +187,37 @@ struct InputField {
   const char* field;   // core::run_static_check's name
   const char* option;  // the option that sets it
   std::string RawOptions::*text;
+  std::optional<double> StaticSettings::*value;
   double core::StaticInputs::*member;
 };
 
 constexpr InputField kInputFields[] = {
-    {"b", "--b", &RawOptions::b, &core::StaticInputs::b_m},
-    {"h1", "--h1", &RawOptions::h1, &core::StaticInputs::h1_m},
-    {"h2", "--h2", &RawOptions::h2, &core::StaticInputs::h2_m},
-    {"fp", "--fp", &RawOptions::fp, &core::StaticInputs::fp_npm},
-    {"a", "--a", &RawOptions::a, &core::StaticInputs::a},
-    {"psi", "--psi", &RawOptions::psi, &core::StaticInputs::psi_rad},
-    {"rho", "--rho", &RawOptions::rho, &core::StaticInputs::rho_kgpm3},
-    {"g", "--g", &RawOptions::g, &core::StaticInputs::g_mps2},
+    {"b", "--b", &RawOptions::b, &StaticSettings::b_m, &core::StaticInputs::b_m},
+    {"h1", "--h1", &RawOptions::h1, &StaticSettings::h1_m, &core::StaticInputs::h1_m},
+    {"h2", "--h2", &RawOptions::h2, &StaticSettings::h2_m, &core::StaticInputs::h2_m},
+    {"fp", "--fp", &RawOptions::fp, &StaticSettings::fp_npm, &core::StaticInputs::fp_npm},
+    {"a", "--a", &RawOptions::a, &StaticSettings::a, &core::StaticInputs::a},
+    {"psi", "--psi", &RawOptions::psi, &StaticSettings::psi_rad, &core::StaticInputs::psi_rad},
+    {"rho", "--rho", &RawOptions::rho, &StaticSettings::rho_kgpm3, &core::StaticInputs::rho_kgpm3},
+    {"g", "--g", &RawOptions::g, &StaticSettings::g_mps2, &core::StaticInputs::g_mps2},
 };
 
-core::StaticInputs parse_inputs(const CLI::App& app, const RawOptions& raw, std::vector<std::string>& given_options) {
-  if (raw.wall != "paper") {
-    throw UsageError("--wall must be paper, the only built-in wall (got " + quoted(raw.wall) +
+core::StaticInputs parse_inputs(const StaticSettings& raw, std::vector<std::string>& given_options) {
+  if (raw.wall && *raw.wall != "paper") {
+    throw UsageError("--wall must be paper, the only built-in wall (got " + quoted(*raw.wall) +
                      "); set its dimensions with --b and --h (or --h1 and --h2)");
   }
-  reject_together(app, "--h", "--h1", "--h sets h1 = h2 = h/2");
-  reject_together(app, "--h", "--h2", "--h sets h1 = h2 = h/2");
+  reject_together(bool(raw.h_m), "--h", bool(raw.h1_m), "--h1", "--h sets h1 = h2 = h/2");
+  reject_together(bool(raw.h_m), "--h", bool(raw.h2_m), "--h2", "--h sets h1 = h2 = h/2");
   core::StaticInputs in;  // the paper's wall
   for (const InputField& f : kInputFields) {
-    if (!given(app, f.option)) continue;
-    in.*f.member = parse_finite_number(f.option, raw.*f.text);
+    if (!(raw.*f.value)) continue;
+    // The command line's values are finite already; the module's may not be.
+    in.*f.member = check_finite_number(f.option, *(raw.*f.value));
     given_options.emplace_back(f.option);
   }
-  if (given(app, "--h")) {
-    core::set_total_height(in, parse_finite_number("--h", raw.h));
+  if (raw.h_m) {
+    core::set_total_height(in, check_finite_number("--h", *raw.h_m));
     given_options.emplace_back("--h");
   }
   return in;
@@ -218,7 +225,7 @@ core::StaticInputs parse_inputs(const CLI::App& app, const RawOptions& raw, std:
 
 // The message for a core rejection: the option at fault, what it expects, the value it had and where that value
 // came from when the user did not give it.
-[[noreturn]] void report_invalid(const CLI::App& app, const core::StaticInputs& in, const core::StaticCheck& check,
+[[noreturn]] void report_invalid(const StaticSettings& given, const core::StaticInputs& in, const core::StaticCheck& check,
                                  const std::string& context) {
   const std::string field = check.field;
   const std::string where = context.empty() ? std::string() : " " + context;
@@ -241,10 +248,10 @@ core::StaticInputs parse_inputs(const CLI::App& app, const RawOptions& raw, std:
   for (const InputField& f : kInputFields) {
     if (field != f.field) continue;
     std::string message = std::string(f.option) + " " + check.message + " (got " + number_text(in.*f.member);
-    if (!given(app, f.option)) message += ", the paper wall's value";
+    if (!(given.*f.value)) message += ", the paper wall's value";
     const bool compares_with_b =
         check.code == core::StaticError::h1_not_above_b || check.code == core::StaticError::h2_not_above_b;
-    if (compares_with_b && given(app, "--b")) message += "; --b " + number_text(in.b_m);
+    if (compares_with_b && given.b_m) message += "; --b " + number_text(in.b_m);
     throw UsageError(message + ")" + where);
   }
   if (field == "spectrum") throw UsageError(std::string("--spectrum ") + check.message + where);
@@ -253,15 +260,15 @@ core::StaticInputs parse_inputs(const CLI::App& app, const RawOptions& raw, std:
                    where);
 }
 
-void validate_cases(const CLI::App& app, const StaticRequest& q) {
+void validate_cases(const StaticSettings& given, const StaticRequest& q) {
   for (const StaticCase& c : q.cases) {
     const core::StaticInputs in = case_inputs(q, c);
     const core::StaticCheck check = core::validate_static_inputs(in);
-    if (!check.ok()) report_invalid(app, in, check, "");
+    if (!check.ok()) report_invalid(given, in, check, "");
   }
 }
 
-void validate_sweep(const CLI::App& app, const StaticRequest& q) {
+void validate_sweep(const StaticSettings& given, const StaticRequest& q) {
   for (const double slenderness : kSweepSlenderness) {
     for (int percent = kSweepLambdaFirstPercent; percent <= kSweepLambdaLastPercent; ++percent) {
       core::StaticInputs in = q.inputs;
@@ -270,27 +277,30 @@ void validate_sweep(const CLI::App& app, const StaticRequest& q) {
       in.lambda = percent / 100.0;
       const core::StaticCheck check = core::validate_static_inputs(in);
       if (!check.ok()) {
-        report_invalid(app, in, check, "in the sweep at h/b = " + number_text(slenderness) + ", lambda = " +
+        report_invalid(given, in, check, "in the sweep at h/b = " + number_text(slenderness) + ", lambda = " +
                                            number_text(in.lambda));
       }
     }
   }
 }
 
-void check_sweep_options(const CLI::App& app, const RawOptions& raw) {
+void check_sweep_options(const StaticSettings& raw) {
   if (!raw.sweep) {
-    if (given(app, "--out")) throw UsageError("--out is the directory of --sweep: give --sweep too");
+    if (raw.out_dir) throw UsageError("--out is the directory of --sweep: give --sweep too");
     return;
   }
-  for (const char* option : {"--lambda", "--code", "--wall", "--b", "--h", "--h1", "--h2"}) {
-    if (given(app, option)) {
+  const std::pair<const char*, bool> set_by_sweep[] = {
+      {"--lambda", bool(raw.lambda)}, {"--code", bool(raw.code)}, {"--wall", bool(raw.wall)}, {"--b", bool(raw.b_m)},
+      {"--h", bool(raw.h_m)},         {"--h1", bool(raw.h1_m)},   {"--h2", bool(raw.h2_m)}};
+  for (const auto& [option, given_option] : set_by_sweep) {
+    if (given_option) {
       throw UsageError(std::string(option) + " cannot be combined with --sweep: the sweep sets b = 0.1 m, h/b = 20 "
                                              "to 40 and lambda = 0.10 to 0.90");
     }
   }
   if (raw.json) throw UsageError("--json cannot be combined with --sweep: the sweep writes a CSV file and a PNG");
-  if (!given(app, "--out")) throw UsageError("--sweep needs --out DIR, the directory for its CSV and PNG");
-  if (raw.out.empty()) throw UsageError("--out needs a directory name");
+  if (!raw.out_dir) throw UsageError("--sweep needs --out DIR, the directory for its CSV and PNG");
+  if (raw.out_dir->empty()) throw UsageError("--out needs a directory name");
 }
 
 }  // namespace
@@ -299,6 +309,24 @@ core::StaticInputs case_inputs(const StaticRequest& q, const StaticCase& c) {
   core::StaticInputs in = q.inputs;
   in.lambda = c.lambda;
   return in;
+}
+
+StaticRequest build_static_request(const StaticSettings& s) {
+  check_sweep_options(s);
+  StaticRequest q;
+  q.inputs = parse_inputs(s, q.wall_options_given);
+  q.inputs.spectrum = parse_spectrum(s);
+  q.a_without_fp = s.a && q.inputs.fp_npm == 0.0 && q.inputs.a != 0.0;
+  q.json = s.json;
+  q.sweep = s.sweep;
+  if (q.sweep) {
+    q.out_dir = *s.out_dir;
+    validate_sweep(s, q);
+  } else {
+    q.cases = parse_cases(s);
+    validate_cases(s, q);
+  }
+  return q;
 }
 
 StaticParse parse_static_arguments(int argc, const char* const* argv) {
@@ -310,22 +338,22 @@ StaticParse parse_static_arguments(int argc, const char* const* argv) {
   if (std::optional<std::string> help = parse_command_line(app, argc, argv, "static")) {
     return StaticParse{std::nullopt, std::move(*help)};
   }
-
-  check_sweep_options(app, raw);
-  StaticRequest q;
-  q.inputs = parse_inputs(app, raw, q.wall_options_given);
-  q.inputs.spectrum = parse_spectrum(app, raw);
-  q.a_without_fp = given(app, "--a") && q.inputs.fp_npm == 0.0 && q.inputs.a != 0.0;
-  q.json = raw.json;
-  q.sweep = raw.sweep;
-  if (q.sweep) {
-    q.out_dir = raw.out;
-    validate_sweep(app, q);
-  } else {
-    q.cases = parse_cases(app, raw);
-    validate_cases(app, q);
+  StaticSettings s;
+  if (given(app, "--wall")) s.wall = raw.wall;
+  for (const InputField& f : kInputFields) {
+    if (given(app, f.option)) s.*f.value = parse_finite_number(f.option, raw.*f.text);
   }
-  return StaticParse{q, {}};
+  if (given(app, "--h")) s.h_m = parse_finite_number("--h", raw.h);
+  if (given(app, "--lambda")) s.lambda = parse_finite_number("--lambda", raw.lambda);
+  if (given(app, "--code")) s.code = raw.code;
+  if (given(app, "--spectrum")) s.spectrum = raw.spectrum;
+  for (const CustomParameter& c : kCustomParameters) {
+    if (given(app, c.option)) s.*c.value = parse_finite_number(c.option, raw.*c.text);
+  }
+  s.json = raw.json;
+  s.sweep = raw.sweep;
+  if (given(app, "--out")) s.out_dir = raw.out;
+  return StaticParse{build_static_request(s), {}};
 }
 
 }  // namespace rockwatch::cli

@@ -37,8 +37,25 @@ struct StaticParse {
   std::string help_text;
 };
 
-// Parses `rockwatch static` arguments (argv[0] is the command name). Throws UsageError with a message that names
-// the option at fault and what it expects.
+// What `rockwatch static` checks, as typed values (an empty optional: not given). The command line's parser converts
+// its texts into them, the Python module (rockwatch.static_check) fills them from its keywords; both call
+// build_static_request, so the checks and the messages (naming the option) are the same.
+struct StaticSettings {
+  std::optional<std::string> wall;                           // --wall: the base wall's name (only "paper")
+  std::optional<double> b_m, h_m, h1_m, h2_m;                // --b, --h, --h1, --h2 [m]
+  std::optional<double> fp_npm, a, psi_rad, rho_kgpm3, g_mps2;  // --fp [N/m], --a, --psi [rad], --rho, --g
+  std::optional<double> lambda;                              // --lambda
+  std::optional<std::string> code, spectrum;                 // --code (default both), --spectrum (npr9998-2015)
+  std::optional<double> p, tb_s, tc_s, td_s;                 // the custom spectrum: --p, --tb, --tc, --td
+  bool json = false, sweep = false;                          // --json, --sweep
+  std::optional<std::string> out_dir;                        // --out DIR
+};
+
+// Checks the settings and builds the request. Throws UsageError with a message that names the option at fault and
+// what it expects.
+StaticRequest build_static_request(const StaticSettings& settings);
+
+// Parses `rockwatch static` arguments (argv[0] is the command name) into StaticSettings, then build_static_request.
 StaticParse parse_static_arguments(int argc, const char* const* argv);
 
 // The inputs of one case (request inputs with the case's lambda).

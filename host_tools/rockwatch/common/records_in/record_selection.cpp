@@ -3,6 +3,8 @@
 #include <cctype>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <utility>
 #include <optional>
 #include <string>
 
@@ -34,12 +36,20 @@ std::string suite_name(const std::string& dir) {
   return name != manifest.end() && name->is_string() ? name->get<std::string>() : std::string();
 }
 
+constexpr const char* kSetExpected = "--set must be a whole number >= 1, the set of the suite (got ";
+constexpr long long kMaxSet = 999999999;  // nine digits: what the command line reads
+
 // A plain decimal integer >= 1, so "1.5", "1e1" and "+3" are refused rather than read as something else.
-int parse_set_number(const std::string& text) {
+long long parse_set_number(const std::string& text) {
   const bool digits = !text.empty() && text.size() <= 9 && text.find_first_not_of("0123456789") == std::string::npos;
-  const int value = digits ? std::stoi(text) : 0;
-  if (value < 1) throw UsageError("--set must be a whole number >= 1, the set of the suite (got " + quoted(text) + ")");
+  const long long value = digits ? std::stoll(text) : 0;
+  if (value < 1) throw UsageError(kSetExpected + quoted(text) + ")");
   return value;
+}
+
+int check_set_number(long long value) {
+  if (value < 1 || value > kMaxSet) throw UsageError(kSetExpected + std::to_string(value) + ")");
+  return static_cast<int>(value);
 }
 
 char parse_component(const std::string& text) {
@@ -55,44 +65,44 @@ std::string parse_name(const char* option, const std::string& text, const char* 
   return text;
 }
 
-void reject_together(const CLI::App& app, const char* first, const char* second, const std::string& why) {
-  if (used(app, first) && used(app, second)) {
+void reject_together(bool first_used, const char* first, bool second_used, const char* second,
+                     const std::string& why) {
+  if (first_used && second_used) {
     throw UsageError(std::string(first) + " cannot be combined with " + second + ": " + why);
   }
 }
 
 // --suite DIR --set N --component X: all three, or --set and --component (the latter also names the channel of a
 // suite set file given as --record) without --suite.
-void check_source(const CLI::App& app) {
-  reject_together(app, "--record", "--suite", "give one record source");
-  if (!used(app, "--record") && !used(app, "--suite")) throw UsageError(std::string("no record: ") + kSourceHint);
-  if (used(app, "--suite")) {
+void check_source(const RecordSelectionSettings& t) {
+  reject_together(bool(t.record), "--record", bool(t.suite), "--suite", "give one record source");
+  if (!t.record && !t.suite) throw UsageError(std::string("no record: ") + kSourceHint);
+  if (t.suite) {
     std::string missing;
-    for (const char* option : {"--set", "--component"}) {
-      if (!used(app, option)) missing += (missing.empty() ? "" : " and ") + std::string(option);
-    }
+    if (!t.set) missing = "--set";
+    if (!t.component) missing += (missing.empty() ? "" : " and ") + std::string("--component");
     if (!missing.empty()) {
       throw UsageError("--suite needs --set N (the record set, from 1) and --component X|Y|Z (missing " + missing + ")");
     }
-  } else if (used(app, "--set")) {
+  } else if (t.set) {
     throw UsageError("--set selects a record set of a suite: give --suite DIR too");
   }
-  reject_together(app, "--component", "--channel",
+  reject_together(bool(t.component), "--component", bool(t.channel), "--channel",
                   "--component X|Y|Z selects the component of a rockwatch suite record, --channel CODE the channel "
                   "of a multi-channel file (miniSEED); give one");
 }
 
 // Before the manifest is read, so a wrong combination is reported as such rather than as a manifest problem.
-void check_vertical(const CLI::App& app, const RecordOptionTexts& t, const std::optional<std::string>& channel) {
-  if (used(app, "--vertical-channel") && !used(app, "--vertical")) {
+void check_vertical(const RecordSelectionSettings& t, const std::optional<std::string>& channel) {
+  if (t.vertical_channel && !t.vertical) {
     throw UsageError("--vertical-channel selects the channel of the --vertical file: give --vertical too");
   }
   if (!t.vertical_from_suite) return;
-  if (!used(app, "--suite")) {
+  if (!t.suite) {
     throw UsageError("--vertical-from-suite pairs the Z component of the same suite set: it needs --suite DIR --set N "
                      "--component X|Y");
   }
-  reject_together(app, "--vertical-from-suite", "--vertical", "give one vertical");
+  reject_together(t.vertical_from_suite, "--vertical-from-suite", bool(t.vertical), "--vertical", "give one vertical");
   if (channel && *channel == "Z") {
     throw UsageError("--vertical-from-suite needs a horizontal --component, X or Y (got Z: the vertical itself)");
   }
@@ -147,51 +157,74 @@ records::ReadOptions RecordSelection::vertical_read_options() const {
   return options;
 }
 
-RecordSelection parse_record_selection(const CLI::App& app, const RecordOptionTexts& t, double g_mps2) {
-  check_source(app);
+RecordSelection check_record_selection(const RecordSelectionSettings& t, double g_mps2) {
+  check_source(t);
   RecordSelection s;
   s.read_options.g_mps2 = g_mps2;
-  if (used(app, "--units")) s.read_options.units = parse_units("--units", t.units);
-  if (used(app, "--dt")) s.read_options.dt_s = parse_positive_number("--dt", t.dt, " s");
-  if (used(app, "--gain")) {
-    s.gain_counts_per_mps2 = parse_positive_number("--gain", t.gain, " counts per m/s2");
+  if (t.units) s.read_options.units = parse_units("--units", *t.units);
+  if (t.dt_s) s.read_options.dt_s = check_positive_number("--dt", *t.dt_s, " s");
+  if (t.gain_counts_per_mps2) {
+    s.gain_counts_per_mps2 = check_positive_number("--gain", *t.gain_counts_per_mps2, " counts per m/s2");
     s.read_options.gain_counts_per_mps2 = *s.gain_counts_per_mps2;
   }
-  if (used(app, "--component")) {
-    s.channel = std::string(1, parse_component(t.component));
+  if (t.component) {
+    s.channel = std::string(1, parse_component(*t.component));
     s.channel_is_component = true;
   }
-  if (used(app, "--channel")) s.channel = parse_name("--channel", t.channel, "a channel code");
-  check_vertical(app, t, s.channel);
+  if (t.channel) s.channel = parse_name("--channel", *t.channel, "a channel code");
+  check_vertical(t, s.channel);
 
-  if (used(app, "--suite")) {
+  if (t.suite) {
     SuiteSelection suite;
-    suite.dir = parse_name("--suite", t.suite, "a suite directory");
+    suite.dir = parse_name("--suite", *t.suite, "a suite directory");
     check_input_directory("--suite", suite.dir, "a suite directory written by rockwatch generate");
-    suite.set = parse_set_number(t.set);
+    suite.set = check_set_number(*t.set);
     suite.component = s.channel->front();
     s.record_path = records::suite_set_path(suite.dir, suite.set);
     suite.name = suite_name(suite.dir);
     s.suite = suite;
   } else {
-    s.record_path = parse_name("--record", t.record, "a file name");
+    s.record_path = parse_name("--record", *t.record, "a file name");
     check_input_file("--record", s.record_path, "a readable record file");
   }
   if (s.channel) s.read_options.channel = *s.channel;
 
   s.vertical_from_suite = t.vertical_from_suite;
-  if (used(app, "--vertical")) {
-    s.vertical_path = parse_name("--vertical", t.vertical, "a file name");
+  if (t.vertical) {
+    s.vertical_path = parse_name("--vertical", *t.vertical, "a file name");
     check_input_file("--vertical", *s.vertical_path, "a readable record file");
   }
-  if (used(app, "--vertical-channel")) {
-    s.vertical_channel = parse_name("--vertical-channel", t.vertical_channel, "a channel code");
-  }
+  if (t.vertical_channel) s.vertical_channel = parse_name("--vertical-channel", *t.vertical_channel, "a channel code");
   if (s.vertical_from_suite) {
     s.vertical_path = s.record_path;
     s.vertical_channel = "Z";
   }
   return s;
+}
+
+RecordSelectionSettings record_selection_settings(const CLI::App& app, const RecordOptionTexts& t) {
+  RecordSelectionSettings s;
+  using Settings = RecordSelectionSettings;
+  const std::pair<const char*, std::optional<std::string> Settings::*> names[] = {
+      {"--record", &Settings::record},       {"--suite", &Settings::suite},
+      {"--component", &Settings::component}, {"--channel", &Settings::channel},
+      {"--vertical", &Settings::vertical},   {"--vertical-channel", &Settings::vertical_channel},
+      {"--units", &Settings::units}};
+  const std::string* const texts[] = {&t.record,  &t.suite,    &t.component, &t.channel,
+                                      &t.vertical, &t.vertical_channel, &t.units};
+  for (std::size_t i = 0; i < std::size(names); ++i) {
+    if (used(app, names[i].first)) s.*names[i].second = *texts[i];
+  }
+  s.vertical_from_suite = t.vertical_from_suite;
+  // --set is read only with --suite, so "--set 1.5" without --suite is reported as the missing --suite.
+  if (used(app, "--set")) s.set = used(app, "--suite") ? parse_set_number(t.set) : 1;
+  if (used(app, "--dt")) s.dt_s = parse_finite_number("--dt", t.dt);
+  if (used(app, "--gain")) s.gain_counts_per_mps2 = parse_finite_number("--gain", t.gain);
+  return s;
+}
+
+RecordSelection parse_record_selection(const CLI::App& app, const RecordOptionTexts& t, double g_mps2) {
+  return check_record_selection(record_selection_settings(app, t), g_mps2);
 }
 
 std::string suite_record_text(const SuiteSelection& suite, char component) {

@@ -51,7 +51,29 @@ struct RecordSelection {
   records::ReadOptions vertical_read_options() const;
 };
 
-// Converts and checks the texts. `g_mps2` converts records in units of g (the wall's or the --g value). Finds the
+// The record options as typed values: what was given (an empty optional: not given). The command line's parser
+// converts its texts into them, the Python module (rockwatch.read_record) fills them from its keywords; both call
+// check_record_selection, so the checks and the messages (naming the option) are the same.
+struct RecordSelectionSettings {
+  std::optional<std::string> record, suite;        // --record FILE | --suite DIR
+  std::optional<long long> set;                    // --set N (from 1)
+  std::optional<std::string> component, channel;   // --component X|Y|Z, --channel CODE
+  std::optional<std::string> vertical, vertical_channel;  // --vertical FILE, --vertical-channel CODE
+  bool vertical_from_suite = false;                // --vertical-from-suite
+  std::optional<std::string> units;                // --units: g | mps2 | cmps2 | mmps2 (and their spellings)
+  std::optional<double> dt_s;                      // --dt [s]
+  std::optional<double> gain_counts_per_mps2;      // --gain [counts per m/s2]
+};
+
+// Checks the settings. `g_mps2` converts records in units of g (the wall's or the --g value). Finds the set file of
+// --suite in the suite's manifest (records::suite_set_path: a RecordError names the manifest and lists its sets when
+// the set is not there). Throws UsageError naming the option at fault and what it expects.
+RecordSelection check_record_selection(const RecordSelectionSettings& settings, double g_mps2);
+
+// The texts of the options given, converted (a number that is not one: "--dt expects a finite number").
+RecordSelectionSettings record_selection_settings(const CLI::App& app, const RecordOptionTexts& texts);
+
+// record_selection_settings, then check_record_selection. `g_mps2` converts records in units of g (the wall's or the --g value). Finds the
 // set file of --suite in the suite's manifest (records::suite_set_path: a RecordError names the manifest and lists
 // its sets when the set is not there). Throws UsageError naming the option at fault and what it expects.
 RecordSelection parse_record_selection(const CLI::App& app, const RecordOptionTexts& texts, double g_mps2);

@@ -5,6 +5,7 @@
 
 #include <optional>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -37,8 +38,29 @@ struct WallChoice {
 // The restitution of a tool: --r when given, else the wall file's r, else r_text (the tool's default).
 core::Restitution restitution_of(const CLI::App& app, const WallChoice& wall, const std::string& r_text);
 
+// --r as a typed value: a name (ana | exp | impulse) or a number's text, as the command line has it, or a number, as
+// the Python module has it.
+using RestitutionSetting = std::variant<std::string, double>;
+
+// The same for typed settings: `r` when given (checked: "--r must be ..."), else the wall file's r, else
+// default_text.
+core::Restitution restitution_of(const std::optional<RestitutionSetting>& r, const WallChoice& wall,
+                                 const std::string& default_text);
+
+// The wall options as typed values: what was given (an empty optional: not given). The command line's parser converts
+// its texts into them, the Python module (rockwatch.Wall) fills them from its keywords; both call check_wall_settings,
+// so the checks and the messages (naming the option, e.g. "--b must be > 0 ...") are the same.
+struct WallSettings {
+  std::optional<std::string> wall;       // --wall: the base wall's name (only "paper")
+  std::optional<std::string> wall_file;  // --wall-file FILE.json
+  std::optional<double> b_m, h1_m, h2_m, rho_kgpm3, fp_npm, a, a_prime, g_mps2;  // --b, --h1, ... [m, kg/m3, N/m, -]
+};
+
 // The base wall with the given fields replaced. Throws UsageError naming the option at fault, and saying when its
 // value was the base wall's rather than the user's.
+WallChoice check_wall_settings(const WallSettings& settings);
+
+// The texts converted (a number that is not one: "--b expects a finite number"), then check_wall_settings.
 WallChoice parse_wall_options(const CLI::App& app, const WallOptionTexts& texts);
 
 // validate_wall accepts every finite positive size, but extremes (--rho 1e308, --h1 1e300) overflow the model's
