@@ -35,17 +35,20 @@ for m in "${mutants[@]}"; do
   patch=$root/tests/mutants/$name.patch
   echo "== $name: $(grep -c '^+[^+]' "$patch") lines changed; build $targets; run $regex ${env:+($env)}"
   (cd "$work/src" && patch -s -p1 <"$patch")
-  status=0
+  status=0 built=true
   # shellcheck disable=SC2086  # the targets are words
+  cmake --build "$work/build" -j "$(nproc)" $(printf -- '--target %s ' $targets) >"$work/$name.build.log" 2>&1 \
+    || built=false
+  if $built; then
+    (cd "$work/build" && env $env ctest -R "$regex" --output-on-failure >"$work/$name.ctest.log" 2>&1) || status=$?
+  fi
+  (cd "$work/src" && patch -s -R -p1 <"$patch")
   # A mutant that does not build is not a mutant the tests killed: it is reported as broken and fails the run.
-  if ! cmake --build "$work/build" -j "$(nproc)" $(printf -- '--target %s ' $targets) >"$work/$name.build.log" 2>&1; then
+  if ! $built; then
     echo "   BROKEN: the mutant does not build (see $work/$name.build.log)"
     broken+=("$name")
-    (cd "$work/src" && patch -s -R -p1 <"$patch")
     continue
   fi
-  (cd "$work/build" && env $env ctest -R "$regex" --output-on-failure >"$work/$name.ctest.log" 2>&1) || status=$?
-  (cd "$work/src" && patch -s -R -p1 <"$patch")
   # The entries must have run: a regex that matches nothing passes ctest with "No tests were found".
   if grep -q "No tests were found" "$work/$name.ctest.log"; then
     echo "   BROKEN: no ctest entry matches $regex"
