@@ -2,7 +2,8 @@
 # Builds the libFuzzer targets (CMake preset "fuzz": clang, ASan + UBSan) and runs them (docs/RELIABILITY.md).
 #
 #   scripts/fuzz.sh smoke                          every kept regression input, then every fuzzer for its share of
-#                                                  about 60 s from the committed seeds (CI: scripts/test.sh)
+#                                                  75 s from the committed seeds, nproc fuzzers at a time (CI:
+#                                                  scripts/test.sh)
 #   scripts/fuzz.sh long [SECONDS] [TARGET...]     opt-in long run, SECONDS per target (600); the corpus grows across
 #                                                  runs in build/fuzz/corpus-work/TARGET
 #   scripts/fuzz.sh regress                        only the kept regression inputs
@@ -99,14 +100,40 @@ run_fuzzer() {
   local verdict=ok
   if [ "$status" -ne 0 ]; then
     verdict="FAILED (exit $status)"
-    failed+=("$target")
     echo "== $target: FAILED, exit $status; the end of $log:" >&2
     tail -n 60 "$log" >&2
   fi
   local elapsed
   elapsed=$(awk -v a="$start" -v b="$end" 'BEGIN { printf "%.1f", b - a }')
-  results+=("$(printf '%-22s %7s %10s %8s %14s %6s  %s' "$target" "$elapsed" "${execs:-?}" \
-    "${rate:-?}" "${corp:-?}" "${cov:-?}" "$verdict")")
+  printf '%-22s %7s %10s %8s %14s %6s  %s\n' "$target" "$elapsed" "${execs:-?}" \
+    "${rate:-?}" "${corp:-?}" "${cov:-?}" "$verdict" >"$build/logs/$target.result"
+}
+
+# run_fuzzers WORK_ROOT: every target for its smoke seconds, nproc at a time (each fuzzer is one process on one core:
+# run one after another they left a core idle, issue 42), new inputs in WORK_ROOT/TARGET; then the results in the
+# targets' order.
+run_fuzzers() {
+  local work_root=$1 t running=0
+  for t in "${targets[@]}"; do
+    rm -f "$build/logs/$(field "$t" 1).result"
+  done
+  for t in "${targets[@]}"; do
+    if [ "$running" -ge "$(nproc)" ]; then
+      wait -n || true
+      running=$((running - 1))
+    fi
+    run_fuzzer "$(field "$t" 1)" "$(field "$t" 2)" "$(field "$t" 3)" "$work_root/$(field "$t" 1)" &
+    running=$((running + 1))
+  done
+  wait || true
+  for t in "${targets[@]}"; do collect_result "$(field "$t" 1)"; done
+}
+# collect_result TARGET: run_fuzzer's line of TARGET into the results (and the failures).
+collect_result() {
+  local line
+  line=$(cat "$build/logs/$1.result" 2>/dev/null || echo "$1: no result (the run did not finish) FAILED")
+  results+=("$line")
+  [[ "$line" != *FAILED* ]] || failed+=("$1")
 }
 
 # Every kept input of every target, each run once (regression tests of fixed defects).
@@ -152,9 +179,7 @@ case "$mode" in
     run_regressions
     rm -rf "$build/corpus-smoke"
     start=$(date +%s)
-    for t in "${targets[@]}"; do
-      run_fuzzer "$(field "$t" 1)" "$(field "$t" 2)" "$(field "$t" 3)" "$build/corpus-smoke/$(field "$t" 1)"
-    done
+    run_fuzzers "$build/corpus-smoke"
     print_results
     echo "smoke run: $(($(date +%s) - start)) s of fuzzing"
     finish
@@ -171,7 +196,9 @@ case "$mode" in
     for t in "${targets[@]}"; do
       name=$(field "$t" 1)
       if [ ${#wanted[@]} -gt 0 ] && ! printf '%s\n' "${wanted[@]}" | grep -x "$name" >/dev/null; then continue; fi
+      rm -f "$build/logs/$name.result"
       run_fuzzer "$name" "$(field "$t" 2)" "$seconds" "$build/corpus-work/$name"
+      collect_result "$name"
     done
     print_results
     finish

@@ -15,8 +15,10 @@
 #   release: test arm64_cross_check   beside  fuzz: build (if not done)
 #   quiet tests                       alone: both presets' entries labelled quiet_machine (the emulated board on the
 #                                     wire must keep real time; beside a build it fell behind and lost datagrams)
-#   fuzz: smoke
-# (Both presets' tests run with "all but the quiet ones" first, the quiet ones at the end.)
+#   fuzz: smoke                       nproc fuzzers at a time
+# (Both presets' tests run with "all but the quiet ones" first, the quiet ones at the end.) The entries labelled
+# release_only (tests/CMakeLists.txt: an image built by arm-none-eabi-g++, a Python engine, a check of the docs) are
+# registered disabled under the sanitizers: the summary line names them apart from the skipped ones.
 # A background build's output goes to build/ci-<name>.log (printed when it fails).
 # Prints how long each stage took at the end (docs/BENCHMARKS.md, "The test loop"). Exits non-zero on any failure.
 # Ends, pass or fail, with a line of the suites run and skipped per preset (scripts/ctest-summary.py). Under CI=true

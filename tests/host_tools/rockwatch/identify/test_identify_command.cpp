@@ -182,6 +182,15 @@ TEST(IdentifyCommand, ABootstrapReplacesTheStandardErrorsAndSaysSo) {
     const double ratio = j.at(std::string("sigma_") + k).get<double>() / p.at(std::string("sigma_") + k).get<double>();
     CHECK_TEXT(ratio > 0.1 && ratio < 4.0, (std::string(k) + ": bootstrap / curvature sigma " + std::to_string(ratio)).c_str());
   }
+  CHECK_EQUAL("bootstrap", json::parse(read_text(wall_out)).at("identified").at("sigma_method").get<std::string>());
+  const ProcessResult text = run_rockwatch({"identify", "--wall-sensors", sensors, "--bootstrap", "3"});
+  check_ok(text);
+  CHECK(text.out.find("the spread of") != std::string::npos);
+  CHECK(text.out.find("3 refits (seed 1)") != std::string::npos);
+#ifndef ROCKWATCH_TEST_SANITIZED
+  // Release only: two more whole identifications with bootstraps (the debug entry took 46 s of its 150 with a build
+  // beside it, issue 42). The sanitizers have seen the bootstrap's threads above; what follows compares numbers, which
+  // the release build does.
   // --bootstrap-seed: another seed, other refits and another σ, said in the JSON; seed 1 given is the default, and the
   // thread count changes nothing (bit for bit).
   const ProcessResult seeded = run_rockwatch(
@@ -198,11 +207,7 @@ TEST(IdentifyCommand, ABootstrapReplacesTheStandardErrorsAndSaysSo) {
   const json s1 = json::parse(seed1.out);
   CHECK(s1.at("sigma_x_inst_m").get<double>() == j.at("sigma_x_inst_m").get<double>());
   CHECK(s1.at("sigma_r").get<double>() == j.at("sigma_r").get<double>());
-  CHECK_EQUAL("bootstrap", json::parse(read_text(wall_out)).at("identified").at("sigma_method").get<std::string>());
-  const ProcessResult text = run_rockwatch({"identify", "--wall-sensors", sensors, "--bootstrap", "3"});
-  check_ok(text);
-  CHECK(text.out.find("the spread of") != std::string::npos);
-  CHECK(text.out.find("3 refits (seed 1)") != std::string::npos);
+#endif
 }
 
 TEST(IdentifyCommand, ARecordThatDoesNotIdentifyTheWallExitsTwoSayingWhy) {
