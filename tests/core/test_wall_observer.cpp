@@ -621,14 +621,9 @@ TEST(WallObserver, ThePerSampleCovarianceIsTheStepByStepOne) {
       step_by_step.after_step(a, ra, 0.0, 0.0, t, kDtUs);
       const StepReport<double> rb = b.step(0.0, 0.0);
       impacts += rb.impacts_total;
-      per_sample.begin_step(b, rb, 0.0, 0.0, t, kDtUs);
-      UnmeteredWork meter;
-      per_sample.run_updates(b, meter);
-      per_sample.end_step(b);
+      per_sample.substep(b, rb, 0.0, 0.0, t, kDtUs);
       const FixedStepReport rf = f.step(AccelQ7_56{}, AccelQ7_56{});
-      fixed.begin_step(f, rf, AccelQ7_56{}, AccelQ7_56{}, t, kDtUs);
-      fixed.run_updates(f, meter);
-      fixed.end_step(f);
+      fixed.substep(f, rf, AccelQ7_56{}, AccelQ7_56{}, t, kDtUs);
     }
     per_sample.end_sample();
     fixed.end_sample();

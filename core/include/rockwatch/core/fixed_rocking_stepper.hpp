@@ -169,6 +169,7 @@ class FixedRockingStepper : public RockingSegments<FixedRockingStepper, FixedRoc
   void reset(AccelQ7_56 ug_mps2, AccelQ7_56 vg_mps2) {
     rest_vertical();
     coefficients(ug_mps2, vg_mps2, f_prev_, k_prev_);
+    in_step_ = false;  // a step stopped inside (metered) is abandoned
   }
 
   // Places the wall in motion (tests, restarts). Side follows x, or ẋ when x = 0.
@@ -194,6 +195,7 @@ class FixedRockingStepper : public RockingSegments<FixedRockingStepper, FixedRoc
     report_ = FixedStepReport{};
     step_valid_ = coefficients(ug_mps2, vg_mps2, f_end_, k_end_);
     begin_segments();
+    in_step_ = true;
   }
   template <typename Meter>
   bool continue_step(Meter& meter) {
@@ -207,8 +209,11 @@ class FixedRockingStepper : public RockingSegments<FixedRockingStepper, FixedRoc
       f_prev_[i] = f_end_[i];
       k_prev_[i] = k_end_[i];
     }
+    in_step_ = false;
     return true;
   }
+  // A step begun (begin_step) whose continue_step() has not yet returned true: a metered caller stopped inside it.
+  bool step_in_progress() const { return in_step_; }
 
   // The velocity ratio at impact √r from now on (the observer's estimate of the real wall's restitution).
   void set_sqrt_r(FractionQ1_62 sqrt_r) { setup_.sqrt_r = sqrt_r; }
@@ -422,6 +427,7 @@ class FixedRockingStepper : public RockingSegments<FixedRockingStepper, FixedRoc
   AccelQ7_56 f_end_[2]{};   // and at its end (this step's input)
   StiffQ8_55 k_end_[2]{};
   bool step_valid_ = false;   // its input is inside the model (G > 0)
+  bool in_step_ = false;      // begun, continue_step() not yet done (step_in_progress)
 };
 
 }  // namespace rockwatch::core

@@ -110,6 +110,7 @@ class RockingStepper : public RockingSegments<RockingStepper<Scalar>, RockingSte
     this->rest_vertical();
     ug_prev_ = ug_mps2;
     vg_prev_ = vg_mps2;
+    step_done_ = true;  // a step stopped inside (metered) is abandoned
   }
 
   // Places the wall in motion (free-rocking tests, restarts). Side follows x, or ẋ when x = 0.
@@ -145,6 +146,8 @@ class RockingStepper : public RockingSegments<RockingStepper<Scalar>, RockingSte
     step_done_ = true;
     return true;
   }
+  // A step begun (begin_step) whose continue_step() has not yet returned true: a metered caller stopped inside it.
+  bool step_in_progress() const { return !step_done_; }
 
   // The velocity ratio at impact √r from now on (the observer's estimate of the real wall's restitution).
   void set_sqrt_r(Scalar sqrt_r) { setup_.sqrt_r = sqrt_r; }

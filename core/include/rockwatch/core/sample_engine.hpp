@@ -52,8 +52,8 @@ inline constexpr std::int32_t kObserverCallOverheadUnits = 4000;
 inline std::int32_t observer_work_budget_units(double dt_s, std::int32_t caller_overhead_units = 0,
                                                std::int32_t caller_units_per_sample = 0) {
   using Observer = WallObserver<FixedRockingStepper>;
-  std::int64_t least = kMinWorkBudgetUnits + Observer::kWork.substep + Observer::kWork.update +
-                       Observer::kWork.sample_end;
+  // A sub-step's observer part is paid at its worst (StepperAlarmChain::run_substep), so that is what must fit.
+  std::int64_t least = kMinWorkBudgetUnits + Observer::kSubstepWorstUnits + Observer::kWork.sample_end;
   const std::int64_t sample_end = std::int64_t{FixedRockingStepper::kWork.evaluate} + Observer::kWork.sample_end +
                                   caller_units_per_sample;
   if (least < sample_end) least = sample_end;
@@ -100,17 +100,17 @@ struct WallEngineConfig {
 };
 
 // The worst call of the fixed-point engine on paper (docs/FIXED_POINT.md, "The worst call on paper"): from the caps —
-// n sub-steps per sample, kMaxSegmentsPerStep segments per sub-step, at most kQueueCapacity sensor samples applied
-// in a sample — and the cost model (FixedRockingStepper::kWork, WallObserver::kWork), an upper bound on the
-// instructions of one step()/step_at() call:
+// n sub-steps per sample, kMaxSegmentsPerStep segments per sub-step, at most one sensor sample applied a sub-step
+// (WallObserver::substep) and kQueueCapacity passed over in a sample — and the cost model (FixedRockingStepper::kWork,
+// WallObserver::kWork), an upper bound on the instructions of one step()/step_at() call:
 //   bound = overhead + max(budget, overrun)
 // A call pays its pieces from a meter of `budget` units and starts no piece the meter cannot pay; at a full queue it
 // first finishes the oldest sample without a meter (the overrun) and the queue gets the budget less the overrun's
-// units (StepperAlarmChain::call). The overrun's work is one sample's, by the policy:
-//   shed:   n·(substep + trial [+ observer substep]) + evaluate [+ kQueueCapacity·dropped + sample_end]   (no event
-//           located, no sensor sample applied — each dropped at the cost of its check: one trial a sub-step)
-//   finish: n·(substep + S·(trial + locate) + locate [+ observer substep]) + evaluate
-//           [+ kQueueCapacity·update + sample_end]                                        (every event, every sample)
+// units (StepperAlarmChain::call). The overrun's work is one sample's, by the policy (Q = kQueueCapacity):
+//   shed:   n·(substep + trial [+ observer substep + dropped]) + evaluate [+ Q·superseded + sample_end]   (no event
+//           located, no sensor sample applied — one dropped a sub-step at the cost of its check: one trial a sub-step)
+//   finish: n·(substep + S·(trial + locate) + locate [+ observer substep + update]) + evaluate
+//           [+ Q·superseded + sample_end]                          (every event, the newest due sensor sample each)
 // overhead: what a call does beyond its meter (the seam's conversions, the queue's bookkeeping, the cost model's
 // error), measured. Without a budget (0) the engine is not metered: the bound is the finish overrun's, a whole
 // sample. All in work units (Cortex-M4 instructions).
@@ -118,7 +118,7 @@ struct WorstCallBound {
   bool metered = false;            // a budget is in force (else every sample finishes in its own call)
   int substeps = 1;                // n
   int segments_per_substep = 0;    // S = FixedRockingStepper::kMaxSegmentsPerStep
-  int updates_per_sample = 0;      // the observer's queue capacity (0: observer off)
+  int updates_per_sample = 0;      // sensor samples applied at most in a sample: one a sub-step, n (0: observer off)
   std::int64_t budget_units = 0;   // the meter of a call
   std::int64_t overrun_units = 0;  // one sample without a meter, by the overflow policy
   std::int64_t overhead_units = 0;
@@ -135,7 +135,7 @@ inline WorstCallBound worst_call_bound(const WallEngineConfig& c) {
   b.segments_per_substep = FixedRockingStepper::kMaxSegmentsPerStep;
   const std::int64_t n = b.substeps, segments = b.segments_per_substep;
   const bool observed = c.observer_enabled;
-  b.updates_per_sample = observed ? WallObserver<FixedRockingStepper>::kQueueCapacity : 0;
+  b.updates_per_sample = observed ? int(n) : 0;
   b.budget_units = c.work_budget_units == 0 ? 0
                    : observed            ? observer_work_budget_units(c.dt_s, c.caller_overhead_units,
                                                                           c.caller_units_per_sample)
@@ -143,8 +143,10 @@ inline WorstCallBound worst_call_bound(const WallEngineConfig& c) {
   b.metered = b.budget_units > 0;
   const bool shed = b.metered && c.work_overflow == WorkOverflow::shed;
   const std::int64_t per_substep = shed ? w.substep + w.trial : w.substep + segments * (w.trial + w.locate) + w.locate;
-  b.overrun_units = n * (per_substep + (observed ? o.substep : 0)) + w.evaluate +
-                    (observed ? o.sample_end + std::int64_t(b.updates_per_sample) * (shed ? o.dropped : o.update) : 0) +
+  const std::int64_t observer_per_substep = observed ? o.substep + (shed ? o.dropped : o.update) : 0;
+  const std::int64_t passed_over = observed ? std::int64_t(WallObserver<FixedRockingStepper>::kQueueCapacity) : 0;
+  b.overrun_units = n * (per_substep + observer_per_substep) + w.evaluate +
+                    (observed ? o.sample_end + passed_over * o.superseded : 0) +
                     (b.metered ? c.caller_units_per_sample : 0);
   b.overhead_units = observed ? kObserverCallOverheadUnits : kDefaultCallOverheadUnits;
   b.caller_overhead_units = c.caller_overhead_units;

@@ -195,9 +195,9 @@ class StepperAlarmChain {
   template <typename OnSubstep>
   void step_motion(Input ug_mps2, Input vg_mps2, Output& out, OnSubstep&& on_substep) {
     UnmeteredWork meter;
-    begin_motion();
     out.step = Report{};
-    advance_motion(ug_mps2, vg_mps2, out.step, meter, on_substep);
+    run_motion(ug_mps2, vg_mps2, 0, 0, out.step, meter, on_substep, static_cast<NoObserver*>(nullptr));
+    substeps_done_ = 0;
     ug_last_ = ug_mps2;
     vg_last_ = vg_mps2;
   }
@@ -218,18 +218,19 @@ class StepperAlarmChain {
   }
 
   // One sample with a state observer between the stepper and the indicators (core/wall_observer.hpp): after every
-  // sub-step the observer corrects the stepper's state with the sensor samples up to the sub-step's end, so the
-  // indicators and the alarm see the fused state. t_us: the sample's end on the sensor clock; step_us: the sample
-  // interval [µs]; sub-step j ends at t_us − step_us·(n − j)/n (integer µs). Returns the observer's report of the
-  // sample: flags or-ed, updates summed, corrected if any sub-step was.
+  // sub-step the observer corrects the stepper's state with the newest sensor sample due by the sub-step's end
+  // (WallObserver::substep: one a sub-step), so the indicators and the alarm see the fused state. t_us: the
+  // sample's end on the sensor clock; step_us: the sample interval [µs]; sub-step j ends at t_us − step_us·(n − j)/n
+  // (integer µs). Returns the observer's report of the sample: flags or-ed, updates summed, corrected if any sub-step
+  // was.
   template <typename Observer, typename OnSubstep>
   typename Observer::StepOutcome step_observed(Input ug_mps2, Input vg_mps2, Observer& observer, std::int64_t t_us,
                                                std::int64_t step_us, Output& out, OnSubstep&& on_substep) {
     UnmeteredWork meter;
-    begin_motion();
-    begin_observed(t_us, step_us);
+    obs_total_ = ObserverStepReport{};
     out.step = Report{};
-    advance_motion(ug_mps2, vg_mps2, out.step, meter, on_substep, &observer);
+    run_motion(ug_mps2, vg_mps2, t_us, step_us, out.step, meter, on_substep, &observer);
+    substeps_done_ = 0;
     ug_last_ = ug_mps2;
     vg_last_ = vg_mps2;
     end_observed(observer);
@@ -253,8 +254,10 @@ class StepperAlarmChain {
   }
 
   // Carry-over (core/work_meter.hpp): samples queued with submit() and worked by run() in pieces paid from a meter,
-  // in order; a sample whose work the meter cannot pay goes on at the next run() from where it stopped. The results
-  // are those of step() on the same samples, bit for bit, unless the meter sheds.
+  // in order; a sample whose work the meter cannot pay goes on at the next run() from where it stopped — between two
+  // sub-steps, or inside the stepper's step (its own pieces, core/rocking_segments.hpp), never inside the observer's
+  // part of a sub-step (run_substep). The results are those of step() on the same samples, bit for bit, unless the
+  // meter sheds.
   static constexpr int kMaxPendingSamples = ROCKWATCH_PENDING_SAMPLES;
   // The most samples one call of a budgeted engine finishes (call()'s callers: firmware::WallEngine, sim).
   static constexpr int kMaxFinishedPerCall = 8;
@@ -273,14 +276,17 @@ class StepperAlarmChain {
   }
   // Samples queued and not yet finished (the one in progress included).
   int pending() const { return pending_count_; }
+  // The sub-steps of the sample in progress already finished, the observer's part included (0 between samples);
+  // stepper().step_in_progress() says whether a call stopped inside the next one's stepper step.
+  int substeps_done() const { return substeps_done_; }
   // What the caller does for each finished sample (publishing it: WallEngineConfig::caller_units_per_sample) [work
   // units]: taken from the meter with the sample's end, so that a metered call pays for it too. 0: nothing taken.
   void set_caller_units_per_sample(std::int32_t units) { caller_units_per_sample_ = units; }
-  // Forgets the queued samples (before a reset: the wall at rest, the queue empty).
+  // Forgets the queued samples (before a reset: the wall at rest, the queue empty; the stepper's reset abandons a step
+  // stopped inside).
   void clear_pending() {
     pending_count_ = 0;
-    head_begun_ = false;
-    obs_phase_ = ObserverPhase::none;
+    substeps_done_ = 0;
   }
 
   // Works on the queue until it is empty, max_samples are finished or the meter cannot pay for the next piece:
@@ -290,10 +296,10 @@ class StepperAlarmChain {
   void run(Meter& meter, int max_samples, OnSubstep&& on_substep, OnSample&& on_sample) {
     run_with(meter, max_samples, on_substep, on_sample, static_cast<NoObserver*>(nullptr));
   }
-  // The same with the wall observer between the stepper and the indicators (queued with submit_observed(), as
-  // step_observed() does it all at once): its pieces (core/wall_observer.hpp: a sub-step's prediction, each sensor
-  // sample applied, the sample's end) paid from the same meter, in the same order, so a sample finished at a later
-  // call is bit-identical to step_observed(). The observer's report of the finished sample: observer_report().
+  // The same with the wall observer between the stepper and the indicators (queued with submit(…, t_us, step_us), as
+  // step_observed() does it all at once): its work (WallObserver::substep after each sub-step, bounded; end_sample
+  // with the sample's end) paid from the same meter, in the same order, so a sample finished at a later call is
+  // bit-identical to step_observed(). The observer's report of the finished sample: observer_report().
   template <typename Meter, typename Observer, typename OnSample>
   void run_observed(Meter& meter, Observer& observer, int max_samples, OnSample&& on_sample) {
     const auto no_substep = [](int, const Report&, Input, Input) {};
@@ -342,7 +348,8 @@ class StepperAlarmChain {
 
   // The open loop's stand-in for an observer (run(), call()): no observer code is instantiated.
   struct NoObserver {
-    static constexpr ObserverWorkCosts kWork{0, 0, 0, 0};
+    static constexpr ObserverWorkCosts kWork{0, 0, 0, 0, 0};
+    static constexpr std::int32_t kSubstepWorstUnits = 0;
   };
   template <typename Observer>
   static constexpr bool kObserved = !std::is_same_v<Observer, NoObserver>;
@@ -359,15 +366,14 @@ class StepperAlarmChain {
           obs_total_ = ObserverStepReport{};
         }
       } else {
-        if (!head_begun_) {
-          begin_motion();
-          if constexpr (kObserved<Observer>) begin_observed(p.t_us, p.step_us);
+        // Nothing of the sample done yet (or an earlier call stopped before its first sub-step): its reports start
+        // empty. Idempotent, so no flag says whether the sample has begun.
+        if (substeps_done_ == 0 && !stepper_.step_in_progress()) {
           head_out_.step = Report{};
-          head_begun_ = true;
+          obs_total_ = ObserverStepReport{};
         }
-        if (!advance_motion(p.ug_mps2, p.vg_mps2, head_out_.step, meter, on_substep, observer)) return;
-        // The sample's end (the observer's, when on, and the indicators and the alarm): one piece, all of it
-        // idempotent until the queue advances.
+        if (!run_motion(p.ug_mps2, p.vg_mps2, p.t_us, p.step_us, head_out_.step, meter, on_substep, observer)) return;
+        // The sample's end (the observer's, when on, and the indicators and the alarm): one piece.
         if (!meter.take(Stepper::kWork.evaluate + Observer::kWork.sample_end + caller_units_per_sample_)) return;
         ug_last_ = p.ug_mps2;
         vg_last_ = p.vg_mps2;
@@ -375,7 +381,7 @@ class StepperAlarmChain {
         evaluate(head_out_);
       }
       const std::uint32_t tag = p.tag;
-      head_begun_ = false;
+      substeps_done_ = 0;
       pending_head_ = (pending_head_ + 1) % kMaxPendingSamples;
       --pending_count_;
       on_sample(static_cast<const Output&>(head_out_), tag);
@@ -404,13 +410,6 @@ class StepperAlarmChain {
     return report;
   }
 
-  // The observed sample in progress: its end and interval on the sensor clock, and the observer's report so far.
-  void begin_observed(std::int64_t t_us, std::int64_t step_us) {
-    obs_t_us_ = t_us;
-    obs_step_us_ = step_us;
-    obs_total_ = ObserverStepReport{};
-    obs_phase_ = ObserverPhase::none;
-  }
   // The sample's end with the observer: the covariance brought up to date; the alarm judges the estimated wall (its
   // capacity less the observer's margin, ObserverOptions::alarm_capacity_sigmas), not the nominal one. Open loop
   // (step, step_motion, run) keeps the nominal constants.
@@ -421,57 +420,60 @@ class StepperAlarmChain {
     if (observer.alarm_scales(q, kk)) Traits::scale_constants(constants_, nominal_constants_, q, kk);
   }
 
-  // The sample in progress: its sub-steps one by one, each in pieces paid from the meter (begin_motion(), then
-  // advance_motion() until it returns true; `total` then holds the merged report).
-  void begin_motion() {
-    sub_j_ = 1;
-    sub_active_ = false;
-    motion_done_ = false;
-  }
-  template <typename Meter, typename OnSubstep, typename Observer = NoObserver>
-  bool advance_motion(Input ug_mps2, Input vg_mps2, Report& total, Meter& meter, OnSubstep& on_substep,
-                      Observer* observer = nullptr) {
-    while (!motion_done_) {
-      if (!sub_active_) {
-        // One step per sample runs even on a collapsed wall (its report says whether the input was valid).
-        if (sub_j_ > substeps_ || (substeps_ > 1 && stepper_.collapsed())) {
-          motion_done_ = true;
-          break;
-        }
-        if (!meter.take(Stepper::kWork.substep)) return false;
-        sub_ug_ = Traits::interpolate(ug_last_, ug_mps2, sub_j_, substeps_, theta_);
-        sub_vg_ = Traits::interpolate(vg_last_, vg_mps2, sub_j_, substeps_, theta_);
-        stepper_.begin_step(sub_ug_, sub_vg_);
-        sub_active_ = true;
-      }
-      if (obs_phase_ == ObserverPhase::none) {
-        if (!stepper_.continue_step(meter)) return false;
-        if constexpr (kObserved<Observer>) obs_phase_ = ObserverPhase::begin;
-      }
-      const Report& sub = stepper_.step_report();
-      if constexpr (kObserved<Observer>) {
-        // The observer after the sub-step: its prediction, then the sensor samples due by the sub-step's end
-        // (sub-step j ends at t_us − step_us·(n − j)/n, integer µs), each a piece of its own.
-        if (obs_phase_ == ObserverPhase::begin) {
-          if (!meter.take(Observer::kWork.substep)) return false;
-          const std::int64_t n = substeps_;
-          const std::int64_t end_us = obs_t_us_ - (obs_step_us_ * (n - sub_j_)) / n;
-          observer->begin_step(stepper_, sub, sub_ug_, sub_vg_, end_us, obs_step_us_ / n);
-          obs_phase_ = ObserverPhase::updates;
-        }
-        if (!observer->run_updates(stepper_, meter)) return false;
-        const ObserverStepReport o = observer->end_step(stepper_);
-        obs_phase_ = ObserverPhase::none;
-        obs_total_.flags |= o.flags;
-        obs_total_.x_updates += o.x_updates;
-        obs_total_.a_updates += o.a_updates;
-        obs_total_.corrected = obs_total_.corrected || o.corrected;
-      }
-      sub_active_ = false;
-      on_substep(sub_j_, sub, sub_ug_, sub_vg_);
-      merge(total, sub, sub_j_);
-      ++sub_j_;
+  // The motion of a sample (t_us, step_us: its end and interval on the sensor clock, with the observer): its
+  // sub-steps from substeps_done_ on; false when the meter stopped it (the next call goes on from there). One step per
+  // sample runs even on a collapsed wall (its report says whether the input was valid).
+  template <typename Meter, typename OnSubstep, typename Observer>
+  bool run_motion(Input ug_mps2, Input vg_mps2, std::int64_t t_us, std::int64_t step_us, Report& total, Meter& meter,
+                  OnSubstep& on_substep, Observer* observer) {
+    while (stepper_.step_in_progress() ||
+           (substeps_done_ < substeps_ && !(substeps_ > 1 && stepper_.collapsed()))) {
+      if (!run_substep(ug_mps2, vg_mps2, t_us, step_us, total, meter, on_substep, observer)) return false;
     }
+    return true;
+  }
+
+  // Sub-step j = substeps_done_ + 1: the stepper's step to the sub-step's input, then the observer's part.
+  // The stepper's step is its own pieces (set-up, trials, located events): a sub-step of chatter locates up to
+  // 3 events, ≈ 45 000 units, more than a 1 kHz call's whole budget (23 000 open loop, 28 000 with the observer), so
+  // a call may stop between them and the stepper goes on from there (step_in_progress). The observer's part is
+  // bounded (WallObserver::substep: one sensor sample at most) and is paid at its worst before the stepper's pieces,
+  // so a step that finishes is followed by the observer's part in the same call; the reserve is given back when the
+  // stepper stops, and what the observer did not use once it ran. So a call stops only before a sub-step or inside
+  // the stepper's step, and the chain needs no record of where inside a sub-step it stood.
+  template <typename Meter, typename OnSubstep, typename Observer>
+  bool run_substep(Input ug_mps2, Input vg_mps2, std::int64_t t_us, std::int64_t step_us, Report& total,
+                   Meter& meter, OnSubstep& on_substep, Observer* observer) {
+    const int j = substeps_done_ + 1;
+    const bool resume = stepper_.step_in_progress();
+    const std::int32_t reserve = Observer::kSubstepWorstUnits;
+    if (!meter.take((resume ? 0 : Stepper::kWork.substep) + reserve)) return false;
+    if (!resume) {
+      sub_ug_ = Traits::interpolate(ug_last_, ug_mps2, j, substeps_, theta_);
+      sub_vg_ = Traits::interpolate(vg_last_, vg_mps2, j, substeps_, theta_);
+      stepper_.begin_step(sub_ug_, sub_vg_);
+    }
+    if (!stepper_.continue_step(meter)) {
+      meter.refund(reserve);
+      return false;
+    }
+    const Report& sub = stepper_.step_report();
+    if constexpr (kObserved<Observer>) {
+      // Sub-step j ends at t_us − step_us·(n − j)/n (integer µs).
+      const std::int64_t n = substeps_;
+      const std::int64_t end_us = t_us - (step_us * (n - j)) / n;
+      std::int32_t used = 0;
+      const ObserverStepReport o =
+          observer->substep(stepper_, sub, sub_ug_, sub_vg_, end_us, step_us / n, meter.shed, &used);
+      meter.refund(reserve - used);
+      obs_total_.flags |= o.flags;
+      obs_total_.x_updates += o.x_updates;
+      obs_total_.a_updates += o.a_updates;
+      obs_total_.corrected = obs_total_.corrected || o.corrected;
+    }
+    on_substep(j, sub, sub_ug_, sub_vg_);
+    merge(total, sub, j);
+    ++substeps_done_;
     return true;
   }
 
@@ -514,24 +516,15 @@ class StepperAlarmChain {
   int substeps_ = 1;
   Fraction theta_[kMaxSubsteps + 1]{};  // θ_j = j / substeps_
   Input ug_last_{}, vg_last_{};          // the previous sample's input: where the sub-steps' ramp starts
-  // The sample in progress (advance_motion): next sub-step, one begun and not finished, all done.
-  int sub_j_ = 1;
-  bool sub_active_ = false;
-  bool motion_done_ = false;
-  Input sub_ug_{}, sub_vg_{};  // the sub-step's input
-  // The observer's part of the sample in progress (begin_observed, advance_motion): the sample's end and interval
-  // on the sensor clock [µs], where the sub-step stands (the stepper's part under way, done and the observer's
-  // prediction next, the observer's updates under way) and the
-  // observer's report of the sample so far.
-  enum class ObserverPhase : std::uint8_t { none, begin, updates };
-  std::int64_t obs_t_us_ = 0, obs_step_us_ = 0;
-  ObserverPhase obs_phase_ = ObserverPhase::none;
+  // The sample in progress (run_motion): its sub-steps finished, the input of the last one begun (the stepper knows
+  // whether its step stopped inside: step_in_progress), and the observer's report of the sample so far.
+  int substeps_done_ = 0;
+  Input sub_ug_{}, sub_vg_{};
   ObserverStepReport obs_total_{};
-  // The queue of run(): a ring of kMaxPendingSamples, the head in progress when head_begun_.
+  // The queue of run(): a ring of kMaxPendingSamples, the head in progress.
   PendingSample queue_[kMaxPendingSamples]{};
   int pending_head_ = 0;
   int pending_count_ = 0;
-  bool head_begun_ = false;
   Output head_out_{};
   std::int32_t caller_units_per_sample_ = 0;
 };

@@ -29,7 +29,9 @@
 //
 // Time alignment: sensor samples are queued (fixed ring) with their utime and applied after the ground step whose
 // time reaches theirs — never before (a future sample is never used) — extrapolated to the step end by ẋ̂·age.
-// Samples older than max_age are dropped (stale); older than one step are applied but flagged (misaligned).
+// Samples older than max_age are dropped (stale); older than one step are applied but flagged (misaligned). At most
+// one sample per step (the newest due; older due ones are passed over, counted superseded: SPEC §8, issue 44), so a
+// step's work is bounded whatever arrived.
 //
 // Scalar: the stepper's (ObserverStepperTraits): double for core::RockingStepper<double>, ObserverQ10_53 for the
 // fixed-point stepper (the state e, b, κc, κk, the innovations); Cov, the covariance's, gains' and linearisations':

@@ -4,7 +4,9 @@
 // A sample's work is a sequence of pieces — a sub-step's set-up, a Newmark trial to the step end, an event located by
 // Newton (with the trial to the event), the indicators and the alarm at the sample's end — each of a bounded cost.
 // The engine takes each piece from a WorkMeter before doing it; when the meter cannot pay for the next piece the work
-// stops there and goes on at the next call from exactly that point (StepperAlarmChain's queue of samples). The
+// stops there and goes on at the next call from exactly that point (StepperAlarmChain's queue of samples): between two
+// sub-steps, or inside the stepper's step between two of its pieces — never inside the observer's part of a sub-step,
+// which is paid whole (at its worst, the unused part given back). The
 // pieces and their order do not depend on where a call stops, so the results are bit-identical to doing all the work
 // at once; what a stop costs is latency: the sample is finished (and its state and alarm published) at a later call.
 //
@@ -64,6 +66,11 @@ struct WorkMeter {
     left_units -= units;
     return true;
   }
+  // Gives back units taken for work that was not done (a reserve: StepperAlarmChain pays a sub-step's observer part at
+  // its worst before the stepper's pieces, and gives back what it did not use).
+  void refund(std::int32_t units) {
+    if (limited) left_units += units;
+  }
 };
 
 // What one call of a budgeted engine did (StepperAlarmChain::call).
@@ -101,6 +108,7 @@ struct WorkTally {
 struct UnmeteredWork {
   static constexpr bool shed = false;
   static constexpr bool take(std::int32_t) { return true; }
+  static constexpr void refund(std::int32_t) {}
 };
 
 }  // namespace rockwatch::core

@@ -61,6 +61,8 @@ struct ObserverCounters {
   std::int64_t rest_from_accel = 0;    // the model put to rest: the accelerometer read a wall at rest (rest_from_accel_after)
   std::int64_t model_doubt = 0;        // steps in model doubt (ObserverOptions::doubt_nis)
   std::int64_t quiet_motion = 0;       // re-initialisations from motion while the model rested on a quiet ground
+  std::int64_t superseded = 0;         // due sensor samples not applied because a newer one was due at the same
+                                       // sub-step (one sensor sample a sub-step: WallObserver::substep)
 };
 
 // Every counter with its published name, in the published order: the one list the reports (the monitor's summary,
@@ -89,6 +91,7 @@ void visit_observer_counters(const ObserverCounters& c, Visit&& visit) {
   visit("rest_from_accel", c.rest_from_accel);
   visit("model_doubt", c.model_doubt);
   visit("quiet_motion", c.quiet_motion);
+  visit("superseded", c.superseded);
 }
 
 // The end of an input sample that starts t0_s after the record's start, on the wall sensors' clock [µs]: what an
@@ -106,14 +109,16 @@ inline std::int64_t time_difference_us(std::int64_t a, std::int64_t b) {
 }
 
 // What each piece of the observer's work costs when metered [work units] (core/work_meter.hpp): a sub-step's
-// prediction (begin_step, end_step), one sensor sample applied (its displacement and acceleration updates, the
-// covariance brought up to date first, the corrections fed back into the stepper), a sample's end (the covariance
-// brought up to date, the alarm's scales of the estimated wall, the published estimates), one sensor sample dropped.
+// prediction and bookkeeping (WallObserver::substep without its sensor sample), one sensor sample applied (its
+// displacement and acceleration updates, the covariance brought up to date first, the corrections fed back into the
+// stepper), a sample's end (the covariance brought up to date, the alarm's scales of the estimated wall, the published
+// estimates), one sensor sample dropped, one passed over for a newer one.
 struct ObserverWorkCosts {
   std::int32_t substep;
   std::int32_t update;
   std::int32_t sample_end;
   std::int32_t dropped;     // a due sensor sample dropped unapplied (stale, or the wall collapsed)
+  std::int32_t superseded;  // a due sensor sample passed over because a newer one is due too (its index moved)
 };
 
 // One sensor's fusion status, as PX4's EKF2 publishes per sensor: the last reading tried against the model (its

@@ -1,5 +1,5 @@
 // The wall observer's class (core/wall_observer.hpp, which describes the filter): its interface — init, the sensor
-// samples in (push), the pieces of a step (begin_step, run_updates, end_step, end_sample), the published estimates —
+// samples in (push), a step (substep: prediction, at most one sensor sample; end_sample), the published estimates —
 // and its members. The work is in the parts that define its private members (core/wall_observer.hpp includes them
 // all): prediction.hpp (the covariance through a step), fusion_update.hpp (the scalar update every sensor shares),
 // and per sensor a fusion file (H, innovation, gate) and a control file (when to fuse, health rules, resets):
@@ -194,98 +194,42 @@ class WallObserver {
     return flags;
   }
 
-  // After the stepper's step that ends at `t_us` with input (ug, vg) at its end (report: what the stepper did):
-  // covariance prediction through the step (and its impact), then every queued sample with utime ≤ t_us, in
-  // order, then the end of the sample (the covariance brought up to date). Corrects the stepper's state and √r.
-  // All at once: begin_step(), run_updates() without a meter, end_step(), end_sample() (tests and tools that step the
-  // observer by hand; StepperAlarmChain runs the pieces, metered, and end_sample() once per input sample).
+  // After the stepper's step that ends at `t_us` with input (ug, vg) at its end (report: what the stepper did): the
+  // observer's sub-step (substep(): the covariance's prediction through the step, then at most one sensor sample),
+  // then the end of the sample (the covariance brought up to date). Corrects the stepper's state and √r. For tests
+  // and tools that step the observer by hand; StepperAlarmChain runs substep() after every sub-step and end_sample()
+  // once per input sample.
   ObserverStepReport after_step(Stepper& stepper, const Report& report, Input ug, Input vg, std::int64_t t_us,
                                 std::int64_t step_us) {
-    begin_step(stepper, report, ug, vg, t_us, step_us);
-    UnmeteredWork meter;
-    run_updates(stepper, meter);
-    const ObserverStepReport out = end_step(stepper);
+    const ObserverStepReport out = substep(stepper, report, ug, vg, t_us, step_us);
     end_sample();
     return out;
   }
 
-  // The pieces of after_step (the chain's carry-over, core/work_meter.hpp). begin_step: the prediction through the
-  // step, composed into the sample's transition (kWork.substep). run_updates: the queued samples with utime ≤ t_us,
-  // in order, one piece each (kWork.update, the covariance brought up to date first); false when the meter cannot
-  // pay for the next one (nothing of it done: the next call goes on from there). A shedding meter (the engine's queue
-  // is full) drops the due samples instead (counted and flagged queue_overflow). end_step: the step's bookkeeping
-  // and its report. end_sample: once per input sample, the covariance brought up to date (kWork.sample_end, with the
-  // chain's alarm scales).
-  void begin_step(Stepper& stepper, const Report& report, Input ug, Input vg, std::int64_t t_us, std::int64_t step_us) {
-    step_out_ = ObserverStepReport{};
-    step_out_.flags = pending_flags_;
-    pending_flags_ = 0;
-    step_impact_ = report.impacts_total > 0;
-    if (step_impact_) last_impact_us_ = t_us;
-    predict(stepper, report);
-    step_ug_ = ug;
-    step_vg_ = vg;
-    step_t_us_ = t_us;
-    step_us_ = step_us;
-    step_quiet_ = abs(Traits::input(ug)) < quiet_ug_;
-  }
-  template <typename Meter>
-  bool run_updates(Stepper& stepper, Meter& meter) {
-    ObserverStepReport& out = step_out_;
-    while (count_ > 0 && queue_[head_].utime_us <= step_t_us_) {
-      if (meter.shed) {  // the engine sheds: the sample is dropped, not applied (its check paid, as a stale one's)
-        if (!meter.take(kWork.dropped)) return false;
-        head_ = (head_ + 1) % kQueueCapacity;
-        --count_;
-        ++counters_.queue_overflow;
-        out.flags |= observer_flag::queue_overflow;
-        continue;
-      }
-      const std::int64_t age_us = time_difference_us(step_t_us_, queue_[head_].utime_us);
-      const bool stale = age_us > max_age_us_;
-      // A sample dropped (stale, or nothing left to estimate) costs its check only; one applied, its updates.
-      if (!meter.take(stale || stepper.collapsed() ? kWork.dropped : kWork.update)) return false;
-      const WallSensorSample s = queue_[head_];
-      head_ = (head_ + 1) % kQueueCapacity;
-      --count_;
-      if (stale) {
-        ++counters_.stale;
-        out.flags |= observer_flag::stale;
-        continue;
-      }
-      if (age_us > step_us_) {
-        ++counters_.misaligned;
-        out.flags |= observer_flag::misaligned;
-      }
-      if (stepper.collapsed()) continue;  // nothing left to estimate
-      // The updates need the covariance of now: the sample's transition so far applied.
-      flush();
-      // Each sensor's control decides whether and how its reading is fused (displacement first: the accelerometer's
-      // rules ask whether the displacement agreed).
-      if (s.x_valid) control_x(stepper, s, age_us, step_ug_, step_vg_, step_quiet_, out);
-      control_a(stepper, s, out);
-    }
-    return true;
-  }
-  ObserverStepReport end_step(const Stepper& stepper) {
-    ObserverStepReport& out = step_out_;
-    const std::int64_t t_us = step_t_us_;
-    impact_last_step_ = step_impact_;
-    if (!have_first_t_) {
-      have_first_t_ = true;
-      first_t_us_ = t_us;
-    }
-    x_health(t_us, out);
-    if (a_used_recent(t_us)) out.flags |= observer_flag::a_active;
-    if (doubt_) {
-      out.flags |= observer_flag::model_doubt;
-      ++counters_.model_doubt;
-      hold_doubt_floors();
-    }
-    x_prev_ = Traits::x(stepper);
-    return out;
+  // The most one substep() costs [work units]: its prediction, one sensor sample applied, and every other queued
+  // sample passed over. StepperAlarmChain reserves it before a sub-step and gives back what substep() did not use.
+  static constexpr std::int32_t kSubstepWorstUnits =
+      kWork.substep + kWork.update + (kQueueCapacity - 1) * kWork.superseded;
+
+  // The observer's share of one sub-step, all of it (bounded work; the chain never stops inside it): the prediction
+  // through the step, composed into the sample's transition; then at most ONE sensor sample — the newest whose time
+  // the step's end has reached — applied (or dropped: stale, the wall collapsed, or `shed`: the engine's queue is
+  // full), the older due ones passed over (counted `superseded`); then the step's bookkeeping and its report.
+  // Why one: so that a sub-step's work has a small fixed bound (kSubstepWorstUnits) whatever arrived, and a budgeted
+  // call can pay a sub-step whole. Why the newest, as PX4's EKF2 pops its ring buffers: a sensor sampled faster than
+  // the sub-steps, or a backlog (sensor samples older than the first ground sample), is never worked through with a
+  // growing lag; at most one sample a sub-step is what a sensor at or below the sub-step rate gives anyway (every
+  // record and study: SPEC §9). Samples not yet due wait in the ring. `units`: what it cost (kWork), for the chain's
+  // meter.
+  ObserverStepReport substep(Stepper& stepper, const Report& report, Input ug, Input vg, std::int64_t t_us,
+                             std::int64_t step_us, bool shed = false, std::int32_t* units = nullptr) {
+    begin_step(stepper, report, ug, vg, t_us, step_us);
+    const std::int32_t used = kWork.substep + fuse_newest_due(stepper, shed);
+    if (units != nullptr) *units = used;
+    return end_step(stepper);
   }
   void end_sample() { flush(); }
+
 
   // Estimates (double, for publishing), computed in the covariance's arithmetic Cov (double for the double observer,
   // as before; single precision on the M4F's FPU for the fixed-point one: 7 significant digits, what a published
@@ -461,6 +405,80 @@ class WallObserver {
 
 
  private:
+  // The pieces of substep(). begin_step: the prediction through the step, composed into the sample's transition.
+  void begin_step(Stepper& stepper, const Report& report, Input ug, Input vg, std::int64_t t_us, std::int64_t step_us) {
+    step_out_ = ObserverStepReport{};
+    step_out_.flags = pending_flags_;
+    pending_flags_ = 0;
+    step_impact_ = report.impacts_total > 0;
+    if (step_impact_) last_impact_us_ = t_us;
+    predict(stepper, report);
+    step_ug_ = ug;
+    step_vg_ = vg;
+    step_t_us_ = t_us;
+    step_us_ = step_us;
+    step_quiet_ = abs(Traits::input(ug)) < quiet_ug_;
+  }
+  // The newest queued sample with utime <= the step's end, the older due ones passed over; returns its cost (0 when
+  // none is due). The ring is in arrival order: a sample behind one not yet due waits, as before.
+  std::int32_t fuse_newest_due(Stepper& stepper, bool shed) {
+    ObserverStepReport& out = step_out_;
+    if (count_ == 0 || queue_[head_].utime_us > step_t_us_) return 0;
+    std::int32_t passed = 0;
+    while (count_ > 1 && queue_[(head_ + 1) % kQueueCapacity].utime_us <= step_t_us_) {
+      head_ = (head_ + 1) % kQueueCapacity;
+      --count_;
+      ++passed;
+    }
+    counters_.superseded += passed;
+    const std::int32_t passed_units = passed * kWork.superseded;
+    const WallSensorSample s = queue_[head_];
+    head_ = (head_ + 1) % kQueueCapacity;
+    --count_;
+    if (shed) {  // the engine sheds: the sample is dropped, not applied (its check paid, as a stale one's)
+      ++counters_.queue_overflow;
+      out.flags |= observer_flag::queue_overflow;
+      return passed_units + kWork.dropped;
+    }
+    const std::int64_t age_us = time_difference_us(step_t_us_, s.utime_us);
+    if (age_us > max_age_us_) {
+      ++counters_.stale;
+      out.flags |= observer_flag::stale;
+      return passed_units + kWork.dropped;
+    }
+    if (age_us > step_us_) {
+      ++counters_.misaligned;
+      out.flags |= observer_flag::misaligned;
+    }
+    if (stepper.collapsed()) return passed_units + kWork.dropped;  // nothing left to estimate
+    // The updates need the covariance of now: the sample's transition so far applied.
+    flush();
+    // Each sensor's control decides whether and how its reading is fused (displacement first: the accelerometer's
+    // rules ask whether the displacement agreed).
+    if (s.x_valid) control_x(stepper, s, age_us, step_ug_, step_vg_, step_quiet_, out);
+    control_a(stepper, s, out);
+    return passed_units + kWork.update;
+  }
+  // The step's bookkeeping and its report.
+  ObserverStepReport end_step(const Stepper& stepper) {
+    ObserverStepReport& out = step_out_;
+    const std::int64_t t_us = step_t_us_;
+    impact_last_step_ = step_impact_;
+    if (!have_first_t_) {
+      have_first_t_ = true;
+      first_t_us_ = t_us;
+    }
+    x_health(t_us, out);
+    if (a_used_recent(t_us)) out.flags |= observer_flag::a_active;
+    if (doubt_) {
+      out.flags |= observer_flag::model_doubt;
+      ++counters_.model_doubt;
+      hold_doubt_floors();
+    }
+    x_prev_ = Traits::x(stepper);
+    return out;
+  }
+
   // Prediction (observer/prediction.hpp).
   void zero_motion_covariance();
   void predict(const Stepper& stepper, const Report& report);
