@@ -391,6 +391,40 @@ TEST(InstabilityIndicators, EnergyMarginRaisesTheFlagButNotThePrediction) {
   CHECK_TRUE(ind.conditions.energy_over_barrier_outward);
 }
 
+TEST(InstabilityIndicators, ImminentHorizonRaisesTheEnergyFlagOnlyWhenXInstIsThatClose) {
+  // Default settings (margin 1.5) with a horizon of 0.15 s: above the barrier (ρ 1.1 < 1.5) moving outward, the
+  // flag is raised when the predicted time to x_inst is at most the horizon and not earlier; never below the barrier
+  // nor moving inward; off (0) it is the margin alone.
+  AlarmSettings settings;
+  settings.imminent_horizon_s = 0.15;
+  const InstabilityConstants<double> h = make_instability_constants(wall_setup, settings);
+  const InstabilityConstants<double> off = make_instability_constants(wall_setup, AlarmSettings{});
+  DOUBLES_EQUAL(0.15, h.horizon_s, 0.0);
+  DOUBLES_EQUAL(0.0, off.horizon_s, 0.0);
+  const double x_inst = h.x_inst_m[1], omega = h.omega_rps[1];
+  for (const double sign : {1.0, -1.0}) {
+    int raised = 0;
+    for (const double x_abs : {0.02, 0.05, 0.07, 0.085, 0.095}) {
+      stepper.set_state(sign * x_abs, sign * outward_speed(1.1, x_abs, x_inst, omega), 0.0, 0.0);
+      const InstabilityIndicators<double> ind = evaluate_instability(h, stepper, StepReport<double>{});
+      CHECK_TRUE(ind.t_valid);
+      CHECK_EQUAL(ind.t_to_instability_s <= 0.15, ind.conditions.energy_over_barrier_outward);
+      raised += ind.conditions.energy_over_barrier_outward ? 1 : 0;
+      CHECK_FALSE(evaluate_instability(off, stepper, StepReport<double>{}).conditions.energy_over_barrier_outward);
+      stepper.set_state(sign * x_abs, -sign * outward_speed(1.1, x_abs, x_inst, omega), 0.0, 0.0);  // inward
+      CHECK_FALSE(evaluate_instability(h, stepper, StepReport<double>{}).conditions.energy_over_barrier_outward);
+      stepper.set_state(sign * x_abs, sign * outward_speed(0.99, x_abs, x_inst, omega), 0.0, 0.0);  // below
+      CHECK_FALSE(evaluate_instability(h, stepper, StepReport<double>{}).conditions.energy_over_barrier_outward);
+    }
+    CHECK(raised >= 1 && raised <= 4);  // near x_inst only
+  }
+  AlarmSettings bad;
+  bad.imminent_horizon_s = -0.1;
+  CHECK_FALSE(alarm_settings_valid(bad));
+  bad.imminent_horizon_s = 10.5;
+  CHECK_FALSE(alarm_settings_valid(bad));
+}
+
 TEST(InstabilityIndicators, PredictionIsCappedAtTMax) {
   InstabilityConstants<double> capped = constants;
   capped.t_max_s = 0.25;

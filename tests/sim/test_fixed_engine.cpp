@@ -175,6 +175,35 @@ TEST(FixedEngine, SaturationIsReportedNotWrapped) {
   CHECK(f.xdd_mps2() < core::AccelQ7_56{});
 }
 
+TEST(FixedEngine, ImminentHorizonAgreesWithTheDoubleIndicators) {
+  // The horizon rule (core/instability_indicators.hpp) in fixed point: the same flag as the double indicators on
+  // states above the barrier (ρ 1.1 < the margin 1.5) at several distances from x_inst, none off.
+  const core::StepperSetup<double> setup = paper_setup(0.9);
+  core::AlarmSettings settings;
+  settings.imminent_horizon_s = 0.15;
+  core::FixedInstabilityConstants c{}, off{};
+  CHECK_TRUE(core::make_fixed_instability_constants(setup, settings, c));
+  CHECK_TRUE(core::make_fixed_instability_constants(setup, core::AlarmSettings{}, off));
+  const core::InstabilityConstants<double> d = core::make_instability_constants(setup, settings);
+  core::FixedRockingStepper f;
+  CHECK(f.init(setup) == core::FixedSetupError::ok);
+  core::RockingStepper<double> s;
+  s.init(setup);
+  const double xi = d.x_inst_m[1], omega = d.omega_rps[1];
+  int raised = 0;
+  for (const double x_abs : {0.3 * xi, 0.5 * xi, 0.7 * xi, 0.85 * xi, 0.95 * xi}) {
+    const double yd = std::sqrt(omega * omega * ((x_abs - xi) * (x_abs - xi) + 0.1 * xi * xi));
+    f.set_state(core::LengthQ1_62(x_abs), core::SpeedQ3_60(yd), core::AccelQ7_56{}, core::AccelQ7_56{});
+    s.set_state(x_abs, yd, 0.0, 0.0);
+    const core::FixedInstabilityIndicators fi = core::evaluate_instability(c, f, core::FixedStepReport{});
+    const core::InstabilityIndicators<double> di = core::evaluate_instability(d, s, core::StepReport<double>{});
+    CHECK_EQUAL(di.conditions.energy_over_barrier_outward, fi.conditions.energy_over_barrier_outward);
+    raised += fi.conditions.energy_over_barrier_outward ? 1 : 0;
+    CHECK_FALSE(core::evaluate_instability(off, f, core::FixedStepReport{}).conditions.energy_over_barrier_outward);
+  }
+  CHECK(raised >= 1 && raised <= 4);
+}
+
 TEST(FixedEngine, IndicatorsMatchTheClosedFormOfFreeRocking) {
   // Linear free motion about x_inst: y(t) = y0 cosh ωt + (ẏ0/ω) sinh ωt. Released above the barrier moving
   // outward, the predicted time to x_inst must match the time the engine takes to pass it.

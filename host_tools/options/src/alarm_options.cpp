@@ -70,6 +70,11 @@ void add_alarm_options(CLI::App& app, AlarmOptionTexts& texts) {
   app.add_flag("--alarms", texts.alarms,
                "Run the instability alarm (QUIET, ROCKING, WARNING, IMMINENT, COLLAPSED) after every integration step");
   add_alarm_setting_options(app, texts, "With --alarms: ");
+  app.add_option("--imminent-horizon", texts.horizon,
+                 "With --alarms: IMMINENT also when E >= E_barrier moving outward and the predicted time to x_inst "
+                     "under no further input is at most S [s], 0 (off) to 10 (default " +
+                     number_text(core::AlarmSettings{}.imminent_horizon_s) + ")")
+      ->type_name("S");
   app.add_option("--work-overflow", texts.work_overflow,
                  "With --arith fixed --alarms, what the firmware's budgeted engine does when its queue of waiting "
                  "samples is full, for the publication measured beside the answers: shed (default; every call within "
@@ -86,6 +91,9 @@ AlarmOptionValues alarm_option_values(const CLI::App& app, const AlarmOptionText
   if (given(app, "--lambda-w")) v.lambda_w = parse_finite_number("--lambda-w", texts.lambda_w);
   if (given(app, "--alarm-hold")) v.hold_s = parse_finite_number("--alarm-hold", texts.hold);
   if (given(app, "--energy-margin")) v.energy_margin = parse_finite_number("--energy-margin", texts.margin);
+  if (given(app, "--imminent-horizon")) {
+    v.imminent_horizon_s = parse_finite_number("--imminent-horizon", texts.horizon);
+  }
   return v;
 }
 
@@ -113,7 +121,8 @@ void apply_alarm_options(const AlarmOptionValues& v, sim::AnalysisOptions& optio
     options.work_overflow = parse_work_overflow("--work-overflow", *v.work_overflow);
   }
   const std::pair<const char*, const std::optional<double>*> settings[] = {
-      {"--lambda-w", &v.lambda_w}, {"--alarm-hold", &v.hold_s}, {"--energy-margin", &v.energy_margin}};
+      {"--lambda-w", &v.lambda_w}, {"--alarm-hold", &v.hold_s}, {"--energy-margin", &v.energy_margin},
+      {"--imminent-horizon", &v.imminent_horizon_s}};
   for (const auto& [option, value] : settings) {
     if (value->has_value() && !v.alarms) {
       throw UsageError(std::string(option) + " sets the instability alarm: give --alarms too");
@@ -132,6 +141,12 @@ void apply_alarm_options(const AlarmOptionValues& v, sim::AnalysisOptions& optio
   if (v.energy_margin) {
     a.energy_margin = *v.energy_margin;
     check_energy_margin("--energy-margin", a.energy_margin);
+  }
+  if (v.imminent_horizon_s) {
+    a.imminent_horizon_s = *v.imminent_horizon_s;
+    if (!core::imminent_horizon_valid(a.imminent_horizon_s)) {
+      throw UsageError("--imminent-horizon must be in [0, 10] s (got " + number_text(a.imminent_horizon_s) + ")");
+    }
   }
 }
 

@@ -61,15 +61,20 @@ struct AlarmSettings {
   double lambda_warning = 0.4;  // WARNING at |x| ≥ λ_w·x_inst [-], 0 < λ_w ≤ 1 (0.4: the NTC 2008 allowable)
   double hold_s = 1.0;          // time below a level's entry condition before the level falls [s], ≥ 0
   double energy_margin = 1.5;   // IMMINENT by energy when E ≥ margin·E_barrier moving outward [-], ≥ 1 (see above)
+  // IMMINENT also when E ≥ E_barrier moving outward and the predicted time to x_inst under zero further input is at
+  // most this [s] (the wall about to pass x_inst in free motion; reason bit energy_over_barrier_outward); 0 = off.
+  double imminent_horizon_s = 0.0;
 };
 
 // The ranges of the settings, one check each (callers name the field at fault); alarm_settings_valid: all of them.
 inline bool lambda_warning_valid(double v) { return v > 0.0 && v <= 1.0; }     // (0, 1]
 inline bool hold_valid(double s) { return s >= 0.0 && s <= 3600.0; }           // [0, 3600] s
 inline bool energy_margin_valid(double m) { return m >= 1.0 && m <= 100.0; }   // [1, 100]
+inline bool imminent_horizon_valid(double s) { return s >= 0.0 && s <= 10.0; }   // [0, 10] s
 
 inline bool alarm_settings_valid(const AlarmSettings& s) {
-  return lambda_warning_valid(s.lambda_warning) && hold_valid(s.hold_s) && energy_margin_valid(s.energy_margin);
+  return lambda_warning_valid(s.lambda_warning) && hold_valid(s.hold_s) && energy_margin_valid(s.energy_margin) &&
+         imminent_horizon_valid(s.imminent_horizon_s);
 }
 
 // Samples of the hold time at a sample interval dt_s (rounded to nearest). Initialisation-time code.

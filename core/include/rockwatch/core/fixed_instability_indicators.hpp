@@ -1,7 +1,7 @@
 // The alarm's physical conditions evaluated on the fixed-point engine's state: the definitions of
 // instability_indicators.hpp (their one home, with the prediction cap), in fixed point and with constant work.
 //   y = s·x − x_inst,s,  ẏ = s·ẋ,  ρ = E/E_barrier = 1 + (ẏ/(ω x_i))² − (y/x_i)²  (linear model, SPEC §2),
-//   IMMINENT by energy when moving, ẏ > 0 and ρ ≥ margin; predicted time to x_inst under zero input
+//   IMMINENT by energy when moving, ẏ > 0 and ρ ≥ margin (or ρ ≥ 1 and the prediction ≤ the horizon); predicted time to x_inst under zero input
 //   t = atanh(ω|y|/ẏ)/ω (0 once |x| ≥ x_inst; none below the barrier or moving inward), capped at
 //   kInstabilityPredictionCap_s (instability_indicators.hpp).
 //
@@ -42,6 +42,7 @@ struct FixedInstabilityConstants {
   RateQ7_24 inv_omega_x_inst_spm[2];  // 1/(ω x_inst) [s/m]
   RateQ7_24 inv_omega_s[2];      // 1/ω [s]
   RatioQ7_24 energy_margin;      // IMMINENT when ρ ≥ margin [-]
+  TimeQ7_24 horizon_s;           // ... or ρ ≥ 1 and the predicted time to x_inst ≤ this [s] (0 = off)
   TimeQ7_24 t_max_s;             // prediction cap [s]
 };
 
@@ -63,6 +64,7 @@ inline bool make_fixed_instability_constants(const StepperSetup<double>& s, cons
     ok = ok && 1.0 / (omega * xi) < 100.0 && 1.0 / omega < 100.0;
   }
   out.energy_margin = RatioQ7_24(a.energy_margin);
+  out.horizon_s = TimeQ7_24(a.imminent_horizon_s);
   out.t_max_s = TimeQ7_24(kInstabilityPredictionCap_s);
   return ok;
 }
@@ -116,6 +118,8 @@ inline FixedInstabilityIndicators evaluate_instability(const FixedInstabilityCon
   } else if (predictable) {
     out.t_valid = true;
     out.t_to_instability_s = t;
+    // About to pass x_inst in free motion (instability_indicators.hpp; horizon 0 = off).
+    if (moving && c.horizon_s > TimeQ7_24{} && t <= c.horizon_s) k.energy_over_barrier_outward = true;
   }
   return out;
 }

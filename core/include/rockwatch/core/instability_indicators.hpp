@@ -19,7 +19,8 @@
 //   over_warning_displacement      |x| ≥ λ_w·x_i
 //   over_instability_displacement  |x| ≥ x_i
 //   over_collapse_displacement     stepper.collapsed() (|x| reached κ·x_inst)
-//   energy_over_barrier_outward    moving and ẏ > 0 and ρ ≥ energy_margin
+//   energy_over_barrier_outward    moving and ẏ > 0 and (ρ ≥ energy_margin, or ρ ≥ 1 and 0 < t_to_instability ≤
+//                                  imminent_horizon_s: about to pass x_inst in free motion; horizon 0 = off)
 //   input_invalid                  the step's report says G = g + v̈ ≤ 0 (state held)
 //   arithmetic_saturated           always false in floating point
 //
@@ -54,6 +55,7 @@ struct InstabilityConstants {
   Scalar omega2_rps2[2];            // ω² [1/s²]
   Scalar inv_omega2_x_inst2_s2pm2[2];  // 1/(ω² x_i²) [s²/m²]: ρ without a division per step
   Scalar energy_margin;             // IMMINENT by energy when ρ ≥ this [-], ≥ 1
+  Scalar horizon_s;                 // ... or when ρ ≥ 1 and the predicted time to x_inst ≤ this [s] (0 = off)
   Scalar t_max_s;                   // cap of the predicted time [s]
 };
 
@@ -74,6 +76,7 @@ inline InstabilityConstants<double> make_instability_constants(const StepperSetu
     c.inv_omega2_x_inst2_s2pm2[i] = 1.0 / (omega2 * x_inst * x_inst);
   }
   c.energy_margin = settings.energy_margin;
+  c.horizon_s = settings.imminent_horizon_s;
   c.t_max_s = kInstabilityPredictionCap_s;
   return c;
 }
@@ -89,6 +92,7 @@ InstabilityConstants<Other> cast_instability_constants(const InstabilityConstant
     o.inv_omega2_x_inst2_s2pm2[i] = Other(c.inv_omega2_x_inst2_s2pm2[i]);
   }
   o.energy_margin = Other(c.energy_margin);
+  o.horizon_s = Other(c.horizon_s);
   o.t_max_s = Other(c.t_max_s);
   return o;
 }
@@ -139,6 +143,9 @@ InstabilityIndicators<Scalar> evaluate_instability(const InstabilityConstants<Sc
       using std::atanh;
       const Scalar t = atanh(z) / c.omega_rps[i];
       out.t_to_instability_s = t < c.t_max_s ? t : c.t_max_s;
+    }
+    if (k.moving && c.horizon_s > Scalar(0) && out.t_to_instability_s <= c.horizon_s) {
+      k.energy_over_barrier_outward = true;  // about to pass x_inst in free motion
     }
   }
   return out;

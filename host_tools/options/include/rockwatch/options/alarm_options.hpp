@@ -18,7 +18,7 @@ namespace rockwatch::options {
 struct AlarmOptionTexts {
   std::string arith = "double";
   bool alarms = false;
-  std::string lambda_w, hold, margin;
+  std::string lambda_w, hold, margin, horizon;
   std::string work_overflow;  // --work-overflow (fixed point with --alarms: the publication's measurement)
 };
 
@@ -52,6 +52,7 @@ struct AlarmOptionValues {
   std::string arith = "double";                // --arith: double | fixed
   bool alarms = false;                         // --alarms
   std::optional<double> lambda_w, hold_s, energy_margin;  // --lambda-w, --alarm-hold, --energy-margin
+  std::optional<double> imminent_horizon_s;    // --imminent-horizon
   std::optional<std::string> work_overflow;    // --work-overflow: shed | finish
 };
 
