@@ -84,6 +84,8 @@ nlohmann::ordered_json alarm_json(const SimulateRequest& q, const sim::AlarmSumm
   nlohmann::ordered_json j;
   const core::AlarmSettings& s = q.analysis.alarm;
   j["settings"] = {{"lambda_warning", s.lambda_warning}, {"hold_s", s.hold_s}, {"energy_margin", s.energy_margin}};
+  // The opt-in look-ahead rule (--imminent-horizon, SPEC §11): named when on, absent at the default (0).
+  if (s.imminent_horizon_s > 0.0) j["settings"]["imminent_horizon_s"] = s.imminent_horizon_s;
   j["max_level"] = core::alarm_level_name(a.max_level);
   j["t_first_warning_s"] = number_or_null(a.t_first_warning_s);
   j["t_first_imminent_s"] = number_or_null(a.t_first_imminent_s);
@@ -125,6 +127,10 @@ void alarm_text(std::string& out, const SimulateRequest& q, const sim::AlarmSumm
                                "outward; hold %s s",
                                number_text(s.lambda_warning).c_str(), number_text(s.energy_margin).c_str(),
                                number_text(s.hold_s).c_str()));
+  if (s.imminent_horizon_s > 0.0) {
+    line(out, "", format("IMMINENT also at E >= E_barrier moving outward with x_inst predicted within %s s",
+                         number_text(s.imminent_horizon_s).c_str()));
+  }
   line(out, "highest level", core::alarm_level_name(a.max_level));
   line(out, "first WARNING", time_text(a.t_first_warning_s, "never"));
   line(out, "first IMMINENT", time_text(a.t_first_imminent_s, "never"));

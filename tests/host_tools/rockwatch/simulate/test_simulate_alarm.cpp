@@ -70,6 +70,23 @@ std::vector<std::string> simulate_el_centro(const std::vector<std::string>& more
 
 TEST_GROUP(SimulateAlarm){};
 
+// The opt-in look-ahead rule (--imminent-horizon, SPEC §11) is named in the settings when on and absent at the default,
+// and it can only bring IMMINENT earlier (it adds a condition; the others are unchanged).
+TEST(SimulateAlarm, TheImminentHorizonIsNamedWhenOnAndOnlyBringsImminentEarlier) {
+  const ProcessResult off = run_rockwatch(simulate_el_centro({"--alarms", "--json"}));
+  const ProcessResult on = run_rockwatch(simulate_el_centro({"--alarms", "--json", "--imminent-horizon", "0.3"}));
+  check_ok(off);
+  check_ok(on);
+  const nlohmann::json a_off = nlohmann::json::parse(off.out)["alarm"];
+  const nlohmann::json a_on = nlohmann::json::parse(on.out)["alarm"];
+  CHECK_FALSE(a_off["settings"].contains("imminent_horizon_s"));
+  DOUBLES_EQUAL(0.3, a_on["settings"]["imminent_horizon_s"].get<double>(), 0.0);
+  CHECK_TRUE(a_on["t_first_imminent_s"].get<double>() <= a_off["t_first_imminent_s"].get<double>());
+  const ProcessResult text = run_rockwatch(simulate_el_centro({"--alarms", "--imminent-horizon", "0.3"}));
+  check_ok(text);
+  CHECK_TEXT(text.out.find("predicted within 0.3 s") != std::string::npos, text.out.c_str());
+}
+
 TEST(SimulateAlarm, CollapseIsForetoldByWarningThenImminentAtIncreasingTimes) {
   const ProcessResult r = run_rockwatch(simulate_el_centro({"--alarms", "--json"}));
   check_ok(r);
