@@ -21,6 +21,8 @@ mutants=(
   "calibration_sees_first_record|test_rockwatch_study|^test_rockwatch_study_forecast$|"
   "calibration_sees_middle_record|test_rockwatch_study|^test_rockwatch_study_forecast$|"
   "energy_window_one_sample_short|rockwatch test_rockwatch_simulate_forecast|^test_rockwatch_simulate_forecast$|"
+  "observer_fuses_oldest_due|test_firmware|^test_firmware$|"
+  "observer_part_unreserved|test_firmware|^test_firmware$|"
 )
 selected=("$@")
 work=${WORK_DIR:-$(mktemp -d)}
