@@ -3,18 +3,27 @@
 # "64-bit ARM"): Debian's cross compiler, the :arm64 libraries, cmake/toolchains/aarch64-linux-gnu.cmake. Only the
 # targets named are built (default: rockwatch rockwatch-monitor); no tests, benchmarks, Python module or MPI.
 #
-#   scripts/cross-build.sh [--no-deps] [TARGET...]
+#   scripts/cross-build.sh [--no-deps] [--quick | --release] [TARGET...]
 # --no-deps skips scripts/install-deps.sh arm64 (the ctest arm64_cross_check: CI's build stage ran it already).
+# --quick compiles at -O1 instead of the release's -O3 (CI's port check, scripts/test.sh: the same sources, warnings and
+#   checks, about 35 % less compile time: docs/BENCHMARKS.md "The test loop"; the packages keep -O3). The level is
+#   kept in build/arm64's cache: a later call without --quick (the ctest) builds at the level the tree has; a tree
+#   first configured without --quick is -O3, and --quick on it reconfigures (saying so).
+--release compiles at -O3 whatever the tree had (scripts/package-arm64.sh, the arm64 benchmarks).
 # Prints the build's wall time; the programs run under qemu-aarch64 (build/arm64/host_tools/rockwatch{,-monitor}).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 deps=true
+quick=false
+release=false
 targets=()
 for a in "$@"; do
   case "$a" in
     --no-deps) deps=false ;;
-    -h|--help) sed -n '2,8p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
-    -*) echo "cross-build.sh: unknown option '$a' (expected --no-deps or target names)" >&2; exit 2 ;;
+    --quick) quick=true release=false ;;
+    --release) release=true quick=false ;;
+    -h|--help) sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -*) echo "cross-build.sh: unknown option '$a' (expected --no-deps, --quick, --release or target names)" >&2; exit 2 ;;
     *) targets+=("$a") ;;
   esac
 done
@@ -27,11 +36,19 @@ done
   || { echo "cross-build.sh: build/arm64/sysroot has no arm64 liblcm (scripts/install-deps.sh arm64 unpacks it)" >&2; exit 1; }
 dir=build/arm64
 start=$(date +%s.%N)
+# The optimisation level: -O1 with --quick; else what the tree was configured with; else the release's -O3.
+release_flags="-O3 -DNDEBUG"
+cached=$(sed -n 's/^CMAKE_CXX_FLAGS_RELEASE:[A-Z]*=//p' "$dir/CMakeCache.txt" 2>/dev/null || true)
+if $quick; then release_flags="-O1 -DNDEBUG"; elif ! $release && [ -n "$cached" ]; then release_flags=$cached; fi
+if [ -f "$dir/build.ninja" ] && [ -n "$cached" ] && [ "$cached" != "$release_flags" ]; then
+  echo "cross-build.sh: $dir was configured with '$cached'; reconfiguring with '$release_flags' (a full rebuild)"
+  rm -f "$dir/build.ninja"
+fi
 if [ ! -f "$dir/build.ninja" ]; then
   cmake -G Ninja -S . -B "$dir" -DCMAKE_TOOLCHAIN_FILE=cmake/toolchains/aarch64-linux-gnu.cmake \
-    -DROCKWATCH_CROSS_SYSROOT="$PWD/$dir/sysroot" -DCMAKE_BUILD_TYPE=Release \
+    -DROCKWATCH_CROSS_SYSROOT="$PWD/$dir/sysroot" -DCMAKE_BUILD_TYPE=Release "-DCMAKE_CXX_FLAGS_RELEASE=$release_flags" \
     -DROCKWATCH_BUILD_TESTS=OFF -DROCKWATCH_BUILD_BENCH=OFF -DROCKWATCH_PYTHON=OFF -DROCKWATCH_MPI=OFF >"$dir/configure.log" 2>&1 \
     || { cat "$dir/configure.log" >&2; echo "cross-build.sh: configuring $dir failed (log above)" >&2; exit 1; }
 fi
 ninja -C "$dir" "${targets[@]}"
-echo "cross-build.sh: ${targets[*]} for aarch64 in $dir: $(printf '%.0f' "$(echo "$(date +%s.%N) - $start" | bc)") s wall"
+echo "cross-build.sh: ${targets[*]} for aarch64 ($release_flags) in $dir: $(printf '%.0f' "$(echo "$(date +%s.%N) - $start" | bc)") s wall"

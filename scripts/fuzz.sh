@@ -8,6 +8,9 @@
 #                                                  runs in build/fuzz/corpus-work/TARGET
 #   scripts/fuzz.sh regress                        only the kept regression inputs
 #   scripts/fuzz.sh list                           the targets
+#   --quick (after the mode)                       the preset "fuzz-quick" in build/fuzz-quick: -O0, half the compile
+#                                                  time, a third to a half of the executions a second (CI's smoke:
+#                                                  docs/BENCHMARKS.md "The test loop"); long runs want the default -O1
 #
 # Exit status non-zero on any crash, uncaught exception, sanitizer report, leak, timeout (hang) or out-of-memory.
 # Per target: executions, seconds, executions/s, corpus files/bytes at the end, coverage; logs and crashing inputs in
@@ -15,7 +18,13 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 mode="${1:-smoke}"
-build=build/fuzz
+preset=fuzz
+args=()
+for a in "$@"; do
+  if [ "$a" = --quick ]; then preset=fuzz-quick; else args+=("$a"); fi
+done
+set -- "${args[@]}"
+build=build/$preset
 bin=$build/tests/fuzz
 corpus=tests/fuzz/corpus
 regressions=tests/fuzz/regressions
@@ -43,14 +52,14 @@ field() { echo "$1" | awk -v n="$2" '{print $n}'; }
 target_names() { for t in "${targets[@]}"; do field "$t" 1; done; }
 
 usage() {
-  sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'
+  sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'
   exit 2
 }
 
 build_fuzzers() {
   ./scripts/install-deps.sh
-  cmake --preset fuzz >/dev/null
-  cmake --build --preset fuzz -j "$(nproc)"
+  cmake --preset "$preset" >/dev/null
+  cmake --build --preset "$preset" -j "$(nproc)"
 }
 
 # The dictionary of a target (read_record: all the record formats'), or nothing.

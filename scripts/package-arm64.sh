@@ -8,7 +8,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/install-deps.sh arm64
-./scripts/cross-build.sh --no-deps rockwatch rockwatch-monitor rockwatch_manpages
+./scripts/cross-build.sh --no-deps --release rockwatch rockwatch-monitor rockwatch_manpages
 build="$PWD/build/arm64"
 out="$PWD/build/packages"
 mkdir -p "$out"

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Builds and runs every test suite twice: the release build, then the debug build under
 # AddressSanitizer + UndefinedBehaviorSanitizer; the aarch64 cross build and its check under qemu (ctest
-# arm64_cross_check); then the fuzzing smoke run (clang build of the libFuzzer targets, the kept regression inputs,
-# about a minute of fuzzing: scripts/fuzz.sh, docs/RELIABILITY.md).
+# arm64_cross_check); then the fuzzing smoke run (clang build of the libFuzzer targets at -O0, the kept regression
+# inputs, about a minute of fuzzing: scripts/fuzz.sh --quick, docs/RELIABILITY.md).
 #
 # A pipeline (issue 42: the fresh-clone CI within 24 min on 2 cores): a test run leaves a core idle about half its time
 # (its tests wait on sockets, paced replays and child processes), so the next build runs beside it in the background at
@@ -133,10 +133,10 @@ stage_done
 [ "$release_status" -eq 0 ] || { summarise release ctest-junit.xml; }
 bg_wait "debug: build"
 
-# The aarch64 cross build of the two programs (build/arm64), which ctest arm64_cross_check runs under qemu; the
+# The aarch64 cross build of the two programs (build/arm64, at -O1: cross-build.sh --quick), which ctest arm64_cross_check runs under qemu; the
 # libFuzzer targets. Both beside the debug tests, the cross build first (nice 10 before 19).
-bg_start "arm64: build" 10 ./scripts/cross-build.sh --no-deps
-bg_start "fuzz: build" 19 ./scripts/build.sh fuzz
+bg_start "arm64: build" 10 ./scripts/cross-build.sh --no-deps --quick
+bg_start "fuzz: build" 19 ./scripts/build.sh fuzz-quick
 stage "debug: test"
 run_ctest debug ctest-junit.xml -LE quiet_machine
 debug_status=$ctest_status
@@ -164,7 +164,7 @@ ctest_status=$(max "$debug_status" "$debug_quiet_status" 0)
 summarise debug ctest-junit.xml ctest-junit-quiet.xml
 
 stage "fuzz: smoke"
-./scripts/fuzz.sh smoke  # (its build step finds everything up to date)
+./scripts/fuzz.sh smoke --quick  # (its build step finds everything up to date)
 stage_done
 echo "== entries against their timeouts"
 printf '%s\n' "${timeout_lines[@]}"

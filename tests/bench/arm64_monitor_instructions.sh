@@ -17,7 +17,13 @@ if [ $# -lt 1 ] || [ $# -gt 2 ]; then sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//'
 x86=$(cd "$1" && pwd)/host_tools/rockwatch
 arm=$(cd "${2:-$root/build/arm64}" 2>/dev/null && pwd)/host_tools/rockwatch-monitor
 [ -x "$x86" ] || { echo "arm64_monitor_instructions: $x86 missing (expected an x86-64 build directory)" >&2; exit 2; }
-[ -x "$arm" ] || { echo "arm64_monitor_instructions: $arm missing (scripts/cross-build.sh builds it)" >&2; exit 2; }
+[ -x "$arm" ] || { echo "arm64_monitor_instructions: $arm missing (scripts/cross-build.sh --release builds it)" >&2; exit 2; }
+# CI's port check leaves build/arm64 at -O1 (scripts/cross-build.sh --quick): not the figures of a release.
+arm_cache=$(dirname "$(dirname "$arm")")/CMakeCache.txt
+if grep -q '^CMAKE_CXX_FLAGS_RELEASE:[A-Z]*=-O1' "$arm_cache" 2>/dev/null; then
+  echo "arm64_monitor_instructions: $arm was built at -O1 (CI's quick port check); scripts/cross-build.sh --release rebuilds it at -O3" >&2
+  exit 2
+fi
 command -v qemu-aarch64 >/dev/null || { echo "arm64_monitor_instructions: qemu-aarch64 missing (scripts/install-deps.sh arm64)" >&2; exit 77; }
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
