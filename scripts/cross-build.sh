@@ -9,7 +9,7 @@
 #   checks, about 35 % less compile time: docs/BENCHMARKS.md "The test loop"; the packages keep -O3). The level is
 #   kept in build/arm64's cache: a later call without --quick (the ctest) builds at the level the tree has; a tree
 #   first configured without --quick is -O3, and --quick on it reconfigures (saying so).
---release compiles at -O3 whatever the tree had (scripts/package-arm64.sh, the arm64 benchmarks).
+# --release compiles at -O3 whatever the tree had (scripts/package-arm64.sh, the arm64 benchmarks).
 # Prints the build's wall time; the programs run under qemu-aarch64 (build/arm64/host_tools/rockwatch{,-monitor}).
 set -euo pipefail
 cd "$(dirname "$0")/.."
