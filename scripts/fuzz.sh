@@ -8,9 +8,9 @@
 #                                                  runs in build/fuzz/corpus-work/TARGET
 #   scripts/fuzz.sh regress                        only the kept regression inputs
 #   scripts/fuzz.sh list                           the targets
-#   --quick (after the mode)                       the preset "fuzz-quick" in build/fuzz-quick: -O0, half the compile
-#                                                  time, a third to a half of the executions a second (CI's smoke:
-#                                                  docs/BENCHMARKS.md "The test loop"); long runs want the default -O1
+#   --quick (after the mode)                       the preset "fuzz-quick" in build/fuzz-quick: rockwatch_sim (not a
+#                                                  parser) at -O0, the rest at -O1 (CI's smoke: docs/BENCHMARKS.md
+#                                                  "The test loop"); long runs want the default preset
 #
 # Exit status non-zero on any crash, uncaught exception, sanitizer report, leak, timeout (hang) or out-of-memory.
 # Per target: executions, seconds, executions/s, corpus files/bytes at the end, coverage; logs and crashing inputs in
