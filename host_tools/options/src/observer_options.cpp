@@ -87,6 +87,18 @@ void add_observer_options(CLI::App& app, ObserverOptionTexts& texts, const std::
                      range_text(kMinObserverModelFormSigma, kMaxObserverModelFormSigma, "") + " (default " +
                      number_text(d.doubt_model_form_sigma) + ")")
       ->type_name("F");
+  app.add_option("--observer-capacity-min-x", texts.capacity_min_x,
+                 help_prefix + "a reading teaches the capacity (kappa_c, kappa_k) only while the model's |x| >= F x "
+                     "the nominal x_inst: its decline, not a crushed hinge's elastic rise and plateau near x = 0 "
+                     "(SPEC 11); 0: always, " +
+                     range_text(kMinObserverCapacityMinX, kMaxObserverCapacityMinX, "") + " (default " +
+                     number_text(d.capacity_min_x_fraction) + ")")
+      ->type_name("F");
+  app.add_option("--observer-doubt-capacity-min-x", texts.doubt_capacity_min_x,
+                 help_prefix + "the same while in model doubt (the larger applies; SPEC 11), " +
+                     range_text(kMinObserverCapacityMinX, kMaxObserverCapacityMinX, "") + " (default " +
+                     number_text(d.doubt_capacity_min_x_fraction) + ")")
+      ->type_name("F");
 }
 
 bool observer_option_given(const CLI::App& app) {
@@ -123,6 +135,12 @@ core::ObserverOptions parse_observer_options(const CLI::App& app, const Observer
   o.doubt_model_form_sigma =
       parse_in_range(app, "--observer-doubt-model-form-sigma", texts.doubt_model_form_sigma,
                      kMinObserverModelFormSigma, kMaxObserverModelFormSigma, "", o.doubt_model_form_sigma);
+  o.capacity_min_x_fraction = parse_in_range(app, "--observer-capacity-min-x", texts.capacity_min_x,
+                                             kMinObserverCapacityMinX, kMaxObserverCapacityMinX, "",
+                                             o.capacity_min_x_fraction);
+  o.doubt_capacity_min_x_fraction =
+      parse_in_range(app, "--observer-doubt-capacity-min-x", texts.doubt_capacity_min_x, kMinObserverCapacityMinX,
+                     kMaxObserverCapacityMinX, "", o.doubt_capacity_min_x_fraction);
   // The core's own check, in case its ranges ever become narrower than the ones above.
   const core::ObserverError err = core::validate_observer_options(o);
   if (err != core::ObserverError::ok) throw UsageError(core::observer_error_message(err));

@@ -29,7 +29,7 @@ inline bool WallObserver<Stepper>::fuse_a(Stepper& stepper, const WallSensorSamp
   last_innovation_a_ = y;
   const Cov s_a = hx * ph[X] + hc * ph[C] + hk * ph[K] + r_a_;
   var_a_ = s_a;
-  rejected_a_ = !scalar_update(ph, s_a, cov(y), dz, learn_a);
+  rejected_a_ = !scalar_update(ph, s_a, cov(y), dz, learn_a, capacity_learns(x));
   if (rejected_a_) return false;
   apply(stepper, dz, ug, vg);
   return true;

@@ -96,6 +96,15 @@ inline void WallObserver<Stepper>::hold_doubt_floors() {
   if (p_(E, E) < doubt_e_var_) p_(E, E) = doubt_e_var_;
 }
 
+// Whether a reading taken with the model at x may teach κc, κk (ObserverOptions::capacity_min_x_fraction,
+// doubt_capacity_min_x_fraction): the restoring force's decline, not the elastic rise and plateau of a crushed hinge
+// near x = 0. Both 0 (the default): always.
+template <typename Stepper>
+inline bool WallObserver<Stepper>::capacity_learns(Scalar x) const {
+  const Scalar lowest = doubt_ && doubt_capacity_min_x_ > capacity_min_x_ ? doubt_capacity_min_x_ : capacity_min_x_;
+  return !(abs(x) < lowest);
+}
+
 // The measurement has disagreed with the model for reinit_after samples while the ground shakes: the real wall
 // moves where the model does not (or the sensor is back after a dropout). Restart the motion at the reading with
 // a wide velocity prior; what was learned (ê, b̂) stays.

@@ -25,7 +25,7 @@ inline bool WallObserver<Stepper>::fuse_x(Stepper& stepper, Scalar z, std::int64
   const Cov s_x = ph[X] + ph[B] + r_x_;
   note_innovation(cov(y), s_x);
   var_x_ = s_x;
-  rejected_x_ = !scalar_update(ph, s_x, cov(y), dz, informative(x));
+  rejected_x_ = !scalar_update(ph, s_x, cov(y), dz, informative(x), capacity_learns(x));
   if (rejected_x_) return false;
   apply(stepper, dz, ug, vg);
   return true;

@@ -12,22 +12,25 @@ namespace rockwatch::core {
 // One scalar measurement with P h = ph already formed (h sparse: the callers add P's columns), s = hᵀ P h + r,
 // innovation y. Returns false when gated out. Only the upper triangle of P is computed (then mirrored).
 // learn = false: the wall's parameters (e, κc, κk) are considered, not estimated (Schmidt–Kalman: their gain is
-// zero and the covariance follows the Joseph form of that gain, so it stays the covariance of the errors).
+// zero and the covariance follows the Joseph form of that gain, so it stays the covariance of the errors);
+// learn_capacity = false: κc, κk alone (capacity_learns()).
 // 1/s for the gains k = P h / s: one division for the whole gain (six products instead of six divisions).
 template <typename Stepper>
-inline bool WallObserver<Stepper>::scalar_update(Cov (&ph)[kStates], Cov s, Cov y, Vec& correction, bool learn) {
+inline bool WallObserver<Stepper>::scalar_update(Cov (&ph)[kStates], Cov s, Cov y, Vec& correction, bool learn,
+                                                 bool learn_capacity) {
   if (!(s > Cov(0))) return false;
   if (y * y > gate_ * s) return false;
   const Cov inv_s = Cov(1) / s;
   Cov k[kStates];
   for (int a = 0; a < kStates; ++a) k[a] = ph[a] * inv_s;
-  if (learn) {
+  if (learn && learn_capacity) {
     for (int a = 0; a < kStates; ++a) {
       correction(a) = from_cov(k[a] * y);
       for (int c = a; c < kStates; ++c) p_(a, c) = p_(a, c) - k[a] * ph[c];
     }
   } else {
-    k[E] = k[C] = k[K] = Cov(0);
+    if (!learn) k[E] = Cov(0);
+    k[C] = k[K] = Cov(0);
     // (I − k hᵀ) P (I − k hᵀ)ᵀ + r k kᵀ = P − k (Ph)ᵀ − (Ph) kᵀ + s k kᵀ, on the entries a gain touches.
     for (int a = 0; a < kStates; ++a) {
       correction(a) = from_cov(k[a] * y);

@@ -96,6 +96,11 @@ class WallObserver {
     doubt_nis_ = Cov(o.doubt_nis);
     doubt_alpha_ = Cov(1.0 / o.doubt_window);
     doubt_c_var_ = Cov(o.doubt_capacity_sigma * o.doubt_capacity_sigma);
+    {
+      const double x_inst_min = std::fmin(setup.x_inst_m[0], setup.x_inst_m[1]);
+      capacity_min_x_ = Scalar(o.capacity_min_x_fraction * x_inst_min);
+      doubt_capacity_min_x_ = Scalar(o.doubt_capacity_min_x_fraction * x_inst_min);
+    }
     doubt_e_var_ = Cov(o.doubt_r_sigma * o.doubt_r_sigma);
     model_form_var_ = Cov(o.model_form_sigma * o.model_form_sigma);
     doubt_model_form_var_ = Cov(o.doubt_model_form_sigma * o.doubt_model_form_sigma);
@@ -489,7 +494,8 @@ class WallObserver {
   void flush();
   void transition(int i, Scalar x0, Scalar x1, Cov* fx, Cov* fv) const;
   // The update every sensor shares (observer/fusion_update.hpp).
-  bool scalar_update(Cov (&ph)[kStates], Cov s, Cov y, Vec& correction, bool learn = true);
+  bool scalar_update(Cov (&ph)[kStates], Cov s, Cov y, Vec& correction, bool learn = true, bool learn_capacity = true);
+  bool capacity_learns(Scalar x) const;
   bool informative(Scalar x) const { return informative(x, inform_peak_x2_); }
   bool informative(Scalar x, Cov peak_x2) const;
   void symmetrise();
@@ -531,6 +537,8 @@ class WallObserver {
   std::int64_t dropout_us_ = 250000, max_age_us_ = 50000;
   std::int32_t reinit_after_ = 8, stuck_after_ = 40, reopen_after_ = 16, rest_after_ = 8;
   Cov doubt_nis_{}, doubt_alpha_{}, doubt_c_var_{}, doubt_e_var_{};  // model doubt (ObserverOptions) [-]
+  // |x| below which a reading does not teach κc, κk: always, and while in doubt (the larger applies) [m]
+  Scalar capacity_min_x_{}, doubt_capacity_min_x_{};
   Cov model_form_var_{}, doubt_model_form_var_{};  // model_form_sigma², doubt_model_form_sigma² [-]
   Scalar quiet_spread_x_{};  // quiet_motion_spread_noises × x_noise [m]
   // State.
