@@ -27,7 +27,8 @@ struct RawOptions {
   options::RealtimeOptionTexts timing;  // --realtime, --cpu, --busy-poll-us
   options::WallOptionTexts wall;
   std::string r = "exp", model = "linear", kappa;
-  options::AlarmOptionTexts alarm;  // --lambda-w, --alarm-hold, --energy-margin (its arith and alarms are unused)
+  // --lambda-w, --alarm-hold, --energy-margin, --imminent-horizon (its arith and alarms are unused)
+  options::AlarmOptionTexts alarm;
   bool print_config = false, version = false, observer = false;
 };
 

@@ -301,6 +301,8 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
   Sourced<double> lambda_w = pick(alarm_defaults.lambda_warning, file.lambda_w, file_label("alarm.lambda_w"));
   Sourced<double> hold = pick(alarm_defaults.hold_s, file.hold_s, file_label("alarm.hold_s"));
   Sourced<double> margin = pick(alarm_defaults.energy_margin, file.energy_margin, file_label("alarm.energy_margin"));
+  Sourced<double> horizon =
+      pick(alarm_defaults.imminent_horizon_s, file.imminent_horizon_s, file_label("alarm.imminent_horizon_s"));
   if (options::given(app, "--lambda-w")) {
     lambda_w = {options::parse_finite_number("--lambda-w", raw.alarm.lambda_w), "--lambda-w"};
   }
@@ -310,12 +312,19 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
   if (options::given(app, "--energy-margin")) {
     margin = {options::parse_finite_number("--energy-margin", raw.alarm.margin), "--energy-margin"};
   }
+  if (options::given(app, "--imminent-horizon")) {
+    horizon = {options::parse_finite_number("--imminent-horizon", raw.alarm.horizon), "--imminent-horizon"};
+  }
   options::check_lambda_w(name_of(lambda_w.origin, "lambda_w"), lambda_w.value);
   options::check_alarm_hold(name_of(hold.origin, "hold_s"), hold.value);
   options::check_energy_margin(name_of(margin.origin, "energy_margin"), margin.value);
+  options::check_imminent_horizon(name_of(horizon.origin, "imminent_horizon_s"), horizon.value);
   engine.alarm.lambda_warning = lambda_w.value;
   engine.alarm.hold_s = hold.value;
   engine.alarm.energy_margin = margin.value;
+  // The look-ahead (0 = off) in both engines: the fixed-point indicators evaluate it as the double ones do
+  // (core/fixed_instability_indicators.hpp), so `--arith fixed` is `simulate --arith fixed --imminent-horizon`.
+  engine.alarm.imminent_horizon_s = horizon.value;
 
   // Timing and input checks.
   firmware::MonitorSettings& s = config.settings;

@@ -8,10 +8,13 @@
 //   arith        "fixed" (default) | "double"                          (--arith)
 //   model        "linear" | "full" (full with arith "double" only)     (--model)
 //   kappa        number in [1, 100)                                   (--kappa; default 2)
-//   alarm {lambda_w, hold_s, energy_margin}                           (--lambda-w, --alarm-hold, --energy-margin)
+//   alarm {lambda_w, hold_s, energy_margin, imminent_horizon_s}       (--lambda-w, --alarm-hold, --energy-margin,
+//                --imminent-horizon; the horizon: 0 = off, in the settings and the digest only when on)
 //   sample_rate_hz (--rate), max_bridge_samples, sensor_range_mps2, late_limit_s
 //   channels {accel, accel_batch, wall_state, alarm, status, wall_sensor, wall_estimate}
-//   observer {enabled, x_noise_m, a_noise_mps2, process_accel_mps2, gate_chi2, dropout_s, max_age_s, capacity_sigmas}
+//   observer {enabled, x_noise_m, a_noise_mps2, process_accel_mps2, gate_chi2, dropout_s, max_age_s, capacity_sigmas,
+//             accel_inform_peak_noises, doubt_nis, quiet_motion_spread_noises, model_form_sigma,
+//             doubt_model_form_sigma, capacity_min_x, doubt_capacity_min_x}
 //                the wall observer (--observer enables it with these or the defaults); in the digest only when on
 //   clock_tolerance_s (--clock-tolerance; default 10): the firmware's MonitorSettings::clock_tolerance_us, in seconds
 //   realtime_priority (--realtime), cpu (--cpu), busy_poll_us (--busy-poll-us): the live receive thread's timing

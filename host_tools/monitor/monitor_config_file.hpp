@@ -42,7 +42,7 @@ using options::UsageError;
 
 // What the file set; absent keys keep the defaults.
 // The observer keys a configuration may give (kObserverFields below).
-inline constexpr int kObserverFieldCount = 12;
+inline constexpr int kObserverFieldCount = 14;
 
 struct FileValues {
   std::optional<double> wall[8];  // in kWallFields order
@@ -50,8 +50,8 @@ struct FileValues {
   std::optional<core::Restitution> r;
   std::optional<core::ModelKind> model;
   std::optional<firmware::MonitorArithmetic> arith;
-  std::optional<double> kappa, lambda_w, hold_s, energy_margin, sample_rate_hz, max_step_s, sensor_range_mps2,
-      late_limit_s, clock_tolerance_s, work_budget_units;
+  std::optional<double> kappa, lambda_w, hold_s, energy_margin, imminent_horizon_s, sample_rate_hz, max_step_s,
+      sensor_range_mps2, late_limit_s, clock_tolerance_s, work_budget_units;
   std::optional<core::WorkOverflow> work_overflow;
   std::optional<long long> realtime_priority, cpu, busy_poll_us;  // range-checked when read
   std::optional<std::int32_t> max_bridge_samples;
@@ -113,6 +113,8 @@ inline constexpr ObserverField kObserverFields[kObserverFieldCount] = {
     {"quiet_motion_spread_noises", &core::ObserverOptions::quiet_motion_spread_noises, "-"},  // SPEC §11
     {"model_form_sigma", &core::ObserverOptions::model_form_sigma, "-"},                      // SPEC §11
     {"doubt_model_form_sigma", &core::ObserverOptions::doubt_model_form_sigma, "-"},          // SPEC §11
+    {"capacity_min_x", &core::ObserverOptions::capacity_min_x_fraction, "-"},                 // SPEC §11
+    {"doubt_capacity_min_x", &core::ObserverOptions::doubt_capacity_min_x_fraction, "-"},     // SPEC §11
 };
 
 inline std::string json_type(const json& v) {
@@ -158,10 +160,13 @@ class ConfigReader {
     if (root.contains("alarm")) {
       const json& a = root.at("alarm");
       object(a, "alarm");
-      check_keys(a, "alarm.", {"lambda_w", "hold_s", "energy_margin"});
+      check_keys(a, "alarm.", {"lambda_w", "hold_s", "energy_margin", "imminent_horizon_s"});
       if (a.contains("lambda_w")) v.lambda_w = number(a.at("lambda_w"), "alarm.lambda_w", "");
       if (a.contains("hold_s")) v.hold_s = number(a.at("hold_s"), "alarm.hold_s", " [s]");
       if (a.contains("energy_margin")) v.energy_margin = number(a.at("energy_margin"), "alarm.energy_margin", "");
+      if (a.contains("imminent_horizon_s")) {
+        v.imminent_horizon_s = number(a.at("imminent_horizon_s"), "alarm.imminent_horizon_s", " [s]");
+      }
     }
     if (root.contains("sample_rate_hz")) v.sample_rate_hz = number(root.at("sample_rate_hz"), "sample_rate_hz", " [Hz]");
     if (root.contains("max_step_s")) v.max_step_s = number(root.at("max_step_s"), "max_step_s", " [s]");

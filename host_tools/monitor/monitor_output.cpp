@@ -65,28 +65,35 @@ json observer_json(const core::ObserverOptions& o, const core::ObserverSample& l
                   const firmware::MonitorCounters& loop) {
   json counters = json::object();
   core::visit_observer_counters(c, [&counters](const char* name, std::int64_t value) { counters[name] = value; });
-  return json{{"settings",
-               {{"x_noise_m", o.x_noise_m},
-                {"a_noise_mps2", o.a_noise_mps2},
-                {"process_accel_mps2", o.process_accel_mps2},
-                {"gate_chi2", o.gate_chi2},
-                {"dropout_s", o.dropout_s},
-                {"max_age_s", o.max_age_s},
-                {"capacity_sigmas", o.alarm_capacity_sigmas},
-                {"accel_inform_peak_noises", o.accel_inform_peak_noises}}},
-              {"r_estimate", last.r_estimate},
-              {"x_inst_estimate_m", last.x_inst_estimate_m},
-              {"sigma_x_inst_m", last.sigma_x_inst_m},
-              {"x_inst_alarm_m", last.x_inst_alarm_m},
-              {"sigma_r", last.sigma_r},
-              {"bias_estimate_m", last.bias_m},
-              {"sigma_x_m", last.sigma_x_m},
-              {"sensor_health", last.flags},
-              {"sensor_samples_received", loop.sensor_samples_received},
-              {"sensor_time_untrusted", loop.sensor_time_untrusted},
-              {"sensor_duplicates", loop.sensor_duplicates},
-              {"estimates_published", loop.estimates_published},
-              {"counters", counters}};
+  json out{{"settings",
+            {{"x_noise_m", o.x_noise_m},
+             {"a_noise_mps2", o.a_noise_mps2},
+             {"process_accel_mps2", o.process_accel_mps2},
+             {"gate_chi2", o.gate_chi2},
+             {"dropout_s", o.dropout_s},
+             {"max_age_s", o.max_age_s},
+             {"capacity_sigmas", o.alarm_capacity_sigmas},
+             {"accel_inform_peak_noises", o.accel_inform_peak_noises}}},
+           {"r_estimate", last.r_estimate},
+           {"x_inst_estimate_m", last.x_inst_estimate_m},
+           {"sigma_x_inst_m", last.sigma_x_inst_m},
+           {"x_inst_alarm_m", last.x_inst_alarm_m},
+           {"sigma_r", last.sigma_r},
+           {"bias_estimate_m", last.bias_m},
+           {"sigma_x_m", last.sigma_x_m},
+           {"sensor_health", last.flags},
+           {"sensor_samples_received", loop.sensor_samples_received},
+           {"sensor_time_untrusted", loop.sensor_time_untrusted},
+           {"sensor_duplicates", loop.sensor_duplicates},
+           {"estimates_published", loop.estimates_published},
+           {"counters", counters}};
+  // The opt-in capacity from the decline of the restoring force (SPEC §11): named only when on, so the summary of a
+  // monitor without it keeps its bytes.
+  if (o.capacity_min_x_fraction != 0.0) out["settings"]["capacity_min_x"] = o.capacity_min_x_fraction;
+  if (o.doubt_capacity_min_x_fraction != 0.0) {
+    out["settings"]["doubt_capacity_min_x"] = o.doubt_capacity_min_x_fraction;
+  }
+  return out;
 }
 
 void AlarmPrinter::on_alarm(const rockwatch::alarm_event_t& event) {

@@ -70,6 +70,10 @@ json normalised_settings(const MonitorConfig& config) {
        {{"accel", s.channels.accel}, {"accel_batch", s.channels.accel_batch}, {"wall_state", s.channels.wall_state},
         {"alarm", s.channels.alarm}, {"status", s.channels.status}}},
   };
+  // The look-ahead horizon (opt-in): only when on, so the digest of every configuration without it stays.
+  if (s.engine.alarm.imminent_horizon_s != core::AlarmSettings{}.imminent_horizon_s) {
+    out["alarm"]["imminent_horizon_s"] = s.engine.alarm.imminent_horizon_s;
+  }
   // The observer changes every output; absent when off, so that the digest of a configuration without it stays.
   if (s.engine.observer_enabled) {
     const core::ObserverOptions& o = s.engine.observer;
@@ -96,6 +100,12 @@ json normalised_settings(const MonitorConfig& config) {
     }
     if (o.doubt_model_form_sigma != core::ObserverOptions{}.doubt_model_form_sigma) {
       out["observer"]["doubt_model_form_sigma"] = o.doubt_model_form_sigma;
+    }
+    if (o.capacity_min_x_fraction != core::ObserverOptions{}.capacity_min_x_fraction) {
+      out["observer"]["capacity_min_x"] = o.capacity_min_x_fraction;
+    }
+    if (o.doubt_capacity_min_x_fraction != core::ObserverOptions{}.doubt_capacity_min_x_fraction) {
+      out["observer"]["doubt_capacity_min_x"] = o.doubt_capacity_min_x_fraction;
     }
     out["channels"]["wall_sensor"] = s.channels.wall_sensor;
     out["channels"]["wall_estimate"] = s.channels.wall_estimate;

@@ -24,6 +24,7 @@ std::string alarm_hold_range_text() { return "in " + range_closed(0.0, kMaxAlarm
 std::string energy_margin_range_text() {
   return "in " + range_closed(kMinEnergyMargin, kMaxEnergyMargin) + ", a multiple of the energy barrier";
 }
+std::string imminent_horizon_range_text() { return "in " + range_closed(0.0, kMaxImminentHorizon_s) + " s"; }
 
 void check_lambda_w(const std::string& name, double value) {
   if (!(value > 0.0 && value <= 1.0)) {
@@ -40,6 +41,12 @@ void check_alarm_hold(const std::string& name, double value) {
 void check_energy_margin(const std::string& name, double value) {
   if (!(value >= kMinEnergyMargin && value <= kMaxEnergyMargin)) {
     throw UsageError(name + " must be " + energy_margin_range_text() + " (got " + number_text(value) + ")");
+  }
+}
+
+void check_imminent_horizon(const std::string& name, double value) {
+  if (!core::imminent_horizon_valid(value)) {
+    throw UsageError(name + " must be " + imminent_horizon_range_text() + " (got " + number_text(value) + ")");
   }
 }
 
@@ -60,6 +67,11 @@ void add_alarm_setting_options(CLI::App& app, AlarmOptionTexts& texts, const std
                      " <= M <= " + number_text(kMaxEnergyMargin) + " (default " +
                      number_text(defaults.energy_margin) + ")")
       ->type_name("M");
+  app.add_option("--imminent-horizon", texts.horizon,
+                 help_prefix + "IMMINENT also when E >= E_barrier moving outward and the predicted time to x_inst "
+                     "under no further input is at most S [s], 0 (off) to " + number_text(kMaxImminentHorizon_s) +
+                     " (default " + number_text(defaults.imminent_horizon_s) + ")")
+      ->type_name("S");
 }
 
 void add_alarm_options(CLI::App& app, AlarmOptionTexts& texts) {
@@ -70,11 +82,6 @@ void add_alarm_options(CLI::App& app, AlarmOptionTexts& texts) {
   app.add_flag("--alarms", texts.alarms,
                "Run the instability alarm (QUIET, ROCKING, WARNING, IMMINENT, COLLAPSED) after every integration step");
   add_alarm_setting_options(app, texts, "With --alarms: ");
-  app.add_option("--imminent-horizon", texts.horizon,
-                 "With --alarms: IMMINENT also when E >= E_barrier moving outward and the predicted time to x_inst "
-                     "under no further input is at most S [s], 0 (off) to 10 (default " +
-                     number_text(core::AlarmSettings{}.imminent_horizon_s) + ")")
-      ->type_name("S");
   app.add_option("--work-overflow", texts.work_overflow,
                  "With --arith fixed --alarms, what the firmware's budgeted engine does when its queue of waiting "
                  "samples is full, for the publication measured beside the answers: shed (default; every call within "
@@ -144,9 +151,7 @@ void apply_alarm_options(const AlarmOptionValues& v, sim::AnalysisOptions& optio
   }
   if (v.imminent_horizon_s) {
     a.imminent_horizon_s = *v.imminent_horizon_s;
-    if (!core::imminent_horizon_valid(a.imminent_horizon_s)) {
-      throw UsageError("--imminent-horizon must be in [0, 10] s (got " + number_text(a.imminent_horizon_s) + ")");
-    }
+    check_imminent_horizon("--imminent-horizon", a.imminent_horizon_s);
   }
 }
 

@@ -65,6 +65,8 @@ TEST(MonitorConfigFile, WrongTypesNameTheKeyAndTheExpectedType) {
   expect_config_rejected(R"({"wall": {"h1": "1.75"}})", {"wall.h1", "expected a number [m]", "a string"});
   expect_config_rejected(R"({"wall": 3})", {"wall:", "expected an object"});
   expect_config_rejected(R"({"alarm": []})", {"alarm:", "expected an object", "an array"});
+  expect_config_rejected(R"({"alarm": {"imminent_horizon_s": "0.17"}})",
+                         {"alarm.imminent_horizon_s:", "expected a number [s]", "a string"});
   expect_config_rejected(R"({"kappa": true})", {"kappa:", "expected a number", "a boolean"});
   expect_config_rejected(R"({"sample_rate_hz": null})", {"sample_rate_hz:", "expected a number [Hz]", "null"});
   expect_config_rejected(R"({"r": true})", {"r:", "\"ana\", \"exp\", \"impulse\" or an energy ratio in [0, 1]"});
@@ -88,6 +90,10 @@ TEST(MonitorConfigFile, ValuesOutOfRangeNameTheKeyAndTheRange) {
   expect_config_rejected(R"({"alarm": {"lambda_w": 1.5}})", {"alarm.lambda_w must be in (0, 1]", "1.5"});
   expect_config_rejected(R"({"alarm": {"hold_s": -1}})", {"alarm.hold_s must be in [0, 3600] s", "-1"});
   expect_config_rejected(R"({"alarm": {"energy_margin": 0.5}})", {"alarm.energy_margin must be in [1, 100]"});
+  expect_config_rejected(R"({"alarm": {"imminent_horizon_s": 11}})",
+                         {"alarm.imminent_horizon_s must be in [0, 10] s", "got 11"});
+  expect_config_rejected(R"({"alarm": {"imminent_horizon_s": -0.1}})",
+                         {"alarm.imminent_horizon_s must be in [0, 10] s", "got -0.1"});
   expect_config_rejected(R"({"sample_rate_hz": 10})", {"sample_rate_hz must be in (0, 10000] Hz", "33.34", "got 10"});
   expect_config_rejected(R"({"sample_rate_hz": 20000})", {"sample_rate_hz must be", "got 20000"});
   expect_config_rejected(R"({"max_bridge_samples": -1})", {"max_bridge_samples:", "[0, 1000]", "-1"});
@@ -205,6 +211,37 @@ TEST(MonitorCommandLine, EquivalentSettingsHaveOneDigest) {
   CHECK(defaults.at("config_digest") == url.at("config_digest"));
 }
 
+// The opt-in look-ahead (issue 40; `simulate --imminent-horizon`): the file's alarm.imminent_horizon_s, the option
+// over it, echoed in the settings and in the digest only when on (every existing configuration keeps its digest).
+TEST(MonitorCommandLine, TheImminentHorizonIsReadEchoedAndInTheDigestOnlyWhenOn) {
+  const json defaults = printed_config("", {});
+  CHECK_FALSE(defaults.at("settings").at("alarm").contains("imminent_horizon_s"));
+  const json off = printed_config(R"({"alarm": {"imminent_horizon_s": 0}})", {"--imminent-horizon", "0"});
+  CHECK(off.at("config_digest") == defaults.at("config_digest"));
+  CHECK_FALSE(off.at("settings").at("alarm").contains("imminent_horizon_s"));
+
+  const json file = printed_config(R"({"alarm": {"hold_s": 2, "imminent_horizon_s": 0.17}})", {});
+  DOUBLES_EQUAL(0.17, file.at("settings").at("alarm").at("imminent_horizon_s").get<double>(), 0.0);
+  DOUBLES_EQUAL(2.0, file.at("settings").at("alarm").at("hold_s").get<double>(), 0.0);
+  CHECK(file.at("config_digest") != defaults.at("config_digest"));
+  const json option = printed_config("", {"--imminent-horizon", "0.17", "--alarm-hold", "2"});
+  CHECK(option.at("config_digest") == file.at("config_digest"));
+  // The command line overrides the file (the message names whichever is at fault: ValuesOutOfRange..., above).
+  const json over = printed_config(R"({"alarm": {"imminent_horizon_s": 0.17}})", {"--imminent-horizon", "0.25"});
+  DOUBLES_EQUAL(0.25, over.at("settings").at("alarm").at("imminent_horizon_s").get<double>(), 0.0);
+  expect_config_rejected(R"({"alarm": {"imminent_horizon_s": 0.17}})", {"--imminent-horizon must be in [0, 10] s"},
+                         {"--imminent-horizon", "-1"});
+  // Both engines run it (the fixed-point one in the firmware's indicators): accepted with either arithmetic. Walls
+  // have no alarm of their own (`walls` entries: name, wall, r, channels): every wall runs the top-level one.
+  const json dbl = printed_config(R"({"alarm": {"imminent_horizon_s": 0.17}})", {"--arith", "double"});
+  DOUBLES_EQUAL(0.17, dbl.at("settings").at("alarm").at("imminent_horizon_s").get<double>(), 0.0);
+  const json walls =
+      printed_config(R"({"alarm": {"imminent_horizon_s": 0.17}, "walls": [{"name": "a"}, {"name": "b"}]})", {});
+  DOUBLES_EQUAL(0.17, walls.at("settings").at("alarm").at("imminent_horizon_s").get<double>(), 0.0);
+  expect_config_rejected(R"({"walls": [{"name": "a", "alarm": {"imminent_horizon_s": 0.17}}]})",
+                         {"walls[0]", "unknown key 'alarm'"});
+}
+
 TEST(MonitorCommandLine, LcmDefaultUrlFromTheEnvironment) {
   const rockwatch::test::EnvOverride env("LCM_DEFAULT_URL", "udpm://239.255.76.67:7674?ttl=0");
   const json j = printed_config("", {});
@@ -225,6 +262,8 @@ TEST(MonitorCommandLine, BadOptionValuesNameTheOption) {
   expect_rejected({"--lambda-w", "0"}, {"--lambda-w must be in (0, 1]"});
   expect_rejected({"--alarm-hold", "nan"}, {"--alarm-hold expects a finite number"});
   expect_rejected({"--energy-margin", "200"}, {"--energy-margin must be in [1, 100]"});
+  expect_rejected({"--imminent-horizon", "10.5"}, {"--imminent-horizon must be in [0, 10] s (got 10.5)"});
+  expect_rejected({"--imminent-horizon", "soon"}, {"--imminent-horizon expects a finite number", "'soon'"});
   expect_rejected({"--rate", "0"}, {"--rate must be > 0 Hz"});
   expect_rejected({"--rate", "20"}, {"--rate must be in (0, 10000] Hz", "got 20"});
   expect_rejected({"--lcm-url", ""}, {"--lcm-url needs a URL"});
@@ -274,6 +313,9 @@ TEST(MonitorCommandLine, HelpAndVersion) {
   CHECK(help.out.find("--config FILE") != std::string::npos);
   CHECK(help.out.find("--offline-in") != std::string::npos);
   CHECK(help.out.find("--kappa") != std::string::npos);
+  CHECK(help.out.find("--imminent-horizon S") != std::string::npos);
+  CHECK(help.out.find("imminent_horizon_s") != std::string::npos);   // the footer's alarm keys
+  CHECK(help.out.find("doubt_capacity_min_x") != std::string::npos);  // and observer keys
   const ProcessResult version = run_monitor({"--version"});
   LONGS_EQUAL(0, version.exit_status);
   CHECK(version.out.rfind("rockwatch-monitor ", 0) == 0);
@@ -431,6 +473,11 @@ TEST(MonitorObserverSettings, BadValuesNameTheKeyAndTheRange) {
   expect_config_rejected(R"({"observer": {"model_form_sigma": 2}})", {"observer.model_form_sigma", "model_form_sigma"});
   expect_config_rejected(R"({"observer": {"doubt_model_form_sigma": -1}})",
                          {"observer.doubt_model_form_sigma", "doubt_model_form_sigma"});
+  expect_config_rejected(R"({"observer": {"capacity_min_x": 1.5}})",
+                         {"observer.capacity_min_x:", "capacity_min_x_fraction in [0, 1]", "got 1.5"});
+  expect_config_rejected(R"({"observer": {"enabled": true, "doubt_capacity_min_x": -0.1}})",
+                         {"observer.doubt_capacity_min_x:", "doubt_capacity_min_x_fraction in [0, 1]", "got -0.1"});
+  expect_config_rejected(R"({"observer": {"capacity_min_x": true}})", {"observer.capacity_min_x", "a boolean"});
   expect_config_rejected(R"({"observer": {"a_noise_mps2": 50}})", {"observer.a_noise_mps2"});
   expect_config_rejected(R"({"observer": {"process_accel_mps2": "1"}})", {"observer.process_accel_mps2", "a string"});
   expect_config_rejected(R"({"observer": {"enabled": 1}})", {"observer.enabled", "true or false"});
@@ -469,4 +516,27 @@ TEST(MonitorObserverSettings, InTheSettingsAndTheDigestOnlyWhenEnabled) {
   DOUBLES_EQUAL(0.0, doubt.at("settings").at("observer").at("doubt_nis").get<double>(), 0.0);
   DOUBLES_EQUAL(30.0, doubt.at("settings").at("observer").at("quiet_motion_spread_noises").get<double>(), 0.0);
   CHECK(doubt.at("config_digest") != flag.at("config_digest"));
+}
+
+// The capacity from the decline of the restoring force (SPEC §11; `simulate --observer-capacity-min-x`,
+// `--observer-doubt-capacity-min-x`): file keys only, as the monitor's other observer settings; in the settings and
+// the digest only when not 0.
+TEST(MonitorObserverSettings, TheCapacityMinimumsAreEchoedAndInTheDigestOnlyWhenOn) {
+  const json flag = printed_config("", {"--observer"});
+  CHECK_FALSE(flag.at("settings").at("observer").contains("capacity_min_x"));
+  CHECK_FALSE(flag.at("settings").at("observer").contains("doubt_capacity_min_x"));
+  const json zero = printed_config(R"({"observer": {"capacity_min_x": 0, "doubt_capacity_min_x": 0}})", {"--observer"});
+  CHECK(zero.at("config_digest") == flag.at("config_digest"));
+  const json on =
+      printed_config(R"({"observer": {"enabled": true, "capacity_min_x": 0.1, "doubt_capacity_min_x": 0.2}})", {});
+  DOUBLES_EQUAL(0.1, on.at("settings").at("observer").at("capacity_min_x").get<double>(), 0.0);
+  DOUBLES_EQUAL(0.2, on.at("settings").at("observer").at("doubt_capacity_min_x").get<double>(), 0.0);
+  CHECK(on.at("config_digest") != flag.at("config_digest"));
+  const json one = printed_config(R"({"observer": {"enabled": true, "doubt_capacity_min_x": 0.2}})", {});
+  CHECK_FALSE(one.at("settings").at("observer").contains("capacity_min_x"));
+  CHECK(one.at("config_digest") != on.at("config_digest"));
+  // Without the observer they change nothing (the digest of the configuration without them).
+  const json none = printed_config("", {});
+  const json unused = printed_config(R"({"observer": {"capacity_min_x": 0.1}})", {});
+  CHECK(unused.at("config_digest") == none.at("config_digest"));
 }

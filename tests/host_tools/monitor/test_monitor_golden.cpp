@@ -237,32 +237,46 @@ TEST(MonitorGoldenReplay, DeterministicAndStdoutCarriesTheSameAlarms) {
   CHECK(first.err.find("offline: 1601 log events") != std::string::npos);
 }
 
-TEST(MonitorGoldenReplay, AlarmTimelineEqualsSimulateFixed) {
-  // The same record through `rockwatch simulate --arith fixed --alarms`: the monitor's engine starts from the first
-  // sample as simulate does, so every transition in the logged 8 s has the same time, level, reasons and state.
+namespace {
+
+// `rockwatch simulate` on a record (default: the shipped log's, suite set 1 X at 0.40 g) with these options after
+// --alarms --json.
+json simulate_json(const std::vector<std::string>& options, const std::vector<std::string>& record = kSimulateArgs) {
   std::vector<std::string> args{"simulate"};
-  args.insert(args.end(), kSimulateArgs.begin(), kSimulateArgs.end());
-  args.insert(args.end(), {"--arith", "fixed", "--alarms", "--json"});
+  args.insert(args.end(), record.begin(), record.end());
+  args.insert(args.end(), {"--alarms", "--json"});
+  args.insert(args.end(), options.begin(), options.end());
   const ProcessResult sim = rockwatch::test::run_rockwatch(args);
   CHECK_EQUAL_TEXT(0, sim.exit_status, describe(sim).c_str());
-  const json sim_json = json::parse(sim.out);
+  return json::parse(sim.out);
+}
+
+// The sample at the end of the step simulate reports (or in which it located the collapse): the sample that ends it.
+std::int64_t sample_of(double t_s) { return static_cast<std::int64_t>(std::ceil(t_s / 0.005 - 1e-6)); }
+
+// The sample of the monitor's first IMMINENT (its alarm event's input_seq − 1); -1 when none.
+std::int64_t first_imminent_sample(const OutputLog& log) {
+  for (const OutputLog::Alarm& a : log.alarms) {
+    if (rockwatch::monitor::level_name(a.message.level) == "IMMINENT") return a.message.input_seq - 1;
+  }
+  return -1;
+}
+
+// Every transition simulate reports within the logged 8 s against the monitor's alarm events: the same sample,
+// level, reasons and state.
+void expect_simulate_transitions(const json& sim_json, const OutputLog& log) {
   std::vector<json> expected;
   for (const json& t : sim_json.at("alarm").at("transitions")) {
     if (t.at("t_s").get<double>() <= kLogSeconds + 1e-9) expected.push_back(t);
   }
   CHECK(expected.size() >= 3);
-
-  const TempDir dir;
-  const ProcessResult r = run_offline(monitor_data_path(rockwatch::test::kShippedLog), dir.file("out.lcmlog"));
-  CHECK_EQUAL_TEXT(0, r.exit_status, describe(r).c_str());
-  const OutputLog log = rockwatch::test::read_output_log(dir.file("out.lcmlog"));
   LONGS_EQUAL(expected.size(), log.alarms.size());
   for (std::size_t i = 0; i < expected.size() && i < log.alarms.size(); ++i) {
     const json& e = expected[i];
     const rockwatch::alarm_event_t& m = log.alarms[i].message;
     const std::string what = e.dump() + "\nvs\n" + rockwatch::monitor::alarm_json(m).dump();
     // simulate reports the step's end, or the collapse located inside the step: the sample that ends that step.
-    const auto sample = static_cast<std::int64_t>(std::ceil(e.at("t_s").get<double>() / 0.005 - 1e-6));
+    const std::int64_t sample = sample_of(e.at("t_s").get<double>());
     LONGS_EQUAL_TEXT(kLogStartUtime + sample * 5000, m.utime, what.c_str());
     LONGS_EQUAL_TEXT(1 + sample, m.input_seq, what.c_str());
     STRCMP_EQUAL_TEXT(e.at("level").get<std::string>().c_str(), rockwatch::monitor::level_name(m.level).c_str(),
@@ -279,6 +293,63 @@ TEST(MonitorGoldenReplay, AlarmTimelineEqualsSimulateFixed) {
     } else {
       DOUBLES_EQUAL_TEXT(t_inst.get<double>(), m.t_to_instability_s, 1e-9, what.c_str());
     }
+  }
+}
+
+}  // namespace
+
+TEST(MonitorGoldenReplay, AlarmTimelineEqualsSimulateFixed) {
+  // The same record through `rockwatch simulate --arith fixed --alarms`: the monitor's engine starts from the first
+  // sample as simulate does, so every transition in the logged 8 s has the same time, level, reasons and state.
+  const json sim_json = simulate_json({"--arith", "fixed"});
+  const TempDir dir;
+  const ProcessResult r = run_offline(monitor_data_path(rockwatch::test::kShippedLog), dir.file("out.lcmlog"));
+  CHECK_EQUAL_TEXT(0, r.exit_status, describe(r).c_str());
+  expect_simulate_transitions(sim_json, rockwatch::test::read_output_log(dir.file("out.lcmlog")));
+}
+
+// The opt-in look-ahead (issue 40): `--imminent-horizon 0.17` gives the monitor simulate's alarm with the same horizon,
+// every transition and so the first IMMINENT, with either engine (the fixed-point one: the firmware's indicators).
+// Suite set 2 X at 0.30 g (the shipped log's record does not tell: there the horizon changes nothing): the wall
+// collapses at 4.65 s, IMMINENT at 3.755 s without the horizon, 3.4 s with it, so a monitor that dropped the setting
+// fails here. The file's alarm.imminent_horizon_s is the same run, byte for byte.
+TEST(MonitorGoldenReplay, TheImminentHorizonGivesSimulatesFirstImminent) {
+  const TempDir dir;
+  const std::vector<std::string> record{"--suite", std::string(ROCKWATCH_SOURCE_DIR) + "/sim/suites/npr9998-2015",
+                                        "--set", "2", "--component", "X", "--scale-pga", "0.30"};
+  const std::string in = dir.file("in.lcmlog");
+  std::vector<std::string> make{in, "8"};
+  make.insert(make.end(), record.begin(), record.end());
+  const ProcessResult made = rockwatch::test::run_program(ROCKWATCH_MAKE_MONITOR_LOG_PATH, make);
+  CHECK_EQUAL_TEXT(0, made.exit_status, describe(made).c_str());
+  for (const std::string arith : {"fixed", "double"}) {
+    const json sim_off = simulate_json({"--arith", arith}, record);
+    const json sim_on = simulate_json({"--arith", arith, "--imminent-horizon", "0.17"}, record);
+    DOUBLES_EQUAL(0.17, sim_on.at("alarm").at("settings").at("imminent_horizon_s").get<double>(), 0.0);
+    const double t_off = sim_off.at("alarm").at("t_first_imminent_s").get<double>();
+    const double t_on = sim_on.at("alarm").at("t_first_imminent_s").get<double>();
+    const std::string times = arith + ": simulate's first IMMINENT " + std::to_string(t_on) + " s with the horizon, " +
+                              std::to_string(t_off) + " s without";
+    CHECK_TEXT(sample_of(t_on) < sample_of(t_off), times.c_str());
+
+    const std::string off_log = dir.file(arith + "_off.lcmlog"), on_log = dir.file(arith + "_on.lcmlog");
+    const ProcessResult off = run_offline(in, off_log, {"--arith", arith});
+    const ProcessResult on = run_offline(in, on_log, {"--arith", arith, "--imminent-horizon", "0.17"});
+    CHECK_EQUAL_TEXT(0, off.exit_status, describe(off).c_str());
+    CHECK_EQUAL_TEXT(0, on.exit_status, describe(on).c_str());
+    const OutputLog log_off = rockwatch::test::read_output_log(off_log);
+    const OutputLog log_on = rockwatch::test::read_output_log(on_log);
+    LONGS_EQUAL_TEXT(sample_of(t_on), first_imminent_sample(log_on), times.c_str());
+    LONGS_EQUAL_TEXT(sample_of(t_off), first_imminent_sample(log_off), times.c_str());
+    expect_simulate_transitions(sim_on, log_on);
+    expect_simulate_transitions(sim_off, log_off);
+
+    const std::string config = dir.file(arith + ".json"), file_log = dir.file(arith + "_file.lcmlog");
+    rockwatch::test::write_file(config, R"({"alarm": {"imminent_horizon_s": 0.17}})");
+    const ProcessResult file = run_offline(in, file_log, {"--arith", arith, "--config", config});
+    CHECK_EQUAL_TEXT(0, file.exit_status, describe(file).c_str());
+    CHECK_TEXT(rockwatch::test::read_file(file_log) == rockwatch::test::read_file(on_log),
+               (arith + ": alarm.imminent_horizon_s and --imminent-horizon wrote different logs").c_str());
   }
 }
 

@@ -12,10 +12,12 @@
 #include <string>
 #include <vector>
 
+#include <lcm/lcm-cpp.hpp>
 #include <nlohmann/json.hpp>
 
 #include "monitor_output.hpp"
 #include "monitor_test_support.hpp"
+#include "rockwatch/wall_estimate_t.hpp"
 
 #include <CppUTest/TestHarness.h>
 
@@ -43,6 +45,20 @@ ProcessResult rockwatch_with(std::vector<std::string> head, const std::vector<st
   head.insert(head.begin() + 1, rec.begin(), rec.end());
   head.insert(head.end(), tail.begin(), tail.end());
   return rockwatch::test::run_rockwatch(head);
+}
+
+// The x_inst estimates of the wall_estimate_t messages of a monitor's output log, in order.
+std::vector<double> published_x_inst(const std::string& path) {
+  lcm::LogFile log(path, "r");
+  CHECK(log.good());
+  std::vector<double> out;
+  while (const lcm::LogEvent* e = log.readNextEvent()) {
+    if (e->channel != "ROCKWATCH_WALL_ESTIMATE") continue;
+    rockwatch::wall_estimate_t m;
+    CHECK(m.decode(e->data, 0, e->datalen) == e->datalen);
+    out.push_back(m.x_inst_estimate_m);
+  }
+  return out;
 }
 
 }  // namespace
@@ -99,6 +115,60 @@ TEST(MonitorObserverReplay, MonitorEqualsSimulateWallSensorsBitForBit) {
   const ProcessResult open = rockwatch_with({"simulate"}, {"--arith", "fixed", "--alarms", "--json"});
   CHECK_EQUAL_TEXT(0, open.exit_status, describe(open).c_str());
   CHECK(!json::parse(open.out).at("collapsed").get<bool>());
+}
+
+// The capacity from the decline of the restoring force (SPEC §11), opt-in: the configuration's
+// observer.capacity_min_x and observer.doubt_capacity_min_x are `simulate --observer-capacity-min-x
+// --observer-doubt-capacity-min-x` in the monitor's fixed-point observer, bit for bit (its published x_inst estimate
+// and the summary's), and on this instrumented wall they change the estimate (a monitor that dropped them fails).
+TEST(MonitorObserverReplay, TheCapacityMinimumsGiveSimulatesEstimate) {
+  const TempDir dir;
+  const std::string sensors = dir.file("true_wall.csv"), in_log = dir.file("in.lcmlog");
+  const ProcessResult truth = rockwatch_with(
+      {"simulate"}, {"--r", "ana", "--sensors-out", sensors, "--sensor-bias-m", "0.002", "--sensor-seed", "7"});
+  CHECK_EQUAL_TEXT(0, truth.exit_status, describe(truth).c_str());
+  const ProcessResult replay = rockwatch_with({"replay"}, {"--log", in_log, "--wall-sensors", sensors, "--json"});
+  CHECK_EQUAL_TEXT(0, replay.exit_status, describe(replay).c_str());
+  const std::string config = dir.file("monitor.json");
+  rockwatch::test::write_file(config, R"({"observer": {"capacity_min_x": 0.1, "doubt_capacity_min_x": 0.2}})");
+
+  const std::vector<std::string> fused{"--arith", "fixed", "--alarms", "--wall-sensors", sensors, "--json"};
+  std::vector<std::string> with = fused;
+  with.insert(with.end(), {"--observer-capacity-min-x", "0.1", "--observer-doubt-capacity-min-x", "0.2"});
+  const ProcessResult sim_off = rockwatch_with({"simulate"}, fused), sim_on = rockwatch_with({"simulate"}, with);
+  CHECK_EQUAL_TEXT(0, sim_off.exit_status, describe(sim_off).c_str());
+  CHECK_EQUAL_TEXT(0, sim_on.exit_status, describe(sim_on).c_str());
+  const json so = json::parse(sim_off.out).at("observer"), sn = json::parse(sim_on.out).at("observer");
+
+  const std::string off_log = dir.file("off.lcmlog"), on_log = dir.file("on.lcmlog");
+  const ProcessResult off =
+      rockwatch::test::run_monitor({"--offline-in", in_log, "--offline-out", off_log, "--observer", "--r", "exp"});
+  const ProcessResult on = rockwatch::test::run_monitor(
+      {"--offline-in", in_log, "--offline-out", on_log, "--observer", "--r", "exp", "--config", config});
+  CHECK_EQUAL_TEXT(0, off.exit_status, describe(off).c_str());
+  CHECK_EQUAL_TEXT(0, on.exit_status, describe(on).c_str());
+  const json mo = rockwatch::test::json_lines(off.out).back().at("summary").at("observer");
+  const json mn = rockwatch::test::json_lines(on.out).back().at("summary").at("observer");
+  const std::string what = "simulate " + sn.dump() + "\nmonitor " + mn.dump();
+  // Simulate's estimates, bit for bit, with and without.
+  for (const char* key : {"x_inst_estimate_m", "sigma_x_inst_m", "r_estimate"}) {
+    const std::string key_what = key + std::string(" ") + what;
+    DOUBLES_EQUAL_TEXT(sn.at(key).get<double>(), mn.at(key).get<double>(), 0.0, key_what.c_str());
+    DOUBLES_EQUAL_TEXT(so.at(key).get<double>(), mo.at(key).get<double>(), 0.0, key);
+  }
+  // The summary names the settings only when on.
+  CHECK_TEXT(mn.at("settings").contains("capacity_min_x") && mn.at("settings").contains("doubt_capacity_min_x"),
+             what.c_str());
+  DOUBLES_EQUAL_TEXT(0.1, mn.at("settings").at("capacity_min_x").get<double>(), 0.0, what.c_str());
+  DOUBLES_EQUAL_TEXT(0.2, mn.at("settings").at("doubt_capacity_min_x").get<double>(), 0.0, what.c_str());
+  CHECK_FALSE(mo.at("settings").contains("capacity_min_x"));
+  // What the monitor published: the last wall_estimate_t is the summary's estimate; the setting changes it.
+  const std::vector<double> published_off = published_x_inst(off_log), published_on = published_x_inst(on_log);
+  CHECK(!published_on.empty() && published_on.size() == published_off.size());
+  DOUBLES_EQUAL_TEXT(mn.at("x_inst_estimate_m").get<double>(), published_on.back(), 0.0, what.c_str());
+  DOUBLES_EQUAL(mo.at("x_inst_estimate_m").get<double>(), published_off.back(), 0.0);
+  CHECK_TEXT(published_on.back() != published_off.back(), what.c_str());
+  CHECK_TEXT(sn.at("x_inst_estimate_m").get<double>() != so.at("x_inst_estimate_m").get<double>(), what.c_str());
 }
 
 // A wall file as `rockwatch identify --wall-out` writes it (the reduced block is optional): the paper wall 10 %

@@ -1,6 +1,7 @@
 // The engine options shared by simulate and study: --arith fixed|double (the engine's arithmetic) and the instability
-// alarm, --alarms with --lambda-w, --alarm-hold and --energy-margin (core::AlarmSettings), validated with messages that
-// name the option at fault. rockwatch-monitor registers and checks the alarm settings with the same functions.
+// alarm, --alarms with --lambda-w, --alarm-hold, --energy-margin and --imminent-horizon (core::AlarmSettings),
+// validated with messages that name the option at fault. rockwatch-monitor registers and checks the alarm settings
+// with the same functions.
 #pragma once
 
 #include <cstdint>
@@ -23,27 +24,32 @@ struct AlarmOptionTexts {
 };
 
 // The alarm settings' ranges (core::AlarmSettings): lambda_w in (0, 1], the hold in [0, kMaxAlarmHold_s] s, the
-// energy margin in [kMinEnergyMargin, kMaxEnergyMargin].
+// energy margin in [kMinEnergyMargin, kMaxEnergyMargin], the look-ahead horizon in [0, kMaxImminentHorizon_s] s
+// (0: off; core::imminent_horizon_valid).
 inline constexpr double kMaxAlarmHold_s = 3600.0;
 inline constexpr double kMinEnergyMargin = 1.0;
 inline constexpr double kMaxEnergyMargin = 100.0;
+inline constexpr double kMaxImminentHorizon_s = 10.0;
 
 // The one check of each setting, for the command lines of `rockwatch simulate`, `rockwatch study` and
 // rockwatch-monitor and the monitor's configuration file: throws UsageError "<name> must be <range> (got <value>)".
 void check_lambda_w(const std::string& name, double value);
 void check_alarm_hold(const std::string& name, double value);
 void check_energy_margin(const std::string& name, double value);
+void check_imminent_horizon(const std::string& name, double value);  // core::imminent_horizon_valid
 // The ranges as the messages say them: "in (0, 1], a fraction of x_inst", "in [0, 3600] s", ...
 std::string lambda_w_range_text();
 std::string alarm_hold_range_text();
 std::string energy_margin_range_text();
+std::string imminent_horizon_range_text();
 
-// Registers --lambda-w, --alarm-hold and --energy-margin, in that order, their help starting with `help_prefix`
-// ("With --alarms: " in the tool; "" in the monitor, whose alarm always runs) and stating core::AlarmSettings's
-// defaults.
+// Registers --lambda-w, --alarm-hold, --energy-margin and --imminent-horizon, in that order, their help starting with
+// `help_prefix` ("With --alarms: " in the tool; "" in the monitor, whose alarm always runs) and stating
+// core::AlarmSettings's defaults.
 void add_alarm_setting_options(CLI::App& app, AlarmOptionTexts& texts, const std::string& help_prefix);
 
-// Registers --arith, --alarms, --lambda-w, --alarm-hold, --energy-margin and --work-overflow, in that order.
+// Registers --arith, --alarms, --lambda-w, --alarm-hold, --energy-margin, --imminent-horizon and --work-overflow, in
+// that order.
 void add_alarm_options(CLI::App& app, AlarmOptionTexts& texts);
 
 // The same options as values: what the command line's texts convert to (alarm_option_values), or what a program sets
