@@ -32,7 +32,13 @@ ENGINE_KEYS = {  # EngineInputKey (rockwatch/firmware/engine_input_format.hpp)
     ("observer", "x_noise_m"): 18, ("observer", "a_noise_mps2"): 19, ("observer", "process_accel_mps2"): 20,
     ("observer", "gate_chi2"): 25, ("observer", "dropout_s"): 27, ("observer", "max_age_s"): 28,
     ("observer", "capacity_sigmas"): 35, ("observer", "accel_inform_peak_noises"): 36,
+    ("alarm", "imminent_horizon_s"): 37, ("observer", "doubt_nis"): 44, ("observer", "capacity_min_x"): 48,
+    ("observer", "doubt_capacity_min_x"): 49, ("observer", "model_form_sigma"): 50,
+    ("observer", "doubt_model_form_sigma"): 51, ("observer", "quiet_motion_spread_noises"): 52,
 }
+# The settings groups whose every key must reach the image (a key the table above does not map fails the run instead
+# of the image running its default while the host runs what it was told).
+MAPPED_GROUPS = ("wall", "alarm", "observer")
 CHANNELS = ["accel", "accel_batch", "wall_state", "alarm", "status", "wall_sensor", "wall_estimate"]
 CHANNEL_DEFAULTS = ["ROCKWATCH_ACCEL", "ROCKWATCH_ACCEL_BATCH", "ROCKWATCH_WALL_STATE", "ROCKWATCH_ALARM",
                     "ROCKWATCH_STATUS", "ROCKWATCH_WALL_SENSOR", "ROCKWATCH_WALL_ESTIMATE"]
@@ -51,6 +57,12 @@ def write_config(printed, group, port, path):
         fail("the Cortex-M4 image runs the fixed-point engine: --arith must be fixed", 2)
     if s.get("model") != "linear":
         fail("the fixed-point engine runs the linear model only (--model linear)", 2)
+    for settings_group in MAPPED_GROUPS:
+        for name in s.get(settings_group, {}):
+            if (settings_group, name) not in ENGINE_KEYS and (settings_group, name) != ("observer", "enabled"):
+                fail("the monitor image cannot be given the setting %s.%s (scripts/m4-monitor-run.py ENGINE_KEYS, "
+                     "EngineInputKey in firmware/include/rockwatch/firmware/engine_input_format.hpp)"
+                     % (settings_group, name), 2)
     pairs = []
     for path_keys, key in ENGINE_KEYS.items():
         v = s

@@ -13,6 +13,9 @@
 #                      runs): --config, --wall-file, the wall (--b --h1 ...), --r, --kappa, the alarm options, --rate,
 #                      --max-step, --observer, --work-budget, --work-overflow, --clock-tolerance. Not for the image:
 #                      --arith double, --model full, walls, --forecast, --accept-from, --log, --offline-in/out.
+#                      Every wall, alarm and observer key of the settings reaches the image (firmware::EngineInputKey;
+#                      the config file's observer keys, alarm.imminent_horizon_s); one the runner cannot pass fails
+#                      (exit 2, naming it) rather than the image running its default (ctest m4_monitor_config).
 #     --lcm-url URL    udpm://GROUP:PORT?ttl=0 (default: the default group on a free port, printed)
 #     --m4-image ELF   run this image instead of build/m4-monitor/rockwatch_m4_monitor.elf (rebuilt when a source
 #                      is newer)

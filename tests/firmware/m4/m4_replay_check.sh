@@ -131,6 +131,26 @@ then
   echo "FAILED: the observer case did not fuse the wall sensors"
   failed=1
 fi
+# Issue 40's settings reach the image (engine-input keys 37-52; before them it ran their defaults): the look-ahead
+# horizon, model doubt at a low level, the model-form σ and the capacity minimums, on the observer case at 0.30 g.
+# The case is compared as above, and must tell: the host's trajectory without the settings differs from it.
+issue40=(--imminent-horizon 0.17 --observer-doubt-nis 1.5 --observer-model-form-sigma 0.05
+         --observer-doubt-model-form-sigma 0.3 --observer-capacity-min-x 0.1 --observer-doubt-capacity-min-x 0.2
+         --observer-quiet-motion-noises 30)
+run_case set01_x_0.30g_observer_issue40 any --suite "$suite" --set 1 --component X --scale-pga 0.30 --r exp \
+  --wall-sensors "$work/observer_truth/sensors.csv" "${issue40[@]}"
+d40=$work/set01_x_0.30g_observer_issue40
+if [[ -f $d40/history.csv ]]; then
+  "$rockwatch" simulate --suite "$suite" --set 1 --component X --scale-pga 0.30 --r exp \
+    --wall-sensors "$work/observer_truth/sensors.csv" --arith fixed --alarms --json --out "$d40/history_defaults.csv" \
+    >"$d40/host_defaults.json"
+  if cmp -s "$d40/history.csv" "$d40/history_defaults.csv"; then
+    echo "FAILED: issue 40's settings do not change the host's trajectory on $d40: the case cannot tell"
+    failed=1
+  else
+    echo "issue 40's settings change the trajectory (the image ran them: compared above)"
+  fi
+fi
 run_case elcentro_vertical_wall any --record "$records/RSN6_IMPVALL.I_I-ELC180-hor1.AT2" \
   --vertical "$records/RSN6_IMPVALL.I_I-ELC-UP.AT2" --scale-pga 0.3 --b 0.12 --h1 1.6 --h2 1.5 --r ana --kappa 1.5 \
   --t-end 12

@@ -68,6 +68,24 @@ enum class EngineInputKey : std::uint64_t {
   work_overflow = 34,     // core::WorkOverflow as a number (the budgeted step()'s policy at a full queue)
   observer_alarm_capacity_sigmas = 35,     // the alarm's margin k_σ (`--observer-capacity-sigmas`)
   observer_accel_inform_peak_noises = 36,  // `--observer-accel-inform-peak-noises`
+  // 37–52 (issue 40's settings and the rest of core::ObserverOptions): before them a file or the monitor image's
+  // configuration could not carry them, and the image ran their defaults while the host ran what it was told.
+  alarm_imminent_horizon_s = 37,  // the alarm's look-ahead horizon (`--imminent-horizon`)
+  observer_capacity_reopen_after = 38,
+  observer_rest_from_accel_after = 39,
+  observer_inform_sigmas = 40,
+  observer_inform_peak_noises = 41,
+  observer_capacity_sigma0 = 42,
+  observer_capacity_walk = 43,
+  observer_doubt_nis = 44,  // model doubt (SPEC §11): `--observer-doubt-nis`
+  observer_doubt_window = 45,
+  observer_doubt_capacity_sigma = 46,
+  observer_doubt_r_sigma = 47,
+  observer_capacity_min_x_fraction = 48,  // `--observer-capacity-min-x`
+  observer_doubt_capacity_min_x_fraction = 49,  // `--observer-doubt-capacity-min-x`
+  observer_model_form_sigma = 50,  // `--observer-model-form-sigma`
+  observer_doubt_model_form_sigma = 51,  // `--observer-doubt-model-form-sigma`
+  observer_quiet_motion_spread_noises = 52,  // `--observer-quiet-motion-noises`
 };
 
 // Every configuration field with its key, in key order: the one list both the writer and the reader use.
@@ -111,6 +129,22 @@ void visit_engine_input_fields(Config& c, Visit&& visit) {
   visit(EngineInputKey::work_overflow, c.work_overflow);
   visit(EngineInputKey::observer_alarm_capacity_sigmas, c.observer.alarm_capacity_sigmas);
   visit(EngineInputKey::observer_accel_inform_peak_noises, c.observer.accel_inform_peak_noises);
+  visit(EngineInputKey::alarm_imminent_horizon_s, c.alarm.imminent_horizon_s);
+  visit(EngineInputKey::observer_capacity_reopen_after, c.observer.capacity_reopen_after);
+  visit(EngineInputKey::observer_rest_from_accel_after, c.observer.rest_from_accel_after);
+  visit(EngineInputKey::observer_inform_sigmas, c.observer.inform_sigmas);
+  visit(EngineInputKey::observer_inform_peak_noises, c.observer.inform_peak_noises);
+  visit(EngineInputKey::observer_capacity_sigma0, c.observer.capacity_sigma0);
+  visit(EngineInputKey::observer_capacity_walk, c.observer.capacity_walk);
+  visit(EngineInputKey::observer_doubt_nis, c.observer.doubt_nis);
+  visit(EngineInputKey::observer_doubt_window, c.observer.doubt_window);
+  visit(EngineInputKey::observer_doubt_capacity_sigma, c.observer.doubt_capacity_sigma);
+  visit(EngineInputKey::observer_doubt_r_sigma, c.observer.doubt_r_sigma);
+  visit(EngineInputKey::observer_capacity_min_x_fraction, c.observer.capacity_min_x_fraction);
+  visit(EngineInputKey::observer_doubt_capacity_min_x_fraction, c.observer.doubt_capacity_min_x_fraction);
+  visit(EngineInputKey::observer_model_form_sigma, c.observer.model_form_sigma);
+  visit(EngineInputKey::observer_doubt_model_form_sigma, c.observer.doubt_model_form_sigma);
+  visit(EngineInputKey::observer_quiet_motion_spread_noises, c.observer.quiet_motion_spread_noises);
 }
 
 // A field's value as the file carries it (a double).

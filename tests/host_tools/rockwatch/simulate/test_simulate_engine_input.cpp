@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -105,14 +106,16 @@ TEST(SimulateEngineInput, HoldsTheConfigurationAndEveryInputTheEngineSteppedOn) 
   const ProcessResult r = run_rockwatch({"simulate", "--record", record_path(kElCentro180Input), "--scale-pga", "0.25",
                                          "--arith", "fixed", "--alarms", "--lambda-w", "0.3", "--alarm-hold", "0.5",
                                          "--b", "0.12", "--h1", "1.6", "--r", "ana", "--kappa", "1.5", "--json",
-                                         "--engine-input-out", path, "--work-overflow", "finish"});
+                                         "--engine-input-out", path, "--work-overflow", "finish",
+                                         "--imminent-horizon", "0.17"});
   const std::string what = describe(r);
   CHECK_EQUAL_TEXT(0, r.exit_status, what.c_str());
   const nlohmann::json j = nlohmann::json::parse(r.out);
   const EngineInputFile f = read_engine_input(path);
   CHECK_TRUE(f.complete);
   CHECK_TRUE(f.keys_known);
-  LONGS_EQUAL(36, f.n_config);
+  // Every key of firmware::EngineInputKey (36 before the alarm's horizon and the rest of ObserverOptions, keys 37–52).
+  LONGS_EQUAL(52, f.n_config);
   CHECK_TRUE(f.config.work_overflow == core::WorkOverflow::finish);  // the firmware's policy, for the M4 replay
   STRCMP_EQUAL("finish", j["alarm"]["published"]["work_overflow"].get<std::string>().c_str());
   CHECK_FALSE(f.config.observer_enabled);
@@ -134,6 +137,7 @@ TEST(SimulateEngineInput, HoldsTheConfigurationAndEveryInputTheEngineSteppedOn) 
   DOUBLES_EQUAL(0.3, f.config.alarm.lambda_warning, 0.0);
   DOUBLES_EQUAL(0.5, f.config.alarm.hold_s, 0.0);
   DOUBLES_EQUAL(core::AlarmSettings{}.energy_margin, f.config.alarm.energy_margin, 0.0);
+  DOUBLES_EQUAL(0.17, f.config.alarm.imminent_horizon_s, 0.0);
 
   // The same analysis in-process: the same inputs, value for value (one per record sample).
   const rockwatch::records::Record rec = rockwatch::records::read_record(record_path(kElCentro180Input));
@@ -147,7 +151,7 @@ TEST(SimulateEngineInput, HoldsTheConfigurationAndEveryInputTheEngineSteppedOn) 
   o.restitution = core::Restitution{core::RestitutionKind::ana, 0.0};
   o.kappa = 1.5;
   o.evaluate_alarm = true;
-  o.alarm = core::AlarmSettings{0.3, 0.5, 1.5};
+  o.alarm = core::AlarmSettings{0.3, 0.5, 1.5, 0.17};
   std::vector<std::array<double, 2>> expected;
   o.engine_inputs_out = &expected;
   const sim::AnalysisResult e = sim::analyse(wall, m, o);
@@ -175,6 +179,9 @@ TEST(SimulateEngineInput, CarriesTheObserverSettingsAndTheWallSensorSamples) {
   std::vector<std::string> fused = record;
   for (const char* a : {"--wall-sensors", sensors.c_str(), "--observer-gate-chi2", "25", "--observer-process-mps2",
                         "0.3", "--observer-capacity-sigmas", "0.5", "--observer-accel-inform-peak-noises", "0",
+                        "--observer-doubt-nis", "8", "--observer-quiet-motion-noises", "30",
+                        "--observer-model-form-sigma", "0.05", "--observer-doubt-model-form-sigma", "0.3",
+                        "--observer-capacity-min-x", "0.1", "--observer-doubt-capacity-min-x", "0.2",
                         "--engine-input-out", path.c_str()}) {
     fused.push_back(a);
   }
@@ -188,6 +195,14 @@ TEST(SimulateEngineInput, CarriesTheObserverSettingsAndTheWallSensorSamples) {
   DOUBLES_EQUAL(0.3, f.config.observer.process_accel_mps2, 0.0);
   DOUBLES_EQUAL(0.5, f.config.observer.alarm_capacity_sigmas, 0.0);
   DOUBLES_EQUAL(0.0, f.config.observer.accel_inform_peak_noises, 0.0);
+  // Issue 40's settings (keys 44–52): before they had keys the M4 replay ran their defaults.
+  DOUBLES_EQUAL(8.0, f.config.observer.doubt_nis, 0.0);
+  DOUBLES_EQUAL(30.0, f.config.observer.quiet_motion_spread_noises, 0.0);
+  DOUBLES_EQUAL(0.05, f.config.observer.model_form_sigma, 0.0);
+  DOUBLES_EQUAL(0.3, f.config.observer.doubt_model_form_sigma, 0.0);
+  DOUBLES_EQUAL(0.1, f.config.observer.capacity_min_x_fraction, 0.0);
+  DOUBLES_EQUAL(0.2, f.config.observer.doubt_capacity_min_x_fraction, 0.0);
+  LONGS_EQUAL(core::ObserverOptions{}.doubt_window, f.config.observer.doubt_window);
   DOUBLES_EQUAL(core::ObserverOptions{}.x_noise_m, f.config.observer.x_noise_m, 0.0);
   LONGS_EQUAL(core::ObserverOptions{}.stuck_after, f.config.observer.stuck_after);
   const std::vector<core::WallSensorSample> expected = rockwatch::cli::read_wall_sensor_samples(sensors);
@@ -223,4 +238,40 @@ TEST(SimulateEngineInput, MisusesAreRefusedNamingTheOption) {
       {"--engine-input-out", "--out"});
   rockwatch::test::expect_command_rejected("simulate", {"--record", record, "--engine-input-out", record},
                                            {"--engine-input-out", "input record"});
+}
+
+// Every key carries its own field: each field set to a value other than its default and other than every other
+// field's, written as the writer writes and read back into a default configuration, comes back (a key that shared a
+// field with another, or was read into the wrong one, would not).
+TEST(SimulateEngineInput, EveryKeyCarriesItsOwnField) {
+  core::WallEngineConfig told;
+  int n = 0;
+  firmware::visit_engine_input_fields(told, [&n](firmware::EngineInputKey k, auto& field) {
+    using T = std::decay_t<decltype(field)>;
+    ++n;
+    const auto key = static_cast<std::uint64_t>(k);
+    if constexpr (std::is_same_v<T, bool>) {
+      field = !field;
+    } else if constexpr (std::is_same_v<T, core::ModelKind>) {
+      field = core::ModelKind::full;
+    } else if constexpr (std::is_same_v<T, core::WorkOverflow>) {
+      field = core::WorkOverflow::finish;
+    } else if constexpr (std::is_same_v<T, std::int32_t>) {
+      field = static_cast<std::int32_t>(1000 + key);
+    } else {
+      field = 1000.0 + static_cast<double>(key) / 8.0;
+    }
+  });
+  LONGS_EQUAL(52, n);
+  core::WallEngineConfig read;
+  int pairs = 0;
+  firmware::for_each_engine_input_key(told, [&](firmware::EngineInputKey k, double v) {
+    ++pairs;
+    CHECK_TRUE(firmware::apply_engine_input_key(read, static_cast<std::uint64_t>(k), v));
+  });
+  LONGS_EQUAL(n, pairs);
+  std::vector<double> want, got;
+  firmware::for_each_engine_input_key(told, [&want](firmware::EngineInputKey, double v) { want.push_back(v); });
+  firmware::for_each_engine_input_key(read, [&got](firmware::EngineInputKey, double v) { got.push_back(v); });
+  CHECK_TRUE(want == got);
 }
