@@ -9,7 +9,8 @@ const char* wall_engine_error_message(WallEngineError e) {
     case WallEngineError::restitution_out_of_range: return "r must be in [0, 1]";
     case WallEngineError::kappa_out_of_range: return "kappa must be >= 1";
     case WallEngineError::alarm_settings_invalid:
-      return "alarm settings invalid (lambda_w in (0, 1], hold in [0, 3600] s, energy margin in [1, 100])";
+      return "alarm settings invalid (lambda_w in (0, 1], hold in [0, 3600] s, energy margin in [1, 100], imminent "
+             "horizon in [0, 10] s)";
     case WallEngineError::sensor_axes_invalid: return "sensor axes invalid (finite, |entries| <= 1.5, rows not zero)";
     case WallEngineError::fixed_point_setup: return "wall or step outside the fixed-point engine's formats";
     case WallEngineError::indicator_constants: return "x_inst must be in (0.008, 1.9) m for the alarm's formats";
