@@ -167,8 +167,12 @@ TEST(TrafficLog, ADiskThatFailsLosesOnlyTheFailedBlocksAndSaysSo) {
     const std::vector<std::uint8_t> d = payload(k);
     log.add("ROCKWATCH_ACCEL", d.data(), d.size(), k);
   }
-  (void)log.flush();
-  CHECK_FALSE(log.close());
+  // The failure is reported once, by the first flush() or close() after the writer met it: which one depends on how
+  // far the writer got (under load it fails the full blocks before flush() and flush() reports; idle, close() does).
+  // One of the two must say so (with one core busy the sanitized run took the first path: 2026-11-29).
+  const bool flushed = log.flush();
+  const bool closed = log.close();
+  CHECK_FALSE(flushed && closed);
   LONGS_EQUAL(0, log.events_written());
   LONGS_EQUAL(200, log.events_lost());
   CHECK_TRUE(log.write_failures() >= 1);
