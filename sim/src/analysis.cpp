@@ -178,6 +178,8 @@ class ObservedSteps {
     while (next_ < samples_.size() && samples_[next_].utime_us <= t_us) observer_.push(samples_[next_++]);
     r_before_step_ = observer_.r_estimate();
     x_inst_before_step_ = observer_.x_inst_estimate_m();
+    sigma_r_before_step_ = observer_.sigma_r();
+    sigma_x_inst_before_step_ = observer_.sigma_x_inst_m();
     if (estimate_before_s_ && !r_before_time_ && t0_s + dt_s > *estimate_before_s_) {
       r_before_time_ = r_before_step_;
       x_inst_before_time_ = x_inst_before_step_;
@@ -204,6 +206,8 @@ class ObservedSteps {
     if (!r_after_ && before >= r_after_impacts_ && after > before) {
       r_after_ = r_before_step_;
       x_inst_after_ = x_inst_before_step_;
+      sigma_r_after_ = sigma_r_before_step_;
+      sigma_x_inst_after_ = sigma_x_inst_before_step_;
     }
   }
 
@@ -238,11 +242,15 @@ class ObservedSteps {
     s.stiffness_scale = observer_.stiffness_scale();
     s.sigma_stiffness_scale = observer_.sigma_stiffness_scale();
     s.x_inst_estimate_after_impacts_m = x_inst_after_;
+    s.sigma_r_after_impacts = sigma_r_after_;
+    s.sigma_x_inst_after_impacts_m = sigma_x_inst_after_;
     s.r_estimate_before_time = r_before_time_;
     s.x_inst_estimate_before_time_m = x_inst_before_time_;
     if (!r_after_ && n_impacts >= r_after_impacts_) {
       s.r_estimate_after_impacts = s.r_estimate;
       s.x_inst_estimate_after_impacts_m = s.x_inst_estimate_m;
+      s.sigma_r_after_impacts = s.sigma_r;
+      s.sigma_x_inst_after_impacts_m = s.sigma_x_inst_m;
     }
   }
 
@@ -257,7 +265,8 @@ class ObservedSteps {
   std::uint32_t flags_ = 0;
   std::size_t steps_lost_ = 0;
   double r_before_step_ = 0.0, x_inst_before_step_ = 0.0;
-  std::optional<double> r_after_, x_inst_after_;
+  double sigma_r_before_step_ = 0.0, sigma_x_inst_before_step_ = 0.0;
+  std::optional<double> r_after_, x_inst_after_, sigma_r_after_, sigma_x_inst_after_;
 };
 
 // One input sample of the engine: the chain's sub-steps to the input (ug, vg), each followed by its events and row

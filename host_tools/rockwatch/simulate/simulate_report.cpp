@@ -171,6 +171,8 @@ nlohmann::ordered_json observer_json(const SimulateRequest& q, const sim::Observ
   j["x_inst_estimate_m"] = s.x_inst_estimate_m;
   j["sigma_x_inst_m"] = s.sigma_x_inst_m;
   j["x_inst_estimate_after_impacts_m"] = number_or_null(s.x_inst_estimate_after_impacts_m);
+  j["sigma_r_after_impacts"] = number_or_null(s.sigma_r_after_impacts);
+  j["sigma_x_inst_after_impacts_m"] = number_or_null(s.sigma_x_inst_after_impacts_m);
   j["omega_estimate_rps"] = s.omega_estimate_rps;
   j["sigma_omega_rps"] = s.sigma_omega_rps;
   j["c_estimate_mps2"] = s.c_estimate_mps2;

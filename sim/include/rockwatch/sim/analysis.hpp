@@ -139,6 +139,8 @@ struct ObserverSummary {
   double capacity_scale = 1.0, sigma_capacity_scale = 0.0;
   double stiffness_scale = 1.0, sigma_stiffness_scale = 0.0;
   std::optional<double> x_inst_estimate_after_impacts_m;  // x̂_inst when r_estimate_after_impacts was taken [m]
+  // The published σ of r̂ and of x̂_inst at that same moment (the end's sigma_r, sigma_x_inst_m are later) [-, m].
+  std::optional<double> sigma_r_after_impacts, sigma_x_inst_after_impacts_m;
   // r̂ and x̂_inst before AnalysisOptions::observer_estimate_before_s (none when not set or not reached) [-, m].
   std::optional<double> r_estimate_before_time, x_inst_estimate_before_time_m;
 };

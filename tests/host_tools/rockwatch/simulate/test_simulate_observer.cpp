@@ -115,6 +115,12 @@ TEST(SimulateObserver, LearnsTheTrueWallFromItsSensorFileAsTheEngineDoes) {
   DOUBLES_EQUAL(in_process.max_abs_x_m, j["max_abs_x_m"].get<double>(), 0.0);
   LONGS_EQUAL(in_process.alarm.n_transitions, j["alarm"]["n_transitions"].get<std::size_t>());
   LONGS_EQUAL(in_process.observer.n_updates, o["n_updates"].get<long>());
+  // r̂ and x̂_inst after five impacts come with the σ published at that moment, not the end's (which is smaller:
+  // the observer learned since; a study reading the end's σ beside the early r̂ called the prior confident).
+  CHECK(in_process.observer.sigma_r_after_impacts.has_value());
+  DOUBLES_EQUAL(*in_process.observer.sigma_r_after_impacts, o["sigma_r_after_impacts"].get<double>(), 0.0);
+  DOUBLES_EQUAL(*in_process.observer.sigma_x_inst_after_impacts_m, o["sigma_x_inst_after_impacts_m"].get<double>(), 0.0);
+  CHECK(o["sigma_r_after_impacts"].get<double>() > 2.0 * o["sigma_r"].get<double>());
 }
 
 TEST(SimulateObserver, NoiseFreeSensorsOfTheNominalWallKeepTheOpenLoopResult) {
