@@ -164,6 +164,7 @@ class ObservedSteps {
       : samples_(*o.wall_sensors), r_after_impacts_(o.observer_r_after_impacts),
         estimate_before_s_(o.observer_estimate_before_s),
         step_us_(static_cast<std::int64_t>(std::llround(dt_s * 1e6))) {
+    rocking_peak_m_ = o.observer.inform_peak_noises * o.observer.x_noise_m;
     const core::ObserverError err = observer_.init(o.observer, setup, wall);
     if (err != core::ObserverError::ok) throw AnalysisError(core::observer_error_message(err));
   }
@@ -201,14 +202,27 @@ class ObservedSteps {
   }
 
   // After the step's events (counted impacts before and after it): keeps r̂ as it stood before the step in which
-  // impact number r_after_impacts + 1 happened.
-  void impacts(int before, int after) {
+  // impact number r_after_impacts + 1 happened. abs_x_m: |x| at the end of the sub-step, for the rocking impacts:
+  // those after a half-cycle whose |x| peaked at ≥ inform_peak_noises × x_noise (the size from which the observer
+  // learns √r, SPEC §8); r̂ likewise before rocking impact number r_after_impacts + 1.
+  void impacts(int before, int after, double abs_x_m) {
     if (!r_after_ && before >= r_after_impacts_ && after > before) {
       r_after_ = r_before_step_;
       x_inst_after_ = x_inst_before_step_;
       sigma_r_after_ = sigma_r_before_step_;
       sigma_x_inst_after_ = sigma_x_inst_before_step_;
     }
+    if (after > before) {
+      if (half_cycle_peak_m_ >= rocking_peak_m_) {
+        if (!r_after_rocking_ && rocking_impacts_ >= r_after_impacts_) {
+          r_after_rocking_ = r_before_step_;
+          sigma_r_after_rocking_ = sigma_r_before_step_;
+        }
+        ++rocking_impacts_;
+      }
+      half_cycle_peak_m_ = 0.0;
+    }
+    if (abs_x_m > half_cycle_peak_m_) half_cycle_peak_m_ = abs_x_m;
   }
 
   void summarise(ObserverSummary& s, int n_impacts) const {
@@ -244,6 +258,13 @@ class ObservedSteps {
     s.x_inst_estimate_after_impacts_m = x_inst_after_;
     s.sigma_r_after_impacts = sigma_r_after_;
     s.sigma_x_inst_after_impacts_m = sigma_x_inst_after_;
+    s.rocking_impacts = rocking_impacts_;
+    s.r_estimate_after_rocking_impacts = r_after_rocking_;
+    s.sigma_r_after_rocking_impacts = sigma_r_after_rocking_;
+    if (!r_after_rocking_ && rocking_impacts_ >= r_after_impacts_) {
+      s.r_estimate_after_rocking_impacts = s.r_estimate;
+      s.sigma_r_after_rocking_impacts = s.sigma_r;
+    }
     s.r_estimate_before_time = r_before_time_;
     s.x_inst_estimate_before_time_m = x_inst_before_time_;
     if (!r_after_ && n_impacts >= r_after_impacts_) {
@@ -267,6 +288,10 @@ class ObservedSteps {
   double r_before_step_ = 0.0, x_inst_before_step_ = 0.0;
   double sigma_r_before_step_ = 0.0, sigma_x_inst_before_step_ = 0.0;
   std::optional<double> r_after_, x_inst_after_, sigma_r_after_, sigma_x_inst_after_;
+  double rocking_peak_m_ = 0.0;  // set in the constructor's body
+  double half_cycle_peak_m_ = 0.0;
+  int rocking_impacts_ = 0;
+  std::optional<double> r_after_rocking_, sigma_r_after_rocking_;
 };
 
 // One input sample of the engine: the chain's sub-steps to the input (ug, vg), each followed by its events and row
@@ -286,7 +311,7 @@ void analysis_sample(Engine& engine, typename Engine::Input ug, typename Engine:
     const int impacts_before = result.n_impacts;
     if (Engine::saturated(sub)) result.saturated = true;
     t_s = recorder.events(t0_s + double(j - 1) * h_s, h_s, sub);
-    if (observed) observed->impacts(impacts_before, result.n_impacts);
+    if (observed) observed->impacts(impacts_before, result.n_impacts, std::fabs(engine.x_m()));
     recorder.row(t_s, to_double(ug_j), to_double(vg_j), engine);
   };
   if (observed) {

@@ -173,6 +173,9 @@ nlohmann::ordered_json observer_json(const SimulateRequest& q, const sim::Observ
   j["x_inst_estimate_after_impacts_m"] = number_or_null(s.x_inst_estimate_after_impacts_m);
   j["sigma_r_after_impacts"] = number_or_null(s.sigma_r_after_impacts);
   j["sigma_x_inst_after_impacts_m"] = number_or_null(s.sigma_x_inst_after_impacts_m);
+  j["rocking_impacts"] = s.rocking_impacts;
+  j["r_estimate_after_rocking_impacts"] = number_or_null(s.r_estimate_after_rocking_impacts);
+  j["sigma_r_after_rocking_impacts"] = number_or_null(s.sigma_r_after_rocking_impacts);
   j["omega_estimate_rps"] = s.omega_estimate_rps;
   j["sigma_omega_rps"] = s.sigma_omega_rps;
   j["c_estimate_mps2"] = s.c_estimate_mps2;

@@ -141,6 +141,11 @@ struct ObserverSummary {
   std::optional<double> x_inst_estimate_after_impacts_m;  // x̂_inst when r_estimate_after_impacts was taken [m]
   // The published σ of r̂ and of x̂_inst at that same moment (the end's sigma_r, sigma_x_inst_m are later) [-, m].
   std::optional<double> sigma_r_after_impacts, sigma_x_inst_after_impacts_m;
+  // The same count over rocking impacts only: those after a half-cycle of the fused wall whose |x| peaked at
+  // ≥ inform_peak_noises × x_noise_m (5 mm by default: the size from which the observer learns √r, SPEC §8). The
+  // first impacts of a record are often smaller, and r̂ after them is the prior. [-]
+  int rocking_impacts = 0;
+  std::optional<double> r_estimate_after_rocking_impacts, sigma_r_after_rocking_impacts;
   // r̂ and x̂_inst before AnalysisOptions::observer_estimate_before_s (none when not set or not reached) [-, m].
   std::optional<double> r_estimate_before_time, x_inst_estimate_before_time_m;
 };

@@ -225,3 +225,26 @@ TEST(SimulateObserver, HelpNamesTheOptionsWithTheirDefaults) {
     CHECK_TEXT(r.out.find(text) != std::string::npos, text);
   }
 }
+
+// A wall simulated by the independent two-block contact engine (tests/truth/, kept in tests/data/truths): after the
+// first five impacts over 1 mm/s r̂ is still the prior — they follow half-cycles too small to tell r, and its σ says
+// so — while after five rocking impacts (each after a half-cycle of ≥ 5 mm, `rocking_impacts`) it is the truth's
+// equivalent r (from its free decay) within 0.03 and within 3 of its own σ (issue 40).
+TEST(SimulateObserver, RAfterFiveRockingImpactsOfAnIndependentTruth) {
+  const std::string d = std::string(ROCKWATCH_TEST_DATA_DIR) + "/truths/multibody/RSN215_LIVERMOR_A-SRM070_0.200g";
+  const ProcessResult r = run_rockwatch({"simulate", "--record", d + "/ground.csv", "--units", "mps2", "--alarms",
+                                         "--wall-sensors", d + "/sensors.csv", "--json"});
+  check_ok(r);
+  std::ifstream truth_file(d + "/truth.json");
+  const double r_true = nlohmann::json::parse(truth_file)["r_equiv"].get<double>();
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  const nlohmann::json& o = j["observer"];
+  CHECK(o["sigma_r_after_impacts"].get<double>() > 0.1);
+  const long rocking = o["rocking_impacts"].get<long>();
+  CHECK(rocking >= 6 && rocking < j["n_impacts"].get<long>());
+  const double r5 = o["r_estimate_after_rocking_impacts"].get<double>();
+  const double s5 = o["sigma_r_after_rocking_impacts"].get<double>();
+  DOUBLES_EQUAL(r_true, r5, 0.03);
+  CHECK(std::fabs(r5 - r_true) <= 3.0 * s5);
+  CHECK(s5 < 0.05);
+}
