@@ -162,9 +162,9 @@ class ObservedSteps {
   ObservedSteps(const core::WallParameters& wall, const core::StepperSetup<double>& setup, const AnalysisOptions& o,
                 double dt_s)
       : samples_(*o.wall_sensors), r_after_impacts_(o.observer_r_after_impacts),
+        rocking_peak_m_(o.observer.inform_peak_noises * o.observer.x_noise_m),
         estimate_before_s_(o.observer_estimate_before_s),
         step_us_(static_cast<std::int64_t>(std::llround(dt_s * 1e6))) {
-    rocking_peak_m_ = o.observer.inform_peak_noises * o.observer.x_noise_m;
     const core::ObserverError err = observer_.init(o.observer, setup, wall);
     if (err != core::ObserverError::ok) throw AnalysisError(core::observer_error_message(err));
   }
@@ -177,14 +177,8 @@ class ObservedSteps {
             OnSubstep&& on_substep) {
     const std::int64_t t_us = core::observed_step_end_us(t0_s, dt_s);
     while (next_ < samples_.size() && samples_[next_].utime_us <= t_us) observer_.push(samples_[next_++]);
-    r_before_step_ = observer_.r_estimate();
-    x_inst_before_step_ = observer_.x_inst_estimate_m();
-    sigma_r_before_step_ = observer_.sigma_r();
-    sigma_x_inst_before_step_ = observer_.sigma_x_inst_m();
-    if (estimate_before_s_ && !r_before_time_ && t0_s + dt_s > *estimate_before_s_) {
-      r_before_time_ = r_before_step_;
-      x_inst_before_time_ = x_inst_before_step_;
-    }
+    before_step_ = estimates();
+    if (estimate_before_s_ && !before_time_ && t0_s + dt_s > *estimate_before_s_) before_time_ = before_step_;
     const core::ObserverStepReport outcome =
         engine.chain().step_observed(ug, vg, observer_, t_us, step_us_, engine.out(), on_substep);
     flags_ |= outcome.flags;
@@ -206,18 +200,10 @@ class ObservedSteps {
   // those after a half-cycle whose |x| peaked at ≥ inform_peak_noises × x_noise (the size from which the observer
   // learns √r, SPEC §8); r̂ likewise before rocking impact number r_after_impacts + 1.
   void impacts(int before, int after, double abs_x_m) {
-    if (!r_after_ && before >= r_after_impacts_ && after > before) {
-      r_after_ = r_before_step_;
-      x_inst_after_ = x_inst_before_step_;
-      sigma_r_after_ = sigma_r_before_step_;
-      sigma_x_inst_after_ = sigma_x_inst_before_step_;
-    }
     if (after > before) {
+      if (!after_impacts_ && before >= r_after_impacts_) after_impacts_ = before_step_;
       if (half_cycle_peak_m_ >= rocking_peak_m_) {
-        if (!r_after_rocking_ && rocking_impacts_ >= r_after_impacts_) {
-          r_after_rocking_ = r_before_step_;
-          sigma_r_after_rocking_ = sigma_r_before_step_;
-        }
+        if (!after_rocking_ && rocking_impacts_ >= r_after_impacts_) after_rocking_ = before_step_;
         ++rocking_impacts_;
       }
       half_cycle_peak_m_ = 0.0;
@@ -241,7 +227,6 @@ class ObservedSteps {
     s.samples_given = samples_.size();
     s.samples_pushed = next_;
     s.steps_sensor_lost = steps_lost_;
-    s.r_estimate_after_impacts = r_after_;
     s.x_inst_estimate_m = observer_.x_inst_estimate_m();
     s.sigma_x_inst_m = observer_.sigma_x_inst_m();
     s.omega_estimate_rps = observer_.omega_estimate_rps();
@@ -255,43 +240,54 @@ class ObservedSteps {
     s.sigma_capacity_scale = observer_.sigma_capacity_scale();
     s.stiffness_scale = observer_.stiffness_scale();
     s.sigma_stiffness_scale = observer_.sigma_stiffness_scale();
-    s.x_inst_estimate_after_impacts_m = x_inst_after_;
-    s.sigma_r_after_impacts = sigma_r_after_;
-    s.sigma_x_inst_after_impacts_m = sigma_x_inst_after_;
-    s.rocking_impacts = rocking_impacts_;
-    s.r_estimate_after_rocking_impacts = r_after_rocking_;
-    s.sigma_r_after_rocking_impacts = sigma_r_after_rocking_;
-    if (!r_after_rocking_ && rocking_impacts_ >= r_after_impacts_) {
-      s.r_estimate_after_rocking_impacts = s.r_estimate;
-      s.sigma_r_after_rocking_impacts = s.sigma_r;
+    // After the counted (or rocking) impacts: as they stood before the next one, or at the end when there was no
+    // next one.
+    const std::optional<Estimates> after_impacts =
+        after_impacts_ ? after_impacts_ : n_impacts >= r_after_impacts_ ? std::optional(estimates()) : std::nullopt;
+    if (after_impacts) {
+      s.r_estimate_after_impacts = after_impacts->r;
+      s.sigma_r_after_impacts = after_impacts->sigma_r;
+      s.x_inst_estimate_after_impacts_m = after_impacts->x_inst_m;
+      s.sigma_x_inst_after_impacts_m = after_impacts->sigma_x_inst_m;
     }
-    s.r_estimate_before_time = r_before_time_;
-    s.x_inst_estimate_before_time_m = x_inst_before_time_;
-    if (!r_after_ && n_impacts >= r_after_impacts_) {
-      s.r_estimate_after_impacts = s.r_estimate;
-      s.x_inst_estimate_after_impacts_m = s.x_inst_estimate_m;
-      s.sigma_r_after_impacts = s.sigma_r;
-      s.sigma_x_inst_after_impacts_m = s.sigma_x_inst_m;
+    s.rocking_impacts = rocking_impacts_;
+    const std::optional<Estimates> after_rocking =
+        after_rocking_ ? after_rocking_
+                       : rocking_impacts_ >= r_after_impacts_ ? std::optional(estimates()) : std::nullopt;
+    if (after_rocking) {
+      s.r_estimate_after_rocking_impacts = after_rocking->r;
+      s.sigma_r_after_rocking_impacts = after_rocking->sigma_r;
+    }
+    if (before_time_) {
+      s.r_estimate_before_time = before_time_->r;
+      s.x_inst_estimate_before_time_m = before_time_->x_inst_m;
     }
   }
 
  private:
+  // r̂ and x̂_inst with the σ published with them, at one moment.
+  struct Estimates {
+    double r, sigma_r, x_inst_m, sigma_x_inst_m;
+  };
+  Estimates estimates() const {
+    return Estimates{observer_.r_estimate(), observer_.sigma_r(), observer_.x_inst_estimate_m(),
+                     observer_.sigma_x_inst_m()};
+  }
+
   const std::vector<core::WallSensorSample>& samples_;
   int r_after_impacts_;
+  double rocking_peak_m_;  // a rocking impact follows a half-cycle whose |x| peaked at least this [m]
   std::optional<double> estimate_before_s_;
-  std::optional<double> r_before_time_, x_inst_before_time_;
+  std::optional<Estimates> before_time_;
   std::int64_t step_us_;
   Observer observer_{};
   std::size_t next_ = 0;
   std::uint32_t flags_ = 0;
   std::size_t steps_lost_ = 0;
-  double r_before_step_ = 0.0, x_inst_before_step_ = 0.0;
-  double sigma_r_before_step_ = 0.0, sigma_x_inst_before_step_ = 0.0;
-  std::optional<double> r_after_, x_inst_after_, sigma_r_after_, sigma_x_inst_after_;
-  double rocking_peak_m_ = 0.0;  // set in the constructor's body
+  Estimates before_step_{};                        // as they stood before the current step
+  std::optional<Estimates> after_impacts_, after_rocking_;  // before counted / rocking impact r_after_impacts + 1
   double half_cycle_peak_m_ = 0.0;
   int rocking_impacts_ = 0;
-  std::optional<double> r_after_rocking_, sigma_r_after_rocking_;
 };
 
 // One input sample of the engine: the chain's sub-steps to the input (ug, vg), each followed by its events and row
