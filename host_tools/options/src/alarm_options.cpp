@@ -6,6 +6,8 @@
 #include <utility>
 #include <vector>
 
+#include <CLI/CLI.hpp>
+
 #include "rockwatch/core/sample_engine.hpp"
 #include "rockwatch/options/command_line.hpp"
 #include "rockwatch/options/option_values.hpp"

@@ -2,6 +2,8 @@
 
 #include <string>
 
+#include <CLI/CLI.hpp>
+
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/sim/analysis.hpp"
 

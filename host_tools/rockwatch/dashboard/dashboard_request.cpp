@@ -22,7 +22,10 @@
 
 namespace rockwatch::cli {
 
+// The helpers in a namespace of their own: the files that include CLI11 are compiled as one unit (CMakeLists.txt),
+// and theirs have the same names.
 namespace {
+namespace dashboard_request {
 
 constexpr double kMaxDashboardDuration_s = 7.0 * 24.0 * 3600.0;
 
@@ -93,10 +96,12 @@ void add_dashboard_options(CLI::App& app, DashboardRawOptions& raw) {
   app.footer(kDashboardFooter);
 }
 
+}  // namespace dashboard_request
 }  // namespace
 
 void parse_listen_address(const std::string& option, const std::string& text, std::string& address,
                           unsigned short& port) {
+  using namespace dashboard_request;
   const std::string expected = " must be ADDR:PORT, e.g. 127.0.0.1:8080 or [::1]:8080 (got " + options::quoted(text) + ")";
   std::string host, port_text;
   if (!text.empty() && text.front() == '[') {
@@ -119,6 +124,7 @@ void parse_listen_address(const std::string& option, const std::string& text, st
 }
 
 DashboardParse parse_dashboard_arguments(int argc, const char* const* argv) {
+  using namespace dashboard_request;
   CLI::App app{
       "The live dashboard: a web page showing every wall the monitor watches, as it happens (alarm level, x(t), "
       "E/E_barrier, time to instability, transitions, status), fed by the monitor's LCM messages.",

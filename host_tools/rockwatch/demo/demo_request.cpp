@@ -19,7 +19,10 @@
 
 namespace rockwatch::cli {
 
+// The helpers in a namespace of their own: the files that include CLI11 are compiled as one unit (CMakeLists.txt),
+// and theirs have the same names.
 namespace {
+namespace demo_request {
 
 constexpr double kMaxDemoSpeed = 20.0;
 constexpr double kMinDemoSpeed = 0.01;
@@ -100,9 +103,11 @@ void add_options(CLI::App& app, RawOptions& raw) {
   app.footer(kFooter);
 }
 
+}  // namespace demo_request
 }  // namespace
 
 DemoParse parse_demo_arguments(int argc, const char* const* argv) {
+  using namespace demo_request;
   CLI::App app{
       "The main job: rockwatch-monitor watching the paper's wall live over LCM while two suite records are "
       "replayed to it, one that collapses the wall and one it survives; its alarm timeline beside the "

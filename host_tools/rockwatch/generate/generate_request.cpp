@@ -18,7 +18,10 @@
 
 namespace rockwatch::cli {
 
+// The helpers in a namespace of their own: the files that include CLI11 are compiled as one unit (CMakeLists.txt),
+// and theirs have the same names.
 namespace {
+namespace generate_request {
 
 // Options are read as text and converted by option_values, so every message has one form and nan/inf are refused
 // the same way everywhere.
@@ -162,9 +165,11 @@ std::string canonical_arguments(const GenerateRequest& q) {
   return a;
 }
 
+}  // namespace generate_request
 }  // namespace
 
 core::SpectrumShape parse_target_spec(const std::string& option, const std::string& text) {
+  using namespace generate_request;
   constexpr const char* kCustom = "custom:";
   core::SpectrumShape shape;
   if (text.rfind(kCustom, 0) != 0) {
@@ -194,12 +199,14 @@ core::SpectrumShape parse_target_spec(const std::string& option, const std::stri
 }
 
 std::string target_spec_text(const core::SpectrumShape& s) {
+  using namespace generate_request;
   if (s.kind != core::SpectrumKind::custom) return core::spectrum_name(s.kind);
   return "custom:" + number_text(s.p) + "," + number_text(s.tb_s) + "," + number_text(s.tc_s) + "," +
          number_text(s.td_s);
 }
 
 GenerateParse parse_generate_arguments(int argc, const char* const* argv) {
+  using namespace generate_request;
   CLI::App app{"Spectrum-compatible ground-motion suite (SPEC section 6): record sets of X, Y (horizontal) and Z "
                "(vertical) matched to design spectra, with a manifest of their measures and plots of their spectra.",
                "rockwatch generate"};

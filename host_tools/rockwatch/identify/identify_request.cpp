@@ -5,6 +5,8 @@
 #include <string>
 #include <utility>
 
+#include <CLI/CLI.hpp>
+
 #include "common/process/output_file.hpp"
 #include "rockwatch/core/stepper_alarm_chain.hpp"
 #include "rockwatch/options/command_line.hpp"
@@ -16,7 +18,10 @@
 
 namespace rockwatch::cli {
 
+// The helpers in a namespace of their own: the files that include CLI11 are compiled as one unit (CMakeLists.txt),
+// and theirs have the same names.
 namespace {
+namespace identify_request {
 
 struct RawOptions {
   RecordOptionTexts record;
@@ -69,9 +74,11 @@ void add_options(CLI::App& app, RawOptions& raw) {
   app.footer(kFooter);
 }
 
+}  // namespace identify_request
 }  // namespace
 
 namespace {
+namespace identify_request {
 
 // The whole numbers' ranges and messages, one place for the command line's texts and the module's integers.
 struct WholeOption {
@@ -119,9 +126,11 @@ std::string output_path(const char* option, const std::string& path) {
   return path;
 }
 
+}  // namespace identify_request
 }  // namespace
 
 IdentifyRequest build_identify_request(const IdentifySettings& s) {
+  using namespace identify_request;
   IdentifyRequest q;
   if (!s.wall_sensors || s.wall_sensors->empty()) {
     throw UsageError("--wall-sensors FILE.csv is required: the test's displacement transducer samples");
@@ -155,6 +164,7 @@ IdentifyRequest build_identify_request(const IdentifySettings& s) {
 }
 
 IdentifyParse parse_identify_arguments(int argc, const char* const* argv) {
+  using namespace identify_request;
   CLI::App app{"Identify a wall's capacity, stiffness and restitution from a test record (snap-back or forced).",
                "rockwatch identify"};
   RawOptions raw;
@@ -181,6 +191,7 @@ IdentifyParse parse_identify_arguments(int argc, const char* const* argv) {
 }
 
 sim::IdentificationInput identification_input(const IdentifyRequest& q) {
+  using namespace identify_request;
   sim::IdentificationInput in;
   in.start_wall = q.start_wall;
   in.start_r = core::restitution_energy_ratio(q.start_wall, q.start_r);

@@ -22,7 +22,10 @@
 
 namespace rockwatch::cli {
 
+// The helpers in a namespace of their own: the files that include CLI11 are compiled as one unit (CMakeLists.txt),
+// and theirs have the same names.
 namespace {
+namespace replay_request {
 
 constexpr double kMinReplayRateHz = 1.0;  // below: no ground-acceleration sensor samples that slowly
 constexpr double kMinReplaySpeed = 0.01;  // --speed other than 0: 100 times slower than real time
@@ -227,9 +230,11 @@ std::optional<ReplayPlant> parse_plant(const CLI::App& app, const RawOptions& ra
   return plant;
 }
 
+}  // namespace replay_request
 }  // namespace
 
 ReplayParse parse_replay_arguments(int argc, const char* const* argv) {
+  using namespace replay_request;
   CLI::App app{
       "Replays a ground-motion record as the monitor's sensor would send it: LCM messages paced in real time "
       "(or faster), with an optional sensor model, an LCM log and a CSV of the samples sent.",

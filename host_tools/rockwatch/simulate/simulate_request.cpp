@@ -23,7 +23,10 @@
 
 namespace rockwatch::cli {
 
+// The helpers in a namespace of their own: the files that include CLI11 are compiled as one unit (CMakeLists.txt),
+// and theirs have the same names.
 namespace {
+namespace simulate_request {
 
 // Options are read as text and converted by option_values, so every message has one form and nan/inf are refused
 // the same way everywhere.
@@ -222,9 +225,11 @@ void parse_forecast_options(const CLI::App& app, const RawOptions& raw, Simulate
   q.analysis.keep_history = true;  // the forecasts start from the history's states
 }
 
+}  // namespace simulate_request
 }  // namespace
 
 SimulateParse parse_simulate_arguments(int argc, const char* const* argv) {
+  using namespace simulate_request;
   CLI::App app{"Response of an unreinforced masonry wall rocking out of plane (two-block model, Newmark) to a "
                "ground-motion record.",
                "rockwatch simulate"};

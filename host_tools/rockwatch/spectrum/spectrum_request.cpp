@@ -18,7 +18,10 @@
 
 namespace rockwatch::cli {
 
+// The helpers in a namespace of their own: the files that include CLI11 are compiled as one unit (CMakeLists.txt),
+// and theirs have the same names.
 namespace {
+namespace spectrum_request {
 
 // Options are read as text and converted by option_values, so every message has one form and nan/inf are refused
 // the same way everywhere.
@@ -123,9 +126,11 @@ std::optional<SpectrumTarget> parse_target(const CLI::App& app, const RawOptions
   return target;
 }
 
+}  // namespace spectrum_request
 }  // namespace
 
 PeriodGrid parse_period_grid(const std::string& option, const std::string& text) {
+  using namespace spectrum_request;
   const std::string expected = option + " expects FROM:TO:N, e.g. 0.02:4:100 (got " + quoted(text) + ")";
   const std::size_t first = text.find(':');
   const std::size_t second = first == std::string::npos ? std::string::npos : text.find(':', first + 1);
@@ -156,6 +161,7 @@ PeriodGrid parse_period_grid(const std::string& option, const std::string& text)
 }
 
 SpectrumParse parse_spectrum_arguments(int argc, const char* const* argv) {
+  using namespace spectrum_request;
   CLI::App app{"Elastic response spectrum and intensity measures (PGA, PGV, PGD, Arias intensity, D5-75, D5-95) "
                "of a ground-motion record, optionally against a design spectrum.",
                "rockwatch spectrum"};

@@ -17,7 +17,10 @@
 
 namespace rockwatch::cli {
 
+// The helpers in a namespace of their own: the files that include CLI11 are compiled as one unit (CMakeLists.txt),
+// and theirs have the same names.
 namespace {
+namespace static_request {
 
 // Options are read as text and converted by option_values, so messages have one form and nan/inf are refused the
 // same way as in `simulate`.
@@ -303,15 +306,18 @@ void check_sweep_options(const StaticSettings& raw) {
   if (raw.out_dir->empty()) throw UsageError("--out needs a directory name");
 }
 
+}  // namespace static_request
 }  // namespace
 
 core::StaticInputs case_inputs(const StaticRequest& q, const StaticCase& c) {
+  using namespace static_request;
   core::StaticInputs in = q.inputs;
   in.lambda = c.lambda;
   return in;
 }
 
 StaticRequest build_static_request(const StaticSettings& s) {
+  using namespace static_request;
   check_sweep_options(s);
   StaticRequest q;
   q.inputs = parse_inputs(s, q.wall_options_given);
@@ -330,6 +336,7 @@ StaticRequest build_static_request(const StaticSettings& s) {
 }
 
 StaticParse parse_static_arguments(int argc, const char* const* argv) {
+  using namespace static_request;
   CLI::App app{"Static non-linear kinematic analysis of an unreinforced masonry wall rocking out of plane: "
                "allowable PGA for the NTC 2008 / NZSEE 2016 instability factors.",
                "rockwatch static"};

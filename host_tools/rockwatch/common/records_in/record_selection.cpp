@@ -8,6 +8,8 @@
 #include <optional>
 #include <string>
 
+#include <CLI/CLI.hpp>
+
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
 #include "common/process/options_namespace.hpp"
@@ -16,7 +18,10 @@
 
 namespace rockwatch::cli {
 
+// The helpers in a namespace of their own: the files that include CLI11 are compiled as one unit (CMakeLists.txt),
+// and theirs have the same names.
 namespace {
+namespace record_selection {
 
 // given() for options a tool may not have registered (spectrum has no vertical options).
 bool used(const CLI::App& app, const char* option) {
@@ -108,9 +113,11 @@ void check_vertical(const RecordSelectionSettings& t, const std::optional<std::s
   }
 }
 
+}  // namespace record_selection
 }  // namespace
 
 void add_record_options(CLI::App& app, RecordOptionTexts& texts, VerticalOptions vertical) {
+  using namespace record_selection;
   const bool with_vertical = vertical == VerticalOptions::allowed;
   app.add_option("--record", texts.record,
                  with_vertical ? "Horizontal (out-of-plane) record: PEER AT2, ESM ASCII, ITACA .cor.acc, miniSEED "
@@ -158,6 +165,7 @@ records::ReadOptions RecordSelection::vertical_read_options() const {
 }
 
 RecordSelection check_record_selection(const RecordSelectionSettings& t, double g_mps2) {
+  using namespace record_selection;
   check_source(t);
   RecordSelection s;
   s.read_options.g_mps2 = g_mps2;
@@ -203,6 +211,7 @@ RecordSelection check_record_selection(const RecordSelectionSettings& t, double 
 }
 
 RecordSelectionSettings record_selection_settings(const CLI::App& app, const RecordOptionTexts& t) {
+  using namespace record_selection;
   RecordSelectionSettings s;
   using Settings = RecordSelectionSettings;
   const std::pair<const char*, std::optional<std::string> Settings::*> names[] = {
@@ -224,21 +233,25 @@ RecordSelectionSettings record_selection_settings(const CLI::App& app, const Rec
 }
 
 RecordSelection parse_record_selection(const CLI::App& app, const RecordOptionTexts& t, double g_mps2) {
+  using namespace record_selection;
   return check_record_selection(record_selection_settings(app, t), g_mps2);
 }
 
 std::string suite_record_text(const SuiteSelection& suite, char component) {
+  using namespace record_selection;
   const std::string& name = suite.name.empty() ? suite.dir : suite.name;
   return "suite " + name + " set " + std::to_string(suite.set) + " component " + component;
 }
 
 std::string selection_text(const RecordSelection& s) {
+  using namespace record_selection;
   if (s.suite) return suite_record_text(*s.suite, s.suite->component);
   if (s.channel) return (s.channel_is_component ? "component " : "channel ") + *s.channel;
   return {};
 }
 
 std::string vertical_source_text(const RecordSelection& s) {
+  using namespace record_selection;
   if (s.vertical_from_suite) {
     return "component Z of suite set " + std::to_string(s.suite->set) + " (" + s.record_path + ")";
   }
@@ -248,6 +261,7 @@ std::string vertical_source_text(const RecordSelection& s) {
 }
 
 void add_selection_json(nlohmann::ordered_json& j, const RecordSelection& s) {
+  using namespace record_selection;
   if (s.suite) {
     nlohmann::ordered_json suite;
     suite["dir"] = s.suite->dir;
@@ -266,6 +280,7 @@ void add_selection_json(nlohmann::ordered_json& j, const RecordSelection& s) {
 }
 
 records::AccelUnit parse_units(const std::string& option, const std::string& text) {
+  using namespace record_selection;
   const std::optional<records::AccelUnit> unit = records::parse_accel_unit(text);
   if (!unit) {
     throw UsageError(option + " must be g, mps2, cmps2 or mmps2 (also m/s2, cm/s2, gal, mm/s2) (got " + quoted(text) +

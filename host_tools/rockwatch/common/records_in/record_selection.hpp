@@ -7,7 +7,7 @@
 #include <optional>
 #include <string>
 
-#include <CLI/CLI.hpp>
+#include "rockwatch/options/cli11_fwd.hpp"
 #include <nlohmann/json.hpp>
 
 #include "rockwatch/records/record.hpp"

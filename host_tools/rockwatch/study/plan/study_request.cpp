@@ -28,7 +28,10 @@
 
 namespace rockwatch::cli {
 
+// The helpers in a namespace of their own: the files that include CLI11 are compiled as one unit (CMakeLists.txt),
+// and theirs have the same names.
 namespace {
+namespace study_request {
 
 // The smallest --max-step: each analysis of a 40 s record then takes 4e7 steps. Smaller steps would make every
 // analysis run for minutes to hours, and Ctrl-C waits for the analyses in flight, so a typo such as 1e-12 is refused.
@@ -453,9 +456,11 @@ void parse_run_options(const CLI::App& app, const RawOptions& raw, StudyRequest&
   q.force = raw.force;
 }
 
+}  // namespace study_request
 }  // namespace
 
 std::vector<double> parse_pga_levels(const std::string& option, const std::string& text) {
+  using namespace study_request;
   const std::vector<std::string> fields = split_fields(text, ':');
   const std::string got = " (got " + quoted(text) + ")";
   if (fields.size() != 3) {
@@ -489,6 +494,7 @@ std::vector<double> parse_pga_levels(const std::string& option, const std::strin
 }
 
 std::vector<int> parse_set_list(const std::string& option, const std::string& text) {
+  using namespace study_request;
   const std::string expected =
       option + " must be a list of set numbers (from 1) and ranges, e.g. 1,2 or 1-3 (got " + quoted(text) + ")";
   std::set<int> sets;
@@ -505,6 +511,7 @@ std::vector<int> parse_set_list(const std::string& option, const std::string& te
 }
 
 StudyParse parse_study_arguments(int argc, const char* const* argv) {
+  using namespace study_request;
   CLI::App app{"Collapse-probability study (SPEC section 6, the design paper's Table 3): a wall through every record "
                "of a suite, without and with the vertical, for each restitution, at each PGA level.",
                "rockwatch study"};

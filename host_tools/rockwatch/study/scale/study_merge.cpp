@@ -32,7 +32,10 @@
 
 namespace rockwatch::cli {
 
+// The helpers in a namespace of their own: the files that include CLI11 are compiled as one unit (CMakeLists.txt),
+// and theirs have the same names.
 namespace {
+namespace study_merge {
 
 namespace fs = std::filesystem;
 
@@ -169,9 +172,11 @@ int merge(const std::string& out, bool force, const std::vector<std::string>& di
   return finish_scaled_study(study, 0);
 }
 
+}  // namespace study_merge
 }  // namespace
 
 int study_merge_main(int argc, const char* const* argv) {
+  using namespace study_merge;
   return run_command(kMergeErrors, [&] {
     CLI::App app{"Merge the shards of a study (rockwatch study --shard K/N) into the study's files.",
                  "rockwatch study merge"};

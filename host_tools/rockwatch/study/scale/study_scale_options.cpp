@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include <CLI/CLI.hpp>
+
 #include "rockwatch/options/command_line.hpp"
 #include "rockwatch/options/option_values.hpp"
 #include "rockwatch/options/usage_error.hpp"
@@ -12,7 +14,10 @@
 
 namespace rockwatch::cli {
 
+// The helpers in a namespace of their own: the files that include CLI11 are compiled as one unit (CMakeLists.txt),
+// and theirs have the same names.
 namespace {
+namespace study_scale_options {
 
 // At most this many shards: a batch array of a hundred thousand tasks is already beyond what schedulers accept.
 constexpr std::uint64_t kMaxShards = 100000;
@@ -42,9 +47,11 @@ const char* const kScaleFooter =
     "    rockwatch study --shard 3/8 --out shard3 ...; rockwatch study merge --out study shard1 ... shard8\n"
     "    mpirun -np 64 rockwatch study --mpi --walls stock.csv --out stock\n";
 
+}  // namespace study_scale_options
 }  // namespace
 
 void add_scale_options(CLI::App& app, ScaleOptionTexts& texts) {
+  using namespace study_scale_options;
   app.add_option("--walls", texts.walls, "Portfolio of walls, a CSV file (id,b,h1,h2,rho,fp,a,a_prime): the study "
                                          "for each")
       ->type_name("FILE.csv");
@@ -56,6 +63,7 @@ void add_scale_options(CLI::App& app, ScaleOptionTexts& texts) {
 }
 
 void parse_scale_options(const CLI::App& app, const ScaleOptionTexts& texts, StudyRequest& q) {
+  using namespace study_scale_options;
   const bool walls = given(app, "--walls"), shard = given(app, "--shard");
   if ((walls || shard || texts.mpi) && q.forecast) {
     throw UsageError(std::string(walls ? "--walls" : shard ? "--shard" : "--mpi") +

@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include <CLI/CLI.hpp>
+#include "rockwatch/options/cli11_fwd.hpp"
 
 #include "study/plan/study_request.hpp"
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
+#include "rockwatch/options/cli11_fwd.hpp"
 
 #include "rockwatch/core/alarm.hpp"
 #include "rockwatch/sim/analysis.hpp"

@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include <CLI/CLI.hpp>
+#include "rockwatch/options/cli11_fwd.hpp"
 
 namespace rockwatch::options {
 

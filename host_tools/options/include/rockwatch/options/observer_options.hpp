@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
+#include "rockwatch/options/cli11_fwd.hpp"
 
 #include "rockwatch/core/wall_observer.hpp"
 

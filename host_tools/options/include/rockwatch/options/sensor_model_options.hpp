@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
+#include "rockwatch/options/cli11_fwd.hpp"
 
 #include "rockwatch/sim/wall_sensor_synthesis.hpp"
 

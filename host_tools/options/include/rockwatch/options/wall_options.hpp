@@ -8,7 +8,7 @@
 #include <variant>
 #include <vector>
 
-#include <CLI/CLI.hpp>
+#include "rockwatch/options/cli11_fwd.hpp"
 
 #include "rockwatch/core/restitution.hpp"
 #include "rockwatch/core/wall.hpp"
