@@ -170,12 +170,12 @@ void MonitorForecaster::push_ground(std::int64_t utime, double ug) {
 void MonitorForecaster::take_ground(std::uint8_t kind, const std::uint8_t* data, std::size_t size) {
   const int n = static_cast<int>(size);
   if (kind == ForecastFeed::kAccel) {
-    rockwatch::ground_accel_t m;
+    rockwatch::ground_accel_t m{};  // (zeroed: g++ -O3 compiling this file alone cannot see that decode fills it)
     if (m.decode(data, 0, n) != n) return;
     if (std::isfinite(m.ug_mps2)) push_ground(m.utime, m.ug_mps2);
     return;
   }
-  rockwatch::ground_accel_batch_t m;
+  rockwatch::ground_accel_batch_t m{};
   if (m.decode(data, 0, n) != n) return;
   if (m.count < 1 || m.count > rockwatch::ground_accel_batch_t::MAX_SAMPLES || m.sample_period_us <= 0) return;
   for (int i = 0; i < m.count; ++i) {
