@@ -195,7 +195,7 @@ const rockwatch::wall_forecast_t& MonitorForecaster::run_once() {
   m.sigma_now_mps2 = m.omega_g_rps = m.growth_per_s = 0.0;
   m.p_collapse_calibrated = std::numeric_limits<double>::quiet_NaN();
   m.energy_ratio_max_2s = m.x_over_x_inst = std::numeric_limits<double>::quiet_NaN();
-  rockwatch::wall_state_t state;
+  rockwatch::wall_state_t state{};  // (zeroed, as in take_ground: for g++ compiling this file alone)
   const std::size_t state_size = feed_.read_state(buffer_.data());
   const bool have_state =
       state_size > 0 && state.decode(buffer_.data(), 0, static_cast<int>(state_size)) == static_cast<int>(state_size);
@@ -218,7 +218,7 @@ const rockwatch::wall_forecast_t& MonitorForecaster::run_once() {
     st.xd_mps = state.xd_mps;
     st.ug_now_mps2 = ground_[(ground_next_ + ground_.size() - 1) % ground_.size()];
     if (observer_) {
-      rockwatch::wall_estimate_t e;
+      rockwatch::wall_estimate_t e{};
       const std::size_t size = feed_.read_estimate(buffer_.data());
       if (size > 0 && e.decode(buffer_.data(), 0, static_cast<int>(size)) == static_cast<int>(size)) {
         // The fused state, its spread and the estimated wall (SPEC §10 "State uncertainty").
