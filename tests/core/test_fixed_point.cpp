@@ -9,6 +9,9 @@
 
 #include <CppUTest/TestHarness.h>
 
+// The file's own scope in a unity build (tests/CMakeLists.txt): its helpers' names recur in other files of the suite.
+namespace unity_test_fixed_point {
+
 using namespace rockwatch::core;
 
 namespace {
@@ -415,3 +418,5 @@ TEST(FixedPoint, AbsAndComparisons) {
   CHECK(Q7_24::lowest() < -Q7_24::resolution());
   CHECK(Q7_24() == Q7_24(0));
 }
+
+}  // namespace unity_test_fixed_point

@@ -16,6 +16,9 @@
 #error "the exact references of this test need the compiler's 128-bit integers (a host test)"
 #endif
 
+// The file's own scope in a unity build (tests/CMakeLists.txt): its helpers' names recur in other files of the suite.
+namespace unity_test_fixed_point64 {
+
 using namespace rockwatch::core;
 
 namespace {
@@ -732,3 +735,5 @@ TEST(FixedPoint64, AbsAndComparisons) {
   CHECK(Q1_62::lowest() < -Q1_62::from_raw(1));
   CHECK(Q1_62() == Q1_62(0));
 }
+
+}  // namespace unity_test_fixed_point64

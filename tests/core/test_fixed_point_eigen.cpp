@@ -10,6 +10,9 @@
 
 #include <CppUTest/TestHarness.h>
 
+// The file's own scope in a unity build (tests/CMakeLists.txt): its helpers' names recur in other files of the suite.
+namespace unity_test_fixed_point_eigen {
+
 using namespace rockwatch::core;
 
 namespace {
@@ -174,3 +177,5 @@ TEST(FixedPointEigen, SaturationPropagatesInsteadOfWrapping) {
   CHECK(Vec3(-hundreds - hundreds) == Vec3::Constant(Q::lowest()));
   CHECK(Mat33(Mat33::Constant(Q::lowest()).cwiseAbs()) == Mat33::Constant(Q::highest()));
 }
+
+}  // namespace unity_test_fixed_point_eigen

@@ -10,6 +10,9 @@
 
 #include <CppUTest/TestHarness.h>
 
+// The file's own scope in a unity build (tests/CMakeLists.txt): its helpers' names recur in other files of the suite.
+namespace unity_test_static_check {
+
 using namespace rockwatch::core;
 
 namespace {
@@ -320,3 +323,5 @@ TEST(StaticCheck, ValidationRejections) {
   leaning.psi_rad = 0.11;  // just below 4b/h
   CHECK_TRUE(validate_static_inputs(leaning).ok());
 }
+
+}  // namespace unity_test_static_check

@@ -24,6 +24,9 @@
 
 #include "memory_transport.hpp"
 
+// The file's own scope in a unity build (tests/CMakeLists.txt): its helpers' names recur in other files of the suite.
+namespace unity_test_monitor_loop_observer {
+
 using namespace rockwatch;
 namespace fw = rockwatch::firmware;
 using Status = rockwatch::monitor_status_t;
@@ -545,3 +548,5 @@ TEST(MonitorLoopObserver, BadObserverSettingsAreRefused) {
   s.engine.observer_enabled = false;
   CHECK_TRUE(loop.init(s, engine, t) == fw::MonitorError::ok);
 }
+
+}  // namespace unity_test_monitor_loop_observer

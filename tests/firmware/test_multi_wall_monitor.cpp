@@ -20,6 +20,9 @@
 
 #include "memory_transport.hpp"
 
+// The file's own scope in a unity build (tests/CMakeLists.txt): its helpers' names recur in other files of the suite.
+namespace unity_test_multi_wall_monitor {
+
 using namespace rockwatch;
 namespace fw = rockwatch::firmware;
 
@@ -195,3 +198,5 @@ TEST(MultiWallMonitor, ChannelClashesAndWallCountsAreRefused) {
   STRCMP_CONTAINS("publish on the same channel",
                   fw::multi_wall_error_message(fw::MultiWallError::output_channel_shared));
 }
+
+}  // namespace unity_test_multi_wall_monitor

@@ -14,6 +14,9 @@
 
 #include <CppUTest/TestHarness.h>
 
+// The file's own scope in a unity build (tests/CMakeLists.txt): its helpers' names recur in other files of the suite.
+namespace unity_test_wall_engine_carry_over {
+
 namespace core = rockwatch::core;
 namespace fw = rockwatch::firmware;
 namespace records = rockwatch::records;
@@ -494,3 +497,5 @@ TEST(WallEngineCarryOver, AMeteredCallStopsOnlyBetweenSubstepsOrInsideTheStepper
   CHECK_TRUE(omet.counters().superseded > 100);
   CHECK_TRUE(omet.counters().x_updates > 1000);
 }
+
+}  // namespace unity_test_wall_engine_carry_over

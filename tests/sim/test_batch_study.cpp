@@ -16,6 +16,9 @@
 
 #include <CppUTest/TestHarness.h>
 
+// The file's own scope in a unity build (tests/CMakeLists.txt): its helpers' names recur in other files of the suite.
+namespace unity_test_batch_study {
+
 using namespace rockwatch;
 using sim::study::RunKey;
 using sim::study::RunResult;
@@ -361,3 +364,5 @@ TEST(BatchStudy, AnInputTheAnalysisRefusesGivesItsMessageAndCountsAsDoneWithoutT
   CHECK_FALSE(refused.t_exceed_s.has_value());
   CHECK_EQUAL(0.0, refused.max_abs_x_m);
 }
+
+}  // namespace unity_test_batch_study

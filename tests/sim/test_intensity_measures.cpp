@@ -17,6 +17,9 @@
 
 #include <CppUTest/TestHarness.h>
 
+// The file's own scope in a unity build (tests/CMakeLists.txt): its helpers' names recur in other files of the suite.
+namespace unity_test_intensity_measures {
+
 namespace sim = rockwatch::sim;
 namespace records = rockwatch::records;
 using rockwatch::test::data_path;
@@ -206,3 +209,5 @@ TEST(PeakGroundMotion, Rejections) {
   const sim::BaselineCorrectedMotion m = sim::baseline_corrected_motion({0.0, 2.0}, 0.5);
   DOUBLES_EQUAL(0.5, m.vel_mps[1], 1e-15);
 }
+
+}  // namespace unity_test_intensity_measures

@@ -25,6 +25,9 @@
 
 #include <CppUTest/TestHarness.h>
 
+// The file's own scope in a unity build (tests/CMakeLists.txt): its helpers' names recur in other files of the suite.
+namespace unity_test_monitor_datagrams {
+
 using nlohmann::json;
 using rockwatch::test::now_s;
 using rockwatch::test::TempDir;
@@ -256,3 +259,5 @@ TEST(MonitorDatagrams, SourcesNotAcceptedAreDroppedAndCounted) {
   LONGS_EQUAL(0, s.at("datagrams").at("short_messages").get<long>());
   LONGS_EQUAL(0, s.at("counters").at("samples_received").get<long>());
 }
+
+}  // namespace unity_test_monitor_datagrams

@@ -30,6 +30,9 @@
 
 #include <CppUTest/TestHarness.h>
 
+// The file's own scope in a unity build (tests/CMakeLists.txt): its helpers' names recur in other files of the suite.
+namespace unity_test_monitor_faults {
+
 using nlohmann::json;
 using rockwatch::test::now_s;
 using rockwatch::test::skip_without_multicast;
@@ -325,3 +328,5 @@ TEST(MonitorFaults, ReplayRestartedMidRecordIsOnePublisherRestart) {
   }
   CHECK_TEXT(status_flagged, "no status said the publisher restarted");
 }
+
+}  // namespace unity_test_monitor_faults

@@ -20,6 +20,9 @@
 
 #include <CppUTest/TestHarness.h>
 
+// The file's own scope in a unity build (tests/CMakeLists.txt): its helpers' names recur in other files of the suite.
+namespace unity_test_monitor_golden {
+
 using nlohmann::json;
 using rockwatch::test::monitor_data_path;
 using rockwatch::test::OutputLog;
@@ -547,3 +550,5 @@ TEST(MonitorOfflineAdapter, AnEmptyLogGivesAnEmptyOutput) {
   LONGS_EQUAL(0, s.at("output_events").get<long>());
   LONGS_EQUAL(0, rockwatch::test::read_output_log(dir.file("out.lcmlog")).events);
 }
+
+}  // namespace unity_test_monitor_golden

@@ -27,6 +27,9 @@
 
 #include <CppUTest/TestHarness.h>
 
+// The file's own scope in a unity build (tests/CMakeLists.txt): its helpers' names recur in other files of the suite.
+namespace unity_test_monitor_live_forecast {
+
 using nlohmann::json;
 using rockwatch::test::now_s;
 using rockwatch::test::skip_without_multicast;
@@ -354,3 +357,5 @@ TEST(MonitorLiveForecast, OfflineTheForecastsAreInLogTimeAndDeterministic) {
   CHECK_EQUAL(0, rockwatch::test::run_monitor({"--offline-in", in, "--offline-out", plain}).exit_status);
   CHECK(rockwatch::test::read_file(plain).find("ROCKWATCH_WALL_FORECAST") == std::string::npos);
 }
+
+}  // namespace unity_test_monitor_live_forecast

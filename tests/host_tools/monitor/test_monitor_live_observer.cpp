@@ -26,6 +26,9 @@
 
 #include <CppUTest/TestHarness.h>
 
+// The file's own scope in a unity build (tests/CMakeLists.txt): its helpers' names recur in other files of the suite.
+namespace unity_test_monitor_live_observer {
+
 using nlohmann::json;
 using rockwatch::test::now_s;
 using rockwatch::test::skip_without_multicast;
@@ -241,3 +244,5 @@ TEST(MonitorLiveObserver, OfflineTheLogsWallSensorsAreFusedDeterministically) {
     }
   }
 }
+
+}  // namespace unity_test_monitor_live_observer

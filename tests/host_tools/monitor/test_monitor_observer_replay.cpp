@@ -21,6 +21,9 @@
 
 #include <CppUTest/TestHarness.h>
 
+// The file's own scope in a unity build (tests/CMakeLists.txt): its helpers' names recur in other files of the suite.
+namespace unity_test_monitor_observer_replay {
+
 using nlohmann::json;
 using rockwatch::test::OutputLog;
 using rockwatch::test::ProcessResult;
@@ -208,3 +211,5 @@ TEST(MonitorObserverReplay, MonitorLearnsThePlantOfReplayWallFile) {
   const bool monitor_collapsed = summary.at("max_alarm_level").get<std::string>() == "COLLAPSED";
   CHECK_EQUAL_TEXT(plant.at("collapsed").get<bool>(), monitor_collapsed, what.c_str());
 }
+
+}  // namespace unity_test_monitor_observer_replay

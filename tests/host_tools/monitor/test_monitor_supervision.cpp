@@ -25,6 +25,9 @@
 
 #include <CppUTest/TestHarness.h>
 
+// The file's own scope in a unity build (tests/CMakeLists.txt): its helpers' names recur in other files of the suite.
+namespace unity_test_monitor_supervision {
+
 using rockwatch::test::now_s;
 using rockwatch::test::TempDir;
 
@@ -187,3 +190,5 @@ TEST(MonitorSupervision, SystemdNotificationsReadyWatchdogStopping) {
   LONGS_EQUAL_TEXT(3, watchdogs, all.c_str());
   CHECK_TEXT(got.back() == "STOPPING=1", all.c_str());
 }
+
+}  // namespace unity_test_monitor_supervision

@@ -27,6 +27,9 @@
 
 #include <CppUTest/TestHarness.h>
 
+// The file's own scope in a unity build (tests/CMakeLists.txt): its helpers' names recur in other files of the suite.
+namespace unity_test_simulate_alarm {
+
 using rockwatch::test::describe;
 using rockwatch::test::kG;
 using rockwatch::test::ProcessResult;
@@ -200,3 +203,5 @@ TEST(SimulateAlarm, HelpListsTheOptions) {
     STRCMP_CONTAINS(text, r.out.c_str());
   }
 }
+
+}  // namespace unity_test_simulate_alarm

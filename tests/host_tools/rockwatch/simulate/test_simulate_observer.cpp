@@ -21,6 +21,9 @@
 
 #include <CppUTest/TestHarness.h>
 
+// The file's own scope in a unity build (tests/CMakeLists.txt): its helpers' names recur in other files of the suite.
+namespace unity_test_simulate_observer {
+
 using rockwatch::test::describe;
 using rockwatch::test::expect_command_rejected;
 using rockwatch::test::kG;
@@ -248,3 +251,5 @@ TEST(SimulateObserver, RAfterFiveRockingImpactsOfAnIndependentTruth) {
   CHECK(std::fabs(r5 - r_true) <= 3.0 * s5);
   CHECK(s5 < 0.05);
 }
+
+}  // namespace unity_test_simulate_observer

@@ -13,6 +13,9 @@
 
 #include <CppUTest/TestHarness.h>
 
+// The file's own scope in a unity build (tests/CMakeLists.txt): its helpers' names recur in other files of the suite.
+namespace unity_test_simulate_rejections {
+
 using rockwatch::test::describe;
 using rockwatch::test::kG;
 using rockwatch::test::ProcessResult;
@@ -168,3 +171,5 @@ TEST(SimulateRejectsFiles, MalformedRecordNamesTheLine) {
   rockwatch::test::write_text(path, "# units: g\n0.00 0.1\n0.01 zero\n");
   expect_rejected({"--record", path}, {path + ":3"});
 }
+
+}  // namespace unity_test_simulate_rejections

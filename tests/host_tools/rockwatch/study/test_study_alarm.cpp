@@ -34,6 +34,9 @@
 
 #include <CppUTest/TestHarness.h>
 
+// The file's own scope in a unity build (tests/CMakeLists.txt): its helpers' names recur in other files of the suite.
+namespace unity_test_study_alarm {
+
 using rockwatch::options::split_fields;
 using rockwatch::test::describe;
 using rockwatch::test::kG;
@@ -501,3 +504,5 @@ TEST(StudyAlarmArithmetic, RunsCsvOfAFixedPointStudyReadsBackWhatWasWritten) {
     STRCMP_CONTAINS("verdict_differs", e.what());
   }
 }
+
+}  // namespace unity_test_study_alarm

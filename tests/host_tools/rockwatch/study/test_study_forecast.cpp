@@ -23,6 +23,9 @@
 
 #include <CppUTest/TestHarness.h>
 
+// The file's own scope in a unity build (tests/CMakeLists.txt): its helpers' names recur in other files of the suite.
+namespace unity_test_study_forecast {
+
 using rockwatch::test::describe;
 using rockwatch::test::expect_command_rejected;
 using rockwatch::test::ProcessResult;
@@ -389,3 +392,5 @@ TEST(StudyForecast, CalibrationNeverSeesTheRecordScored) {
   LONGS_EQUAL(240, static_cast<long>(binned));
   LONGS_EQUAL(5, static_cast<long>(c.coefficients_all_records.size()));
 }
+
+}  // namespace unity_test_study_forecast

@@ -20,6 +20,9 @@
 
 #include <CppUTest/TestHarness.h>
 
+// The file's own scope in a unity build (tests/CMakeLists.txt): its helpers' names recur in other files of the suite.
+namespace unity_test_study_observer {
+
 using rockwatch::test::describe;
 using rockwatch::test::expect_command_rejected;
 using rockwatch::test::ProcessResult;
@@ -171,3 +174,5 @@ TEST(StudyObserver, ScoringUsesTheTrueVerdictAndTheStudysAlarmDefinitions) {
   CHECK(j["open_loop"]["lead_time_s_median"].is_null());
   DOUBLES_EQUAL(1.0, j["fused"]["recall"].get<double>(), 0.0);
 }
+
+}  // namespace unity_test_study_observer

@@ -27,6 +27,9 @@
 
 #include <CppUTest/TestHarness.h>
 
+// The file's own scope in a unity build (tests/CMakeLists.txt): its helpers' names recur in other files of the suite.
+namespace unity_test_study_shards {
+
 using rockwatch::options::split_fields;
 using rockwatch::test::describe;
 using rockwatch::test::EnvOverride;
@@ -244,3 +247,5 @@ TEST(StudyShards, MpiWithoutMpiSaysSo) {
   const TempDir tmp;
   expect_command_rejected("study", {"--mpi", "--out", tmp.file("x")}, {"--mpi", "built without MPI"});
 }
+
+}  // namespace unity_test_study_shards

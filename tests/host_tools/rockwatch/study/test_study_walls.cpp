@@ -21,6 +21,9 @@
 
 #include <CppUTest/TestHarness.h>
 
+// The file's own scope in a unity build (tests/CMakeLists.txt): its helpers' names recur in other files of the suite.
+namespace unity_test_study_walls {
+
 using rockwatch::options::split_fields;
 using rockwatch::test::describe;
 using rockwatch::test::expect_command_rejected;
@@ -243,3 +246,5 @@ TEST(StudyWalls, BadRowsAreRefusedNamingFileAndLine) {
   expect_command_rejected("study", {"--walls", tmp.file("missing.csv"), "--out", dir}, {"--walls", "missing.csv"});
   expect_command_rejected("study", {"--walls", walls, "--alarms", "--observer", "--out", dir}, {"--walls", "--observer"});
 }
+
+}  // namespace unity_test_study_walls
