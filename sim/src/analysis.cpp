@@ -363,9 +363,6 @@ AnalysisResult run_analysis(const core::WallParameters& wall, const GroundMotion
   } else {
     engine.chain().reset(ug0, vg0);
   }
-  ResponseRecorder recorder(wall, o, result);
-  recorder.row(0.0, to_double(ug0), to_double(vg0), engine);
-
   const auto forced_samples = static_cast<std::size_t>(std::llround(result.t_end_s / dt));
   if (o.keep_history) {
     // A row per sub-step of the record (more when the free motion follows): one allocation instead of a doubling
@@ -374,6 +371,8 @@ AnalysisResult run_analysis(const core::WallParameters& wall, const GroundMotion
     result.history.reserve(1 + forced_samples * start.n_sub);
     if (observer) result.observer_history.reserve(forced_samples);
   }
+  ResponseRecorder recorder(wall, o, result);
+  recorder.row(0.0, to_double(ug0), to_double(vg0), engine);
   std::size_t k = 0;
   for (; k < forced_samples && !engine.stepper().collapsed(); ++k) {
     note_input(sample_or_zero(motion.ug_mps2, k + 1), sample_or_zero(motion.vg_mps2, k + 1));
