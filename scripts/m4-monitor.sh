@@ -106,21 +106,8 @@ if [[ -z $image ]]; then
     echo "m4-monitor: SKIPPED: ${ARM_GXX:-arm-none-eabi-g++} not found (scripts/install-deps.sh installs gcc-arm-none-eabi)" >&2
     exit 77
   fi
-  build_dir=$root/build/m4-monitor
-  image=$build_dir/rockwatch_m4_monitor.elf
-  if [[ ! -f $image ]] || [[ -n $(find "$root/core/include" "$root/firmware/include" "$root/firmware/src" \
-                                      "$root/firmware/embedded/m4_monitor" "$root/firmware/embedded/m4_replay" \
-                                      "$root/scripts/embedded-build.sh" "$root/CMakeLists.txt" -newer "$image" -print -quit) ]]; then
-    echo "m4-monitor: building the monitor image (scripts/embedded-build.sh --m4-monitor)" >&2
-    if ! "$root/scripts/embedded-build.sh" --m4-monitor "$work/image" >"$work/build.log" 2>&1; then
-      cat "$work/build.log" >&2
-      echo "m4-monitor: building the monitor image failed" >&2
-      exit 1
-    fi
-    mkdir -p "$build_dir"
-    cp "$work/image/rockwatch_m4_monitor.elf" "$image.tmp.$$"
-    mv -f "$image.tmp.$$" "$image"
-  fi
+  image=$root/build/m4-monitor/rockwatch_m4_monitor.elf
+  "$root/scripts/m4-monitor-image.sh" "$root/build/m4-monitor" >&2 || exit $?
 fi
 [[ -f $image ]] || { echo "m4-monitor: image $image not found" >&2; exit 1; }
 if [[ $(head -c 4 "$image" | od -An -tx1 | tr -d ' \n') != 7f454c46 ]]; then

@@ -9,13 +9,15 @@
 # and at 1 kHz with a work budget, where every call must also fit issue 43's 32 000 instructions
 # (m4_monitor_wire_check.py budget).
 #
-#   m4_monitor_wire.sh ROCKWATCH ROCKWATCH_MONITOR WORK_DIR
+#   m4_monitor_wire.sh ROCKWATCH ROCKWATCH_MONITOR WORK_DIR [IMAGE_DIR]
+# IMAGE_DIR: where the image is kept (scripts/m4-monitor-image.sh: built there when missing or older than a source;
+# ctest m4_monitor_image builds it before this entry's quiet stage); default WORK_DIR/image, built each run.
 # Exit status: 0 equal; 1 a difference or failure; 77 arm-none-eabi-g++ or qemu-system-arm missing (SKIP).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../../.." && pwd)
 here=$root/tests/firmware/m4
-[[ $# -eq 3 ]] || { echo "usage: $0 ROCKWATCH ROCKWATCH_MONITOR WORK_DIR" >&2; exit 2; }
-rockwatch=$1 monitor=$2 work=$3
+[[ $# -eq 3 || $# -eq 4 ]] || { echo "usage: $0 ROCKWATCH ROCKWATCH_MONITOR WORK_DIR [IMAGE_DIR]" >&2; exit 2; }
+rockwatch=$1 monitor=$2 work=$3 image_dir=${4:-$3/image}
 python=/usr/bin/python3
 for tool in "${ARM_GXX:-arm-none-eabi-g++}" "${QEMU_SYSTEM_ARM:-qemu-system-arm}"; do
   if ! command -v "$tool" >/dev/null; then
@@ -25,8 +27,8 @@ for tool in "${ARM_GXX:-arm-none-eabi-g++}" "${QEMU_SYSTEM_ARM:-qemu-system-arm}
 done
 rm -rf "$work"
 mkdir -p "$work"
-"$root/scripts/embedded-build.sh" --m4-monitor "$work/image" >"$work/build.log" 2>&1 || { cat "$work/build.log"; exit 1; }
-image=$work/image/rockwatch_m4_monitor.elf
+"$root/scripts/m4-monitor-image.sh" "$image_dir" || exit 1
+image=$image_dir/rockwatch_m4_monitor.elf
 suite=$root/sim/suites/npr9998-2015
 corpus=$root/tests/fuzz/corpus/monitor_datagrams
 "$rockwatch" simulate --suite "$suite" --set 1 --component X --scale-pga 0.25 --r exp \
