@@ -10,13 +10,9 @@
 # within a quarter of its timeout with one core busy (docs/BENCHMARKS.md "The test loop"), which is at most what a
 # niced build beside it costs. The order:
 #   release: build                    (foreground)
-#   release: test (all but arm64)     beside  debug: build (background, nice 10), arm64: build (background, nice 15),
-#                                             fuzz: build (background, nice 19)
-#   debug: test                       beside  arm64: build and fuzz: build (if not done)
+#   release: test (all but arm64)     beside  debug: build (background)
+#   debug: test                       beside  arm64: build (background, nice 10), fuzz: build (background, nice 19)
 #   release: test arm64_cross_check   beside  fuzz: build (if not done)
-# (All three builds start beside the release tests: the tests leave CPU idle there, which the builds after the debug
-# one found only later, one at a time, with a core idle at their ends. Their nice levels keep the order: the debug build
-# first, which the debug tests wait for.)
 #   quiet tests                       alone: both presets' entries labelled quiet_machine (the emulated board on the
 #                                     wire must keep real time; beside a build it fell behind and lost datagrams)
 #   fuzz: smoke                       nproc fuzzers at a time
@@ -129,11 +125,7 @@ stage_done
 # and fail under CI=true); after the build, which installs iproute2.
 source scripts/multicast-route.sh
 
-# The aarch64 cross build of the two programs (build/arm64, at -O1: cross-build.sh --quick), which ctest arm64_cross_check
-# runs under qemu; the libFuzzer targets.
-bg_start "debug: build" 10 ./scripts/build.sh debug
-bg_start "arm64: build" 15 ./scripts/cross-build.sh --no-deps --quick
-bg_start "fuzz: build" 19 ./scripts/build.sh fuzz-quick
+bg_start "debug: build" 19 ./scripts/build.sh debug
 stage "release: test"
 run_ctest release ctest-junit.xml -E '^arm64_cross_check$' -LE quiet_machine
 release_status=$ctest_status
@@ -141,6 +133,10 @@ stage_done
 [ "$release_status" -eq 0 ] || { summarise release ctest-junit.xml; }
 bg_wait "debug: build"
 
+# The aarch64 cross build of the two programs (build/arm64, at -O1: cross-build.sh --quick), which ctest arm64_cross_check runs under qemu; the
+# libFuzzer targets. Both beside the debug tests, the cross build first (nice 10 before 19).
+bg_start "arm64: build" 10 ./scripts/cross-build.sh --no-deps --quick
+bg_start "fuzz: build" 19 ./scripts/build.sh fuzz-quick
 stage "debug: test"
 run_ctest debug ctest-junit.xml -LE quiet_machine
 debug_status=$ctest_status
