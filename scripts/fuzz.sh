@@ -11,6 +11,9 @@
 #   --quick (after the mode)                       the preset "fuzz-quick" in build/fuzz-quick: rockwatch_sim (not a
 #                                                  parser) at -O0, the rest at -O1 (CI's smoke: docs/BENCHMARKS.md
 #                                                  "The test loop"); long runs want the default preset
+#   --jobs-file=FILE (after the mode)              smoke: how many fuzzers at a time, read from FILE before each
+#                                                  start (nproc when it is absent or not a number): CI runs the smoke
+#                                                  one at a time beside the emulated board's test, then nproc
 #
 # Exit status non-zero on any crash, uncaught exception, sanitizer report, leak, timeout (hang) or out-of-memory.
 # Per target: executions, seconds, executions/s, corpus files/bytes at the end, coverage; logs and crashing inputs in
@@ -20,8 +23,13 @@ cd "$(dirname "$0")/.."
 mode="${1:-smoke}"
 preset=fuzz
 args=()
+jobs_file=""
 for a in "$@"; do
-  if [ "$a" = --quick ]; then preset=fuzz-quick; else args+=("$a"); fi
+  case "$a" in
+    --quick) preset=fuzz-quick ;;
+    --jobs-file=*) jobs_file=${a#--jobs-file=} ;;
+    *) args+=("$a") ;;
+  esac
 done
 set -- "${args[@]}"
 build=build/$preset
@@ -52,7 +60,7 @@ field() { echo "$1" | awk -v n="$2" '{print $n}'; }
 target_names() { for t in "${targets[@]}"; do field "$t" 1; done; }
 
 usage() {
-  sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'
+  sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'
   exit 2
 }
 
@@ -118,19 +126,26 @@ run_fuzzer() {
     "${rate:-?}" "${corp:-?}" "${cov:-?}" "$verdict" >"$build/logs/$target.result"
 }
 
-# run_fuzzers WORK_ROOT: every target for its smoke seconds, nproc at a time (each fuzzer is one process on one core:
-# run one after another they left a core idle, issue 42), new inputs in WORK_ROOT/TARGET; then the results in the
-# targets' order.
+# How many fuzzers at a time: --jobs-file's number when there is one, else nproc.
+max_jobs() {
+  local n=""
+  [ -z "$jobs_file" ] || n=$(cat "$jobs_file" 2>/dev/null || true)
+  if [[ "$n" =~ ^[1-9][0-9]*$ ]]; then echo "$n"; else nproc; fi
+}
+
+# run_fuzzers WORK_ROOT: every target for its smoke seconds, max_jobs at a time (each fuzzer is one process on one
+# core: run one after another they left a core idle, issue 42), new inputs in WORK_ROOT/TARGET; then the results in
+# the targets' order.
 run_fuzzers() {
   local work_root=$1 t running=0
   for t in "${targets[@]}"; do
     rm -f "$build/logs/$(field "$t" 1).result"
   done
   for t in "${targets[@]}"; do
-    if [ "$running" -ge "$(nproc)" ]; then
+    while [ "$running" -ge "$(max_jobs)" ]; do
       wait -n || true
       running=$((running - 1))
-    fi
+    done
     run_fuzzer "$(field "$t" 1)" "$(field "$t" 2)" "$(field "$t" 3)" "$work_root/$(field "$t" 1)" &
     running=$((running + 1))
   done

@@ -73,7 +73,8 @@ run_case() {  # NAME "MONITOR OPTIONS" "REPLAY OPTIONS" HOSTILE(0|1) LISTEN_SECO
     2>"$dir/host.err" &
   local host=$!
   pids+=("$host")
-  "$python" "$here/m4_monitor_wire_check.py" listen "$url" "$dir/states.json" "$listen_s" &
+  rm -f "$dir/sent"
+  "$python" "$here/m4_monitor_wire_check.py" listen "$url" "$dir/states.json" "$listen_s" "$dir/sent" &
   local listener=$!
   sleep 1
   # shellcheck disable=SC2086
@@ -81,6 +82,7 @@ run_case() {  # NAME "MONITOR OPTIONS" "REPLAY OPTIONS" HOSTILE(0|1) LISTEN_SECO
   if [[ $hostile -eq 1 ]]; then
     "$python" "$here/m4_monitor_wire_check.py" hostile "$url" "$corpus/liblcm_crash_pair" "$corpus/short_channel_names"
   fi
+  : >"$dir/sent"  # the listener stops once both monitors have fallen quiet after this (LISTEN_SECONDS at most)
   wait "$listener" || true
   sleep 0.5
   kill -INT "$host"

@@ -3,7 +3,13 @@
 wall_state_t payloads per publisher (the image's come from its bridge, the host's from rockwatch-monitor), sends the
 hostile datagrams, and compares the two monitors' results.
 
-  m4_monitor_wire_check.py listen URL OUT.json SECONDS      collect WALL_STATE payloads by source for SECONDS
+  m4_monitor_wire_check.py listen URL OUT.json SECONDS [DONE_FILE]
+                                                            collect WALL_STATE payloads by source for SECONDS; with
+                                                            DONE_FILE, stop earlier: once that file exists (the stream
+                                                            has been sent), both publishers were heard, and neither
+                                                            has published for QUIET_S (a monitor publishes a state per
+                                                            processed sample and nothing else, so a quiet group means
+                                                            both have finished; compare checks every state was heard)
   m4_monitor_wire_check.py hostile URL CORPUS_FILE...       send the datagrams of fuzz corpus files to the group
   m4_monitor_wire_check.py compare IMAGE.json HOST.jsonl STATES.json NAME
   m4_monitor_wire_check.py budget IMAGE.json NAME MAX_INSN   issue 43's budget: every ground message's call, the
@@ -11,7 +17,7 @@ hostile datagrams, and compares the two monitors' results.
                                                             image's own part of every call (ground or sensor) within
                                                             the overhead it declares to the engine
 """
-import json, socket, struct, sys, time
+import json, os, socket, struct, sys, time
 from urllib.parse import urlparse
 
 
@@ -20,7 +26,10 @@ def group_of(url):
     return u.hostname, u.port
 
 
-def listen(url, out, seconds):
+QUIET_S = 2.0
+
+
+def listen(url, out, seconds, done_file=None):
     group, port = group_of(url)
     s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM, socket.IPPROTO_UDP)
     s.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
@@ -31,7 +40,10 @@ def listen(url, out, seconds):
     s.settimeout(0.2)
     states = {}
     end = time.monotonic() + seconds
+    last = time.monotonic()
     while time.monotonic() < end:
+        if done_file and len(states) == 2 and time.monotonic() - last >= QUIET_S and os.path.exists(done_file):
+            break
         try:
             data, src = s.recvfrom(65536)
         except socket.timeout:
@@ -42,6 +54,7 @@ def listen(url, out, seconds):
         if nul < 0 or data[8:nul] != b"ROCKWATCH_WALL_STATE":
             continue
         states.setdefault("%s:%d" % src, []).append(data[nul + 1:].hex())
+        last = time.monotonic()
     json.dump(states, open(out, "w"))
 
 
@@ -92,6 +105,10 @@ def compare(image_path, host_path, states_path, name):
         failed.append("wall_state_t publishers seen: %d (expected the image's bridge and the host)" % len(states))
     else:
         a, b = states.values()
+        # Every state each monitor published was heard (the listener may stop when the group falls quiet).
+        for who, n in (("image", c.get("states_published")), ("host", h.get("states_published"))):
+            if n is None or n != len(a) or n != len(b):
+                failed.append("wall_state_t: %s published %d, heard %d and %d" % (who, n, len(a), len(b)))
         if a != b:
             diff = next((i for i, (x, y) in enumerate(zip(a, b)) if x != y), min(len(a), len(b)))
             failed.append("wall_state_t: %d and %d messages, first difference at message %d" % (len(a), len(b), diff))
@@ -132,7 +149,7 @@ def budget(image_path, name, max_insn):
 if __name__ == "__main__":
     cmd = sys.argv[1]
     if cmd == "listen":
-        listen(sys.argv[2], sys.argv[3], float(sys.argv[4]))
+        listen(sys.argv[2], sys.argv[3], float(sys.argv[4]), sys.argv[5] if len(sys.argv) > 5 else None)
     elif cmd == "hostile":
         hostile(sys.argv[2], sys.argv[3:])
     elif cmd == "compare":
