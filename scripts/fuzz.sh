@@ -133,7 +133,7 @@ max_jobs() {
   if [[ "$n" =~ ^[1-9][0-9]*$ ]]; then echo "$n"; else nproc; fi
 }
 
-# run_fuzzers WORK_ROOT: every target for its smoke seconds, max_jobs at a time (each fuzzer is one process on one
+# run_fuzzers WORK_ROOT: every target for its smoke seconds, longest first, max_jobs at a time (each fuzzer is one process on one
 # core: run one after another they left a core idle, issue 42), new inputs in WORK_ROOT/TARGET; then the results in
 # the targets' order.
 run_fuzzers() {
@@ -141,7 +141,11 @@ run_fuzzers() {
   for t in "${targets[@]}"; do
     rm -f "$build/logs/$(field "$t" 1).result"
   done
-  for t in "${targets[@]}"; do
+  # Longest first, so that the last ones to start are short and the cores finish together; the results are
+  # printed in the table's order.
+  local by_length=()
+  mapfile -t by_length < <(printf '%s\n' "${targets[@]}" | sort -k3,3nr -s)
+  for t in "${by_length[@]}"; do
     while [ "$running" -ge "$(max_jobs)" ]; do
       wait -n || true
       running=$((running - 1))
