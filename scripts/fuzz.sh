@@ -133,9 +133,9 @@ max_jobs() {
   if [[ "$n" =~ ^[1-9][0-9]*$ ]]; then echo "$n"; else nproc; fi
 }
 
-# run_fuzzers WORK_ROOT: every target for its smoke seconds, longest first, max_jobs at a time (each fuzzer is one process on one
-# core: run one after another they left a core idle, issue 42), new inputs in WORK_ROOT/TARGET; then the results in
-# the targets' order.
+# run_fuzzers WORK_ROOT: every target for its smoke seconds, longest first, max_jobs at a time (each fuzzer is one
+# process on one core: run one after another they left a core idle, issue 42), new inputs in WORK_ROOT/TARGET; then the
+# results in the targets' order.
 run_fuzzers() {
   local work_root=$1 t running=0
   for t in "${targets[@]}"; do
