@@ -87,8 +87,8 @@ json observer_json(const core::ObserverOptions& o, const core::ObserverSample& l
            {"sensor_duplicates", loop.sensor_duplicates},
            {"estimates_published", loop.estimates_published},
            {"counters", counters}};
-  // The opt-in capacity from the decline of the restoring force (SPEC §11): named only when on, so the summary of a
-  // monitor without it keeps its bytes.
+  // The capacity from the decline of the restoring force (SPEC §11): named only when not 0 (capacity_min_x is off by
+  // default, doubt_capacity_min_x 0.25).
   if (o.capacity_min_x_fraction != 0.0) out["settings"]["capacity_min_x"] = o.capacity_min_x_fraction;
   if (o.doubt_capacity_min_x_fraction != 0.0) {
     out["settings"]["doubt_capacity_min_x"] = o.doubt_capacity_min_x_fraction;

@@ -97,7 +97,7 @@ void add_observer_options(CLI::App& app, ObserverOptionTexts& texts, const std::
                      number_text(d.capacity_min_x_fraction) + ")")
       ->type_name("F");
   app.add_option("--observer-doubt-capacity-min-x", texts.doubt_capacity_min_x,
-                 help_prefix + "the same while in model doubt (the larger applies; SPEC 11), " +
+                 help_prefix + "the same once model doubt has been raised in the run (the larger applies; SPEC 11), " +
                      range_text(kMinObserverCapacityMinX, kMaxObserverCapacityMinX, "") + " (default " +
                      number_text(d.doubt_capacity_min_x_fraction) + ")")
       ->type_name("F");

@@ -211,7 +211,7 @@ nlohmann::ordered_json observer_json(const SimulateRequest& q, const sim::Observ
                    {"quiet_motion_spread_noises", o.quiet_motion_spread_noises},
                    {"model_form_sigma", o.model_form_sigma},
                    {"doubt_model_form_sigma", o.doubt_model_form_sigma}};
-  // Only when set (off by default): the JSON of a run without them stays as it was.
+  // Only when not 0 (the first is off by default, the second 0.25 since 2026-11-30, SPEC §11).
   if (o.capacity_min_x_fraction != 0.0) j["settings"]["capacity_min_x_fraction"] = o.capacity_min_x_fraction;
   if (o.doubt_capacity_min_x_fraction != 0.0) {
     j["settings"]["doubt_capacity_min_x_fraction"] = o.doubt_capacity_min_x_fraction;

@@ -520,13 +520,17 @@ TEST(MonitorObserverSettings, InTheSettingsAndTheDigestOnlyWhenEnabled) {
 
 // The capacity from the decline of the restoring force (SPEC §11; `simulate --observer-capacity-min-x`,
 // `--observer-doubt-capacity-min-x`): file keys only, as the monitor's other observer settings; in the settings and
-// the digest only when not 0.
+// the digest only when not their defaults (capacity_min_x 0, doubt_capacity_min_x 0.25).
 TEST(MonitorObserverSettings, TheCapacityMinimumsAreEchoedAndInTheDigestOnlyWhenOn) {
   const json flag = printed_config("", {"--observer"});
   CHECK_FALSE(flag.at("settings").at("observer").contains("capacity_min_x"));
   CHECK_FALSE(flag.at("settings").at("observer").contains("doubt_capacity_min_x"));
+  const json defaults =
+      printed_config(R"({"observer": {"capacity_min_x": 0, "doubt_capacity_min_x": 0.25}})", {"--observer"});
+  CHECK(defaults.at("config_digest") == flag.at("config_digest"));
   const json zero = printed_config(R"({"observer": {"capacity_min_x": 0, "doubt_capacity_min_x": 0}})", {"--observer"});
-  CHECK(zero.at("config_digest") == flag.at("config_digest"));
+  DOUBLES_EQUAL(0.0, zero.at("settings").at("observer").at("doubt_capacity_min_x").get<double>(), 0.0);
+  CHECK(zero.at("config_digest") != flag.at("config_digest"));
   const json on =
       printed_config(R"({"observer": {"enabled": true, "capacity_min_x": 0.1, "doubt_capacity_min_x": 0.2}})", {});
   DOUBLES_EQUAL(0.1, on.at("settings").at("observer").at("capacity_min_x").get<double>(), 0.0);

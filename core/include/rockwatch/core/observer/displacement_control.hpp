@@ -98,10 +98,13 @@ inline void WallObserver<Stepper>::hold_doubt_floors() {
 
 // Whether a reading taken with the model at x may teach κc, κk (ObserverOptions::capacity_min_x_fraction,
 // doubt_capacity_min_x_fraction): the restoring force's decline, not the elastic rise and plateau of a crushed hinge
-// near x = 0. Both 0 (the default): always.
+// near x = 0. The doubt's fraction applies once model doubt has been raised in the run (as the published σ's model
+// form does): a wall that has shown it is not the model stays so, and the learning between two doubt episodes is
+// what taught the plateau (SPEC §11). capacity_min_x_fraction 0 (the default): always before the first doubt.
 template <typename Stepper>
 inline bool WallObserver<Stepper>::capacity_learns(Scalar x) const {
-  const Scalar lowest = doubt_ && doubt_capacity_min_x_ > capacity_min_x_ ? doubt_capacity_min_x_ : capacity_min_x_;
+  const bool doubted = doubt_ || counters_.model_doubt > 0;
+  const Scalar lowest = doubted && doubt_capacity_min_x_ > capacity_min_x_ ? doubt_capacity_min_x_ : capacity_min_x_;
   return !(abs(x) < lowest);
 }
 
