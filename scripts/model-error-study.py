@@ -21,10 +21,12 @@ and scores them per truth family (SPEC §11 "Model error" defines every figure):
 
     scripts/model-error-study.py [--truths tests/data/truths] [--families multibody,crushed] [--out DIR]
                                  [--forecast-members 200] [--forecast-horizon-s 5] [--plots] [--jobs 2]
+                                 [--check-fused-alarm] [--check-x-inst-median 0.05]
 
 Writes DIR/runs.csv (one row per case x mode), DIR/forecasts.csv (one row per forecast), DIR/summary.json (per family
 and mode), DIR/report.txt (the table printed) and with --plots DIR/reliability.png, DIR/estimates.png. Exits 2 naming
-the file and field on a malformed truth. Deterministic (every tool it runs is).
+the file and field on a malformed truth; exits 1 when a --check-… goal fails (naming the case or family).
+Deterministic (every tool it runs is).
 """
 import argparse
 import concurrent.futures
@@ -361,6 +363,9 @@ def main():
     ap.add_argument("--plots", action="store_true")
     ap.add_argument("--check-fused-alarm", action="store_true",
                     help="exit 1 naming the case when the fused alarm is not right on a robust case (the ctest)")
+    ap.add_argument("--check-x-inst-median", type=float, default=None, metavar="F",
+                    help="exit 1 naming the family when the fused x_inst's median relative error at the end of the "
+                         "run exceeds F (issue 40's goal: 0.05; the ctest)")
     a = ap.parse_args()
     a.simulate_args = a.simulate_args.split()
     a.observer_args = a.observer_args.split()
@@ -433,6 +438,20 @@ def main():
     if failures:
         print(f"model-error-study: {len(failures)} case(s) failed:", *failures, sep="\n  ", file=sys.stderr)
         sys.exit(1)
+    bad_x_inst = []
+    if a.check_x_inst_median is not None:
+        for fam in families:
+            errs = [abs(r["x_inst_end_error"]) for r in rows
+                    if r["mode"] == "fused" and r["family"] == fam and r.get("x_inst_end_error") is not None]
+            if not errs:
+                continue
+            med = statistics.median(errs)
+            ok = med <= a.check_x_inst_median
+            print(f"model-error-study: {fam}: fused x_inst median error at the end {100 * med:.1f} % "
+                  f"({len(errs)} cases; at most {100 * a.check_x_inst_median:g} % wanted){'' if ok else ': FAIL'}",
+                  file=sys.stdout if ok else sys.stderr)
+            if not ok:
+                bad_x_inst.append(fam)
     if a.check_fused_alarm:
         wrong = [r for r in rows if r["mode"] == "fused" and r["robust"] and not r["alarm_right"]]
         for r in wrong:
@@ -445,6 +464,8 @@ def main():
             sys.exit(1)
         n = sum(1 for r in rows if r["mode"] == "fused" and r["robust"])
         print(f"model-error-study: the fused alarm is right on all {n} robust cases")
+    if bad_x_inst:
+        sys.exit(1)
 
 
 if __name__ == "__main__":
