@@ -2,7 +2,7 @@
 # Builds the libFuzzer targets (CMake preset "fuzz": clang, ASan + UBSan) and runs them (docs/RELIABILITY.md).
 #
 #   scripts/fuzz.sh smoke                          every kept regression input, then every fuzzer for its share of
-#                                                  46 s from the committed seeds, nproc fuzzers at a time (CI:
+#                                                  36 s from the committed seeds, nproc fuzzers at a time (CI:
 #                                                  scripts/test.sh)
 #   scripts/fuzz.sh long [SECONDS] [TARGET...]     opt-in long run, SECONDS per target (600); the corpus grows across
 #                                                  runs in build/fuzz/corpus-work/TARGET
@@ -40,20 +40,20 @@ dicts=tests/fuzz/dict
 
 # target  max_len  smoke_seconds  seed corpora (besides corpus/<target without fuzz_>)
 targets=(
-  "fuzz_record_at2        4096  3"
-  "fuzz_record_plain      4096  3"
-  "fuzz_record_esm        8192  3"
-  "fuzz_record_itaca      4096  3"
-  "fuzz_record_miniseed   4096  4"
+  "fuzz_record_at2        4096  2"
+  "fuzz_record_plain      4096  2"
+  "fuzz_record_esm        8192  2"
+  "fuzz_record_itaca      4096  2"
+  "fuzz_record_miniseed   4096  3"
   "fuzz_record_suite      4096  2"
-  "fuzz_read_record       8192  4"
+  "fuzz_read_record       8192  3"
   "fuzz_suite_manifest    8192  2"
   "fuzz_wall_sensor_csv   4096  2"
-  "fuzz_monitor_config    4096  4"
+  "fuzz_monitor_config    4096  3"
   "fuzz_monitor_args      1024  2"
-  "fuzz_monitor_loop     32768 6"
-  "fuzz_monitor_datagrams 16384 5"
-  "fuzz_dashboard         8192  3"
+  "fuzz_monitor_loop     32768 5"
+  "fuzz_monitor_datagrams 16384 4"
+  "fuzz_dashboard         8192  2"
 )
 
 field() { echo "$1" | awk -v n="$2" '{print $n}'; }

@@ -2,7 +2,7 @@
 # Builds and runs every test suite twice: the release build, then the debug build under
 # AddressSanitizer + UndefinedBehaviorSanitizer; the aarch64 cross build and its check under qemu (ctest
 # arm64_cross_check); then the fuzzing smoke run (clang build of the libFuzzer targets, rockwatch_sim at -O0, the kept
-# regression inputs, 46 s of fuzzing: scripts/fuzz.sh --quick, docs/RELIABILITY.md).
+# regression inputs, 36 s of fuzzing: scripts/fuzz.sh --quick, docs/RELIABILITY.md).
 #
 # A pipeline (issue 42: the fresh-clone CI within 24 min on 2 cores): a test run leaves a core idle about half its time
 # (its tests wait on sockets, paced replays and child processes), so the next build runs beside it in the background at
