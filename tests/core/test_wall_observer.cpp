@@ -747,10 +747,14 @@ TEST(WallObserver, DoubtsTheModelWhenTheInnovationsSayItIsWrong) {
         CHECK(run.observer.sigma_stiffness_scale() >= 0.05 - 1e-12);
       }
     }
-    // The published σ(x_inst) (SPEC §11): the filter's and the model's form in quadrature, the form 0.03 × x̂_inst, or
-    // 0.2 × x̂_inst once doubt was raised; the filter's own σ is what its gains use.
+    // The published σ(x_inst) (SPEC §11): the filter's and the model's form in quadrature, the form 0.2 × x̂_inst once
+    // doubt was raised, before it the larger of 0.03 and 0.2 × (1 − the run's largest |x| / x̂_inst); the filter's own
+    // σ is what its gains use. This wall rocked from 0.06 m, about 0.6 of its capacity: 0.2 × 0.4 ≈ 0.08.
     const double x_hat = run.observer.x_inst_estimate_m(), filter = run.observer.sigma_x_inst_filter_m();
-    const double form = vibration_m > 0.0 ? 0.2 : 0.03;
+    const double peak = run.observer.run_peak_x_m();
+    DOUBLES_EQUAL(0.06, peak, 0.002);
+    const double form = vibration_m > 0.0 ? 0.2 : std::fmax(0.03, 0.2 * (1.0 - peak / x_hat));
+    if (vibration_m == 0.0) CHECK(form > 0.07 && form < 0.09);
     DOUBLES_EQUAL(std::sqrt(filter * filter + form * form * x_hat * x_hat), run.observer.sigma_x_inst_m(),
                   1e-12 * x_hat);
     CHECK(run.observer.sigma_x_inst_m() >= form * x_hat);
@@ -763,6 +767,29 @@ TEST(WallObserver, DoubtsTheModelWhenTheInnovationsSayItIsWrong) {
       LONGS_EQUAL(0, run.observer.counters().model_doubt);
       CHECK(nis_max < 2.5);
     }
+  }
+}
+
+// The capacity is the restoring force extrapolated beyond the largest displacement the wall has shown (SPEC §11): the
+// published σ(x_inst) says how far. A wall that rocked to a fifth of its capacity publishes about 0.2 × 0.8 of x̂_inst
+// as the model's form, one that rocked to 0.95 of it the form's floor, 0.03; the filter's own σ is the same rule for
+// both (the published one alone changes). Without the extrapolation (0.03 at every amplitude) the first fails.
+TEST(WallObserver, TheCapacityExtrapolatedFarFromTheMotionIsPublishedWithItsDistance) {
+  struct Case {
+    double x0_m, form_min, form_max;
+  };
+  for (const Case c : {Case{0.02, 0.15, 0.17}, Case{0.095, 0.03, 0.03}}) {
+    FreeRocking run(0.85, 0.85, c.x0_m);
+    for (int k = 0; k < 1500; ++k) run.step();
+    LONGS_EQUAL(0, run.observer.counters().model_doubt);
+    const double x_hat = run.observer.x_inst_estimate_m(), filter = run.observer.sigma_x_inst_filter_m();
+    const double published = run.observer.sigma_x_inst_m();
+    DOUBLES_EQUAL(c.x0_m, run.observer.run_peak_x_m(), 0.002);
+    const double form = std::sqrt(published * published - filter * filter) / x_hat;
+    CHECK_TEXT(form >= c.form_min - 1e-9 && form <= c.form_max + 1e-9,
+               StringFromFormat("x0 %.3f m: the form's share %.4f of x_inst, expected [%.2f, %.2f]", c.x0_m, form,
+                                c.form_min, c.form_max)
+                   .asCharString());
   }
 }
 

@@ -92,6 +92,9 @@ struct ObserverOptions {
   // families' x̂_inst ends 0.5–3.3 % off at the median (at most 7.7 %), with filter σ as small as 0.1 % (z up to 24);
   // crushed hinges up to 130 % (survivors: the rigid model extrapolates a plateau). 0.03 and 0.2 put x_inst within 3 σ
   // at the end in 16 of 16 cases of every family (before: 9–13), after five impacts in 11–15 of 11–15.
+  // Before doubt the form is at least doubt_model_form_sigma × (1 − the run's largest |x| / x̂_inst): the capacity is
+  // extrapolated beyond what the wall has shown, the further the less sure (a held-out crushed survivor without doubt:
+  // z 8.9 → 2.8; SPEC §11). doubt_model_form_sigma = 0 turns that term off too.
   double model_form_sigma = 0.03;
   double doubt_model_form_sigma = 0.2;
   // A wall that moves where the model says it cannot (issue 40): while the model rests and the ground is quiet,

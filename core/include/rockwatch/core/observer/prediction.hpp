@@ -83,6 +83,7 @@ inline void WallObserver<Stepper>::predict(const Stepper& stepper, const Report&
   const Scalar x_now = abs(Traits::x(stepper));
   if (!stepper.moving()) peak_x_ = Scalar(0);
   else if (x_now > peak_x_) peak_x_ = x_now;
+  if (x_now > run_peak_x_) run_peak_x_ = x_now;
 }
 
 // Φ = I, Q = 0: nothing pending.

@@ -143,6 +143,7 @@ class WallObserver {
     impact_last_step_ = false;
     last_impact_us_ = INT64_MIN;
     peak_x_ = Scalar(0);
+    run_peak_x_ = Scalar(0);
     last_innovation_x_ = Scalar(0);
     last_innovation_a_ = Scalar(0);
     var_x_ = var_a_ = Cov(0);
@@ -268,13 +269,18 @@ class WallObserver {
     return w > Cov(0) ? pub(sigma_k_c(s) / (Cov(2) * w)) : 0.0;
   }
   double x_inst_estimate_m(Side s = Side::positive) const { return pub(x_inst_c(s)); }
-  // The published σ(x_inst): the filter's (the variance of κc/κk by first-order propagation) and the model's form
-  // (ObserverOptions::model_form_sigma, doubt_model_form_sigma once model doubt was raised) in quadrature.
+  // The published σ(x_inst): the filter's (the variance of κc/κk by first-order propagation) and the model's form in
+  // quadrature (SPEC §11). The form's share of x̂_inst: doubt_model_form_sigma once model doubt was raised; before,
+  // the larger of model_form_sigma and doubt_model_form_sigma × (1 − u), u = the largest |x| of the run / x̂_inst
+  // (at most 1): a capacity is the restoring force extrapolated beyond the largest displacement the wall has shown,
+  // and a wall that has not been near it may yet be one whose curve is not the model's (a crushed hinge's
+  // extrapolated plateau: 25-41 % high with no doubt raised, issue 40's held-out survivors).
   double sigma_x_inst_m(Side s = Side::positive) const {
     const Cov f = sigma_x_inst_c(s), x = x_inst_c(s);
-    const Cov form = counters_.model_doubt > 0 ? doubt_model_form_var_ : model_form_var_;
-    return pub(root_c(f * f + form * x * x));
+    return pub(root_c(f * f + model_form_var_c(x) * x * x));
   }
+  // The model's largest |x| since the run started [m]: how far beyond it x̂_inst is extrapolated (sigma_x_inst_m).
+  double run_peak_x_m() const { return to_d(run_peak_x_); }
   // The filter's own σ(x_inst), without the model's form: what its consistency (NEES) is judged by.
   double sigma_x_inst_filter_m(Side s = Side::positive) const { return pub(sigma_x_inst_c(s)); }
   // The x_inst the alarm may rely on: x_inst,est − k_σ·σ(x_inst) (ObserverOptions::alarm_capacity_sigmas), at least
@@ -349,6 +355,15 @@ class WallObserver {
   Cov k_c(Side s) const { return kkc_ * abs_cov(k0_[side_index(s)]); }
   Cov sigma_k_c(Side s) const { return root_c(p_(K, K)) * abs_cov(k0_[side_index(s)]); }
   Cov x_inst_c(Side s) const { return kcc_ / kkc_ * x_inst0_[side_index(s)]; }
+  // The model form's variance per x̂_inst² (sigma_x_inst_m): the doubt's, or the larger of the form's and the doubt's
+  // scaled by how far x_inst lies beyond the run's largest |x|.
+  Cov model_form_var_c(Cov x_inst) const {
+    if (counters_.model_doubt > 0) return doubt_model_form_var_;
+    const Cov peak = cov(run_peak_x_);
+    const Cov beyond = x_inst > peak ? (x_inst - peak) / x_inst : Cov(0);
+    const Cov extrapolated = doubt_model_form_var_ * beyond * beyond;
+    return extrapolated > model_form_var_ ? extrapolated : model_form_var_;
+  }
   Cov sigma_x_inst_c(Side s) const {
     const Cov ratio = kcc_ / kkc_;
     const Cov var = p_(C, C) - Cov(2) * ratio * p_(C, K) + ratio * ratio * p_(K, K);
@@ -579,6 +594,7 @@ class WallObserver {
   bool impact_last_step_ = false;
   std::int64_t last_impact_us_ = INT64_MIN;  // the end of the last step with an impact [µs]
   Scalar peak_x_{};  // the model's largest |x| since the last impact (the half-cycle's amplitude) [m]
+  Scalar run_peak_x_{};  // the model's largest |x| since start() (how far the capacity is extrapolated) [m]
   Scalar last_innovation_x_{}, last_innovation_a_{}, innovation_x_sq_sum_{};
   // The last reading tried per sensor (ObserverSensorStatus): its innovation's variance and whether it was gated out.
   Cov var_x_{}, var_a_{};  // [m², m²/s⁴]
