@@ -223,8 +223,9 @@ inline constexpr ObserverParameter kObserverParameters[] = {
      "the model's form in the published σ(x_inst), × x̂_inst", ObserverError::doubt_out_of_range,
      [](const ObserverOptions& o) { return o.model_form_sigma; }},
     {"doubt_model_form_sigma", 0.0, 1.0, false, false, "0", "1", "-",
-     "the same once model doubt has been raised in the run", ObserverError::doubt_out_of_range,
-     [](const ObserverOptions& o) { return o.doubt_model_form_sigma; }},
+     "the same once model doubt has been raised in the run; before it, × (1 − the run's largest displacement / x̂_inst) "
+     "when larger than model_form_sigma (the capacity extrapolated)",
+     ObserverError::doubt_out_of_range, [](const ObserverOptions& o) { return o.doubt_model_form_sigma; }},
 };
 
 // The table's row of a setting by its field name (nullptr: no such setting).
