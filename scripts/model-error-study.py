@@ -369,6 +369,8 @@ def main():
     ap.add_argument("--check-x-inst-z", type=float, default=None, metavar="Z",
                     help="exit 1 naming the case when a fused x_inst, at the end of the run or after five impacts, is "
                          "more than Z of its published sigma from the truth's (issue 40's goal: 3; the ctest)")
+    ap.add_argument("--check-r-z", type=float, default=None, metavar="Z",
+                    help="the same for the fused r (at the end, after five impacts, after five rocking impacts)")
     a = ap.parse_args()
     a.simulate_args = a.simulate_args.split()
     a.observer_args = a.observer_args.split()
@@ -454,22 +456,28 @@ def main():
                   file=sys.stdout if ok else sys.stderr)
             if not ok:
                 bad_x_inst.append(fam)
-    if a.check_x_inst_z is not None:
+    z_checks = [(a.check_x_inst_z, "x_inst", "x_inst_true_m",
+                 (("at the end", "x_inst_end"), ("after five impacts", "x_inst_5"))),
+                (a.check_r_z, "r", "r_true",
+                 (("at the end", "r_end"), ("after five impacts", "r_5"), ("after five rocking impacts", "r_5rock")))]
+    for limit, name, truth_key, keys in z_checks:
+        if limit is None:
+            continue
         n_z = 0
         for r in rows:
             if r["mode"] != "fused":
                 continue
-            for when, key in (("at the end", "x_inst_end"), ("after five impacts", "x_inst_5")):
+            for when, key in keys:
                 z = r.get(key + "_z")
                 if z is None or z == "":
                     continue
                 n_z += 1
-                if not abs(float(z)) <= a.check_x_inst_z:  # NaN fails
-                    print(f"model-error-study: fused x_inst {when} on {r['family']}/{r['case']}: {r[key]} m against "
-                          f"the truth's {r['x_inst_true_m']} m, {abs(float(z)):.2f} of its sigma {r[key + '_sigma']} m "
-                          f"(at most {a.check_x_inst_z:g} wanted)", file=sys.stderr)
+                if not abs(float(z)) <= limit:  # NaN fails
+                    print(f"model-error-study: fused {name} {when} on {r['family']}/{r['case']}: {r[key]} against "
+                          f"the truth's {r[truth_key]}, {abs(float(z)):.2f} of its sigma {r[key + '_sigma']} "
+                          f"(at most {limit:g} wanted)", file=sys.stderr)
                     bad_x_inst.append(r["case"])
-        print(f"model-error-study: {n_z} fused x_inst estimates judged against {a.check_x_inst_z:g} of their sigma")
+        print(f"model-error-study: {n_z} fused {name} estimates judged against {limit:g} of their sigma")
     if a.check_fused_alarm:
         wrong = [r for r in rows if r["mode"] == "fused" and r["robust"] and not r["alarm_right"]]
         for r in wrong:

@@ -755,6 +755,11 @@ TEST(WallObserver, DoubtsTheModelWhenTheInnovationsSayItIsWrong) {
     DOUBLES_EQUAL(0.06, peak, 0.002);
     const double form = vibration_m > 0.0 ? 0.2 : std::fmax(0.03, 0.2 * (1.0 - peak / x_hat));
     if (vibration_m == 0.0) CHECK(form > 0.07 && form < 0.09);
+    // σ(r) likewise: the filter's, and doubt_r_sigma (0.02 on √r) in quadrature once doubt was raised.
+    const double r_hat = run.observer.r_estimate(), r_filter = run.observer.sigma_r_filter();
+    const double r_form = vibration_m > 0.0 ? 2.0 * std::sqrt(r_hat) * 0.02 : 0.0;
+    DOUBLES_EQUAL(std::sqrt(r_filter * r_filter + r_form * r_form), run.observer.sigma_r(), 1e-6 * r_hat);
+    if (vibration_m > 0.0) CHECK(run.observer.sigma_r() > r_filter);
     DOUBLES_EQUAL(std::sqrt(filter * filter + form * form * x_hat * x_hat), run.observer.sigma_x_inst_m(),
                   1e-12 * x_hat);
     CHECK(run.observer.sigma_x_inst_m() >= form * x_hat);

@@ -197,7 +197,7 @@ RunOutcome fused_run(const Scenario& sc) {
     }
   }
   out.r_hat = observer.r_estimate();
-  out.sigma_r = observer.sigma_r();
+  out.sigma_r = observer.sigma_r_filter();
   out.r_true = sc.true_r;
   const double er = out.r_hat - out.r_true;
   out.nees_r = out.sigma_r > 0.0 ? er * er / (out.sigma_r * out.sigma_r) : 1e9;

@@ -69,7 +69,7 @@ struct ObserverOptions {
   double doubt_nis = 4.0;
   std::int32_t doubt_window = 64;         // samples of the displacement's NIS average [-]
   double doubt_capacity_sigma = 0.05;     // σ floor of κc, κk while in doubt [-]
-  double doubt_r_sigma = 0.02;            // σ floor of √r while in doubt [-]
+  double doubt_r_sigma = 0.02;            // σ floor of √r while in doubt; in the published σ(r) after it [-]
   // The capacity from the decline of the restoring force (issue 40, SPEC §11): a reading (displacement or
   // acceleration) may teach κc, κk only while the model's |x| ≥ `capacity_min_x_fraction` × x_inst,nominal, and
   // ≥ `doubt_capacity_min_x_fraction` × x_inst,nominal once model doubt has been raised in the run; below, the
@@ -208,7 +208,8 @@ inline constexpr ObserverParameter kObserverParameters[] = {
      ObserverError::doubt_out_of_range, [](const ObserverOptions& o) { return double(o.doubt_window); }},
     {"doubt_capacity_sigma", 0.0, 1.0, false, false, "0", "1", "-", "σ floor of κc, κk while in doubt",
      ObserverError::doubt_out_of_range, [](const ObserverOptions& o) { return o.doubt_capacity_sigma; }},
-    {"doubt_r_sigma", 0.0, 1.0, false, false, "0", "1", "-", "σ floor of √r while in doubt",
+    {"doubt_r_sigma", 0.0, 1.0, false, false, "0", "1", "-",
+     "σ floor of √r while in doubt, and in the published σ(r) once doubt was raised",
      ObserverError::doubt_out_of_range, [](const ObserverOptions& o) { return o.doubt_r_sigma; }},
     {"capacity_min_x_fraction", 0.0, 1.0, false, false, "0", "1", "-",
      "κc, κk learned only at x beyond ± this × x_inst,nominal (0: always)", ObserverError::doubt_out_of_range,

@@ -251,7 +251,15 @@ class WallObserver {
   double nis_average() const { return pub(nis_avg_); }  // Cov: double, or the M4F's single precision
   double sigma_x_m() const { return root(p_(X, X)); }
   double sigma_xd_mps() const { return root(p_(V, V)); }
-  double sigma_r() const { return pub(Cov(2) * ec_ * root_c(p_(E, E))); }
+  // The published σ(r) (SPEC §11): the filter's, and once model doubt has been raised in the run doubt_r_sigma on √r
+  // in quadrature (the floor doubt holds while it lasts, kept in what is published after it: a wall that has shown it
+  // is not the model stays so, and its energy loss is not one r).
+  double sigma_r() const {
+    const Cov form = counters_.model_doubt > 0 ? doubt_e_var_ : Cov(0);
+    return pub(Cov(2) * ec_ * root_c(p_(E, E) + form));
+  }
+  // The filter's own σ(r): what its consistency (NEES) is judged by.
+  double sigma_r_filter() const { return pub(Cov(2) * ec_ * root_c(p_(E, E))); }
   double sigma_bias_m() const { return root(p_(B, B)); }
   // The capacity (SPEC §9), side +1 (the negative side's: x_inst_estimate_m(Side::negative)); c [m/s²] and k [1/s²]
   // at ü = v̈ = 0 per unit p1, ω = √k [rad/s], x_inst = c/k [m]; σ by first-order propagation of the covariance.
