@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <mutex>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -92,9 +93,30 @@ std::optional<std::string> find_on_path(const std::string& name) {
   return std::nullopt;
 }
 
+// Once per interpreter path and process: the probe imports pyplot (0.3-1 s), and a command that writes several plots
+// searched before each (the matplotlib runner's suite probed /usr/bin/python3 five times: 25 % of its timeout under
+// the sanitizers beside CI's builds).
+// Fixed slots, not a map: nothing allocated that outlives the call (the suites' leak checks).
+struct ProbedPython {
+  char path[512];
+  bool imports;
+};
 bool imports_matplotlib(const std::string& python) {
+  static std::mutex mutex;
+  static ProbedPython probed[8];
+  static std::size_t n_probed = 0;
+  const std::lock_guard<std::mutex> lock(mutex);
+  for (std::size_t i = 0; i < n_probed; ++i) {
+    if (python == probed[i].path) return probed[i].imports;
+  }
   const ProcessOutcome o = run_process(python, {"-c", kMatplotlibProbe}, "");
-  return o.started && o.exited && o.exit_status == 0;
+  const bool imports = o.started && o.exited && o.exit_status == 0;
+  if (n_probed < std::size(probed) && python.size() < sizeof probed[0].path) {
+    std::memcpy(probed[n_probed].path, python.c_str(), python.size() + 1);
+    probed[n_probed].imports = imports;
+    ++n_probed;
+  }
+  return imports;
 }
 
 bool same_file(const std::string& a, const std::string& b) {
