@@ -443,7 +443,7 @@ def main():
     if failures:
         print(f"model-error-study: {len(failures)} case(s) failed:", *failures, sep="\n  ", file=sys.stderr)
         sys.exit(1)
-    bad_x_inst = []
+    bad_estimates = []
     if a.check_x_inst_median is not None:
         for fam in families:
             est = ((summary.get(fam) or {}).get("fused") or {}).get("x_inst_end")  # the report's own figure
@@ -455,7 +455,7 @@ def main():
                   f"({est['n']} cases; at most {100 * a.check_x_inst_median:g} % wanted){'' if ok else ': FAIL'}",
                   file=sys.stdout if ok else sys.stderr)
             if not ok:
-                bad_x_inst.append(fam)
+                bad_estimates.append(fam)
     z_checks = [(a.check_x_inst_z, "x_inst", "x_inst_true_m",
                  (("at the end", "x_inst_end"), ("after five impacts", "x_inst_5"))),
                 (a.check_r_z, "r", "r_true",
@@ -469,14 +469,14 @@ def main():
                 continue
             for when, key in keys:
                 z = r.get(key + "_z")
-                if z is None or z == "":
+                if z is None:
                     continue
                 n_z += 1
-                if not abs(float(z)) <= limit:  # NaN fails
+                if not abs(z) <= limit:  # NaN fails
                     print(f"model-error-study: fused {name} {when} on {r['family']}/{r['case']}: {r[key]} against "
-                          f"the truth's {r[truth_key]}, {abs(float(z)):.2f} of its sigma {r[key + '_sigma']} "
+                          f"the truth's {r[truth_key]}, {abs(z):.2f} of its sigma {r[key + '_sigma']} "
                           f"(at most {limit:g} wanted)", file=sys.stderr)
-                    bad_x_inst.append(r["case"])
+                    bad_estimates.append(r["case"])
         print(f"model-error-study: {n_z} fused {name} estimates judged against {limit:g} of their sigma")
     if a.check_fused_alarm:
         wrong = [r for r in rows if r["mode"] == "fused" and r["robust"] and not r["alarm_right"]]
@@ -490,7 +490,7 @@ def main():
             sys.exit(1)
         n = sum(1 for r in rows if r["mode"] == "fused" and r["robust"])
         print(f"model-error-study: the fused alarm is right on all {n} robust cases")
-    if bad_x_inst:
+    if bad_estimates:
         sys.exit(1)
 
 
