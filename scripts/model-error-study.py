@@ -17,14 +17,18 @@ and scores them per truth family (SPEC §11 "Model error" defines every figure):
   - estimates beside the truth's equivalent values (x_inst from a static push, r from the free decay): the fused
     observer's x_inst and r after 5 impacts and at the end, identify's, each with |error| / its stated σ;
   - the fused run's published P(collapse within H) (raw and calibrated) against the truth's outcome in (t, t + H]:
-    Brier score, skill, reliability bins of width 0.1.
+    Brier score, skill, reliability bins of width 0.1; per family and over all families ("all");
+  - with --forecast-control, the same forecasts where the wall *is* the model: `simulate --record ground.csv <wall
+    told> --r <the truth's r_equiv> --forecast-…` open loop, scored against that run's own collapse (the engine that
+    made the outcome; its state exact). What the odds can reach on these records and levels when nothing is wrong
+    with the model: the share of the fused odds' error that model error is to blame for is the difference.
 
     scripts/model-error-study.py [--truths tests/data/truths] [--families multibody,crushed] [--out DIR]
                                  [--forecast-members 200] [--forecast-horizon-s 5] [--plots] [--jobs 2]
-                                 [--check-fused-alarm] [--check-x-inst-median 0.05]
+                                 [--forecast-control] [--check-fused-alarm] [--check-x-inst-median 0.05]
 
 Writes DIR/runs.csv (one row per case x mode), DIR/forecasts.csv (one row per forecast), DIR/summary.json (per family
-and mode), DIR/report.txt (the table printed) and with --plots DIR/reliability.png, DIR/estimates.png. Exits 2 naming
+and mode), with --forecast-control DIR/forecasts_control.csv, DIR/report.txt (the table printed) and with --plots DIR/reliability.png, DIR/estimates.png. Exits 2 naming
 the file and field on a malformed truth; exits 1 when a --check-… goal fails (naming the case or family).
 Deterministic (every tool it runs is).
 """
@@ -109,6 +113,10 @@ def run_case(case_dir, a):
         fused_cmd += ["--forecast-members", str(a.forecast_members), "--forecast-horizon-s",
                       repr(a.forecast_horizon_s)]
     results["fused"] = run_json(fused_cmd)
+    control = None
+    if a.forecast_control and a.forecast_members > 0 and truth.get("r_equiv") is not None:
+        control = run_json(base + ["--r", repr(float(truth["r_equiv"])), "--alarms", "--json", "--forecast-members",
+                                   str(a.forecast_members), "--forecast-horizon-s", repr(a.forecast_horizon_s)])
     snap = os.path.join(case_dir, "snapback.csv")
     ident = None
     if a.identify and os.path.isfile(snap):
@@ -152,7 +160,16 @@ def run_case(case_dir, a):
         forecasts.append({"family": truth["family"], "case": truth["case"], "t_s": e["t_s"],
                           "p_collapse": e["p_collapse"], "p_collapse_calibrated": e.get("p_collapse_calibrated"),
                           "outcome": y})
-    return rows, forecasts
+    controls = []
+    if control is not None:
+        # Scored against the model's own collapse: here the wall is the model (SPEC §11 "The odds").
+        tm = control.get("t_collapse_s")
+        for e in ((control.get("forecast") or {}).get("series")) or []:
+            y = int(tm is not None and e["t_s"] < tm <= e["t_s"] + a.forecast_horizon_s)
+            controls.append({"family": truth["family"], "case": truth["case"], "t_s": e["t_s"],
+                             "p_collapse": e["p_collapse"], "p_collapse_calibrated": e.get("p_collapse_calibrated"),
+                             "outcome": y})
+    return rows, forecasts, controls
 
 
 def estimates(mode, res, ident, truth, x_inst_true):
@@ -225,7 +242,11 @@ def brier(rows, key):
             "worst_bin_gap": max((b_["observed"] - b_["mean_p"] for b_ in judged), key=abs, default=None)}
 
 
-def summarise(rows, forecasts):
+def forecast_scores(fc):
+    return {"raw": brier(fc, "p_collapse"), "calibrated": brier(fc, "p_collapse_calibrated")}
+
+
+def summarise(rows, forecasts, controls=()):
     summary = {}
     for fam in sorted({r["family"] for r in rows}):
         fam_rows = [r for r in rows if r["family"] == fam]
@@ -266,8 +287,15 @@ def summarise(rows, forecasts):
             s[mode] = ms
         fam_fc = [f for f in forecasts if f["family"] == fam]
         if fam_fc:
-            s["forecast"] = {"raw": brier(fam_fc, "p_collapse"), "calibrated": brier(fam_fc, "p_collapse_calibrated")}
+            s["forecast"] = forecast_scores(fam_fc)
+        fam_ctl = [f for f in controls if f["family"] == fam]
+        if fam_ctl:
+            s["forecast_control"] = forecast_scores(fam_ctl)
         summary[fam] = s
+    if len(summary) > 1 and forecasts:  # every family's forecasts together
+        summary["all"] = {"forecast": forecast_scores(forecasts)}
+        if controls:
+            summary["all"]["forecast_control"] = forecast_scores(controls)
     return summary
 
 
@@ -282,7 +310,7 @@ def report(summary, horizon_s):
                  f"{'after 5 rocking (in 3σ, ≤ 0.03)':>32s}")
     for fam, s in summary.items():
         for mode in MODES:
-            ms = s.get(mode)
+            ms = s.get(mode) if fam != "all" else None
             if not ms:
                 continue
             xi = ms.get("x_inst_5") or ms.get("x_inst_end")
@@ -296,12 +324,14 @@ def report(summary, horizon_s):
             lines.append(f"{fam:13s} {mode:10s} {ms['right']:>3d}/{ms['robust']:<3d} {fmt(ms['recall']):>6s} "
                          f"{ms['false_alarms']:>3d}/{ms['robust_survivors']:<3d} {fmt(ms['lead_s_median']):>8s} "
                          f"{fmt(ms['lead_s_p05']):>5s} {xs:>28s} {rs:>22s} {rks:>32s}")
-        fc = s.get("forecast")
-        if fc:
+        for what, label in (("forecast", ""), ("forecast_control", "control, ")):
+            fc = s.get(what)
+            if not fc:
+                continue
             for kind in ("raw", "calibrated"):
                 b = fc[kind]
                 if b:
-                    lines.append(f"{fam:13s} P(collapse in {horizon_s:g} s) {kind:10s}: {b['forecasts']} forecasts, "
+                    lines.append(f"{fam:13s} P(collapse in {horizon_s:g} s) {label + kind:19s}: {b['forecasts']} forecasts, "
                                  f"base rate {b['base_rate']:.3f}, Brier {b['brier']:.4f}, skill {fmt(b['skill'], '.3f')}"
                                  f", worst bin gap {fmt(b['worst_bin_gap'], '+.3f')}, "
                                  f"{'calibrated' if b['calibrated'] else 'NOT calibrated'}")
@@ -312,7 +342,7 @@ def plots(summary, rows, out):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fams = list(summary)
+    fams = [f for f in summary if f != "all"]
     fig, axes = plt.subplots(1, max(1, len(fams)), figsize=(4 * max(1, len(fams)), 4), squeeze=False)
     for ax, fam in zip(axes[0], fams):
         fc = summary[fam].get("forecast") or {}
@@ -357,6 +387,9 @@ def main():
     ap.add_argument("--forecast-members", type=int, default=200)
     ap.add_argument("--forecast-horizon-s", type=float, default=5.0)
     ap.add_argument("--no-identify", dest="identify", action="store_false")
+    ap.add_argument("--forecast-control", action="store_true",
+                    help="also forecast where the wall is the model (open loop, the wall told, --r the truth's r_equiv) "
+                         "and score against that run's own collapse: forecasts_control.csv, the report's control lines")
     ap.add_argument("--simulate-args", default="", help="more options for every simulate run (e.g. alarm ones)")
     ap.add_argument("--observer-args", default="", help="more options for the fused runs (the observer's)")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
@@ -390,19 +423,20 @@ def main():
     if not cases:
         sys.exit(f"model-error-study: no truth.json under {a.truths} for families {families}")
     os.makedirs(a.out, exist_ok=True)
-    rows, forecasts, failures = [], [], []
+    rows, forecasts, controls, failures = [], [], [], []
     done = 0
     try:
         with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as pool:
             futures = {pool.submit(run_case, c, a): c for c in cases}
             for fut in concurrent.futures.as_completed(futures):
                 try:
-                    r, f = fut.result()
+                    r, f, c = fut.result()
                 except RuntimeError as e:  # a tool failed on this case: named, the others go on, the exit says so
                     failures.append(f"{os.path.relpath(futures[fut], a.truths)}: {e}")
                     continue
                 rows += r
                 forecasts += f
+                controls += c
                 done += 1
                 if sys.stderr.isatty():
                     print(f"\r[{done}/{len(cases)}] {os.path.relpath(futures[fut], a.truths)}      ", end="",
@@ -415,7 +449,8 @@ def main():
     key = lambda r: (r["family"], r["case"], MODES.index(r["mode"]) if "mode" in r else r["t_s"])
     rows.sort(key=key)
     forecasts.sort(key=lambda f: (f["family"], f["case"], f["t_s"]))
-    summary = summarise(rows, forecasts)
+    controls.sort(key=lambda f: (f["family"], f["case"], f["t_s"]))
+    summary = summarise(rows, forecasts, controls)
     fields = []
     for r in rows:
         fields += [k for k in r if k not in fields]
@@ -423,14 +458,16 @@ def main():
         w = csv.DictWriter(f, fieldnames=fields)
         w.writeheader()
         w.writerows(rows)
-    if forecasts:
-        with open(os.path.join(a.out, "forecasts.csv"), "w", newline="") as f:
-            w = csv.DictWriter(f, fieldnames=list(forecasts[0]))
-            w.writeheader()
-            w.writerows(forecasts)
+    for name, fc in (("forecasts.csv", forecasts), ("forecasts_control.csv", controls)):
+        if fc:
+            with open(os.path.join(a.out, name), "w", newline="") as f:
+                w = csv.DictWriter(f, fieldnames=list(fc[0]))
+                w.writeheader()
+                w.writerows(fc)
     settings = {"truths": os.path.relpath(a.truths, ROOT) if a.truths.startswith(ROOT) else a.truths,
                 "families": families, "forecast_members": a.forecast_members,
                 "forecast_horizon_s": a.forecast_horizon_s, "identify": a.identify,
+                "forecast_control": a.forecast_control,
                 "simulate_args": a.simulate_args, "observer_args": a.observer_args, "min_lead_s": MIN_LEAD_S, "bin_min_count": BIN_MIN_COUNT}
     with open(os.path.join(a.out, "summary.json"), "w") as f:
         json.dump({"settings": settings, "families": summary}, f, indent=1)
