@@ -27,7 +27,7 @@ struct RawOptions {
   options::RealtimeOptionTexts timing;  // --realtime, --cpu, --busy-poll-us
   options::WallOptionTexts wall;
   std::string r = "exp", model = "linear", kappa;
-  // --lambda-w, --alarm-hold, --energy-margin, --imminent-horizon (its arith and alarms are unused)
+  // --lambda-w, --alarm-hold, --energy-margin, --imminent-horizon, --energy-min-x (its arith and alarms are unused)
   options::AlarmOptionTexts alarm;
   bool print_config = false, version = false, observer = false;
 };

@@ -303,6 +303,8 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
   Sourced<double> margin = pick(alarm_defaults.energy_margin, file.energy_margin, file_label("alarm.energy_margin"));
   Sourced<double> horizon =
       pick(alarm_defaults.imminent_horizon_s, file.imminent_horizon_s, file_label("alarm.imminent_horizon_s"));
+  Sourced<double> energy_min_x =
+      pick(alarm_defaults.energy_min_x, file.energy_min_x, file_label("alarm.energy_min_x"));
   if (options::given(app, "--lambda-w")) {
     lambda_w = {options::parse_finite_number("--lambda-w", raw.alarm.lambda_w), "--lambda-w"};
   }
@@ -315,16 +317,22 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
   if (options::given(app, "--imminent-horizon")) {
     horizon = {options::parse_finite_number("--imminent-horizon", raw.alarm.horizon), "--imminent-horizon"};
   }
+  if (options::given(app, "--energy-min-x")) {
+    energy_min_x = {options::parse_finite_number("--energy-min-x", raw.alarm.energy_min_x), "--energy-min-x"};
+  }
   options::check_lambda_w(name_of(lambda_w.origin, "lambda_w"), lambda_w.value);
   options::check_alarm_hold(name_of(hold.origin, "hold_s"), hold.value);
   options::check_energy_margin(name_of(margin.origin, "energy_margin"), margin.value);
   options::check_imminent_horizon(name_of(horizon.origin, "imminent_horizon_s"), horizon.value);
+  options::check_energy_min_x(name_of(energy_min_x.origin, "energy_min_x"), energy_min_x.value);
   engine.alarm.lambda_warning = lambda_w.value;
   engine.alarm.hold_s = hold.value;
   engine.alarm.energy_margin = margin.value;
   // The look-ahead (0 = off) in both engines: the fixed-point indicators evaluate it as the double ones do
   // (core/fixed_instability_indicators.hpp), so `--arith fixed` is `simulate --arith fixed --imminent-horizon`.
   engine.alarm.imminent_horizon_s = horizon.value;
+  // The energy rule's displacement (0 = everywhere), likewise in both engines' indicators.
+  engine.alarm.energy_min_x = energy_min_x.value;
 
   // Timing and input checks.
   firmware::MonitorSettings& s = config.settings;

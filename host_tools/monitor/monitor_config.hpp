@@ -8,8 +8,9 @@
 //   arith        "fixed" (default) | "double"                          (--arith)
 //   model        "linear" | "full" (full with arith "double" only)     (--model)
 //   kappa        number in [1, 100)                                   (--kappa; default 2)
-//   alarm {lambda_w, hold_s, energy_margin, imminent_horizon_s}       (--lambda-w, --alarm-hold, --energy-margin,
-//                --imminent-horizon; the horizon: 0 = off, in the settings and the digest only when on)
+//   alarm {lambda_w, hold_s, energy_margin, imminent_horizon_s, energy_min_x}  (--lambda-w, --alarm-hold,
+//                --energy-margin, --imminent-horizon, --energy-min-x; the horizon and energy_min_x: 0 = off, in the
+//                settings and the digest only when on)
 //   sample_rate_hz (--rate), max_bridge_samples, sensor_range_mps2, late_limit_s
 //   channels {accel, accel_batch, wall_state, alarm, status, wall_sensor, wall_estimate}
 //   observer {enabled, x_noise_m, a_noise_mps2, process_accel_mps2, gate_chi2, dropout_s, max_age_s, capacity_sigmas,

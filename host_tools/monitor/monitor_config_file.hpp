@@ -50,7 +50,7 @@ struct FileValues {
   std::optional<core::Restitution> r;
   std::optional<core::ModelKind> model;
   std::optional<firmware::MonitorArithmetic> arith;
-  std::optional<double> kappa, lambda_w, hold_s, energy_margin, imminent_horizon_s, sample_rate_hz, max_step_s,
+  std::optional<double> kappa, lambda_w, hold_s, energy_margin, imminent_horizon_s, energy_min_x, sample_rate_hz, max_step_s,
       sensor_range_mps2, late_limit_s, clock_tolerance_s, work_budget_units;
   std::optional<core::WorkOverflow> work_overflow;
   std::optional<long long> realtime_priority, cpu, busy_poll_us;  // range-checked when read
@@ -160,13 +160,14 @@ class ConfigReader {
     if (root.contains("alarm")) {
       const json& a = root.at("alarm");
       object(a, "alarm");
-      check_keys(a, "alarm.", {"lambda_w", "hold_s", "energy_margin", "imminent_horizon_s"});
+      check_keys(a, "alarm.", {"lambda_w", "hold_s", "energy_margin", "imminent_horizon_s", "energy_min_x"});
       if (a.contains("lambda_w")) v.lambda_w = number(a.at("lambda_w"), "alarm.lambda_w", "");
       if (a.contains("hold_s")) v.hold_s = number(a.at("hold_s"), "alarm.hold_s", " [s]");
       if (a.contains("energy_margin")) v.energy_margin = number(a.at("energy_margin"), "alarm.energy_margin", "");
       if (a.contains("imminent_horizon_s")) {
         v.imminent_horizon_s = number(a.at("imminent_horizon_s"), "alarm.imminent_horizon_s", " [s]");
       }
+      if (a.contains("energy_min_x")) v.energy_min_x = number(a.at("energy_min_x"), "alarm.energy_min_x", "");
     }
     if (root.contains("sample_rate_hz")) v.sample_rate_hz = number(root.at("sample_rate_hz"), "sample_rate_hz", " [Hz]");
     if (root.contains("max_step_s")) v.max_step_s = number(root.at("max_step_s"), "max_step_s", " [s]");

@@ -74,6 +74,10 @@ json normalised_settings(const MonitorConfig& config) {
   if (s.engine.alarm.imminent_horizon_s != core::AlarmSettings{}.imminent_horizon_s) {
     out["alarm"]["imminent_horizon_s"] = s.engine.alarm.imminent_horizon_s;
   }
+  // Likewise the energy rule's displacement (opt-in, SPEC §11).
+  if (s.engine.alarm.energy_min_x != core::AlarmSettings{}.energy_min_x) {
+    out["alarm"]["energy_min_x"] = s.engine.alarm.energy_min_x;
+  }
   // The observer changes every output; absent when off, so that the digest of a configuration without it stays.
   if (s.engine.observer_enabled) {
     const core::ObserverOptions& o = s.engine.observer;

@@ -425,6 +425,42 @@ TEST(InstabilityIndicators, ImminentHorizonRaisesTheEnergyFlagOnlyWhenXInstIsTha
   CHECK_FALSE(alarm_settings_valid(bad));
 }
 
+TEST(InstabilityIndicators, EnergyMinXKeepsTheMarginsRuleFromTheVertical) {
+  // energy_min_x 0.5 (issue 40, SPEC §11): with ρ = 2 (over the margin 1.5) moving outward, the flag is raised only
+  // from |x| ≥ 0.5 x_inst, on both sides; at 0 (the default) everywhere; the displacement's own rule (|x| ≥ x_inst)
+  // and the horizon rule are not gated. Out of [0, 1] the settings are invalid.
+  AlarmSettings settings;
+  settings.energy_min_x = 0.5;
+  const InstabilityConstants<double> g = make_instability_constants(wall_setup, settings);
+  const double x_inst = g.x_inst_m[1], omega = g.omega_rps[1];
+  DOUBLES_EQUAL(0.5 * x_inst, g.x_energy_min_m[1], 1e-15);
+  DOUBLES_EQUAL(0.5 * g.x_inst_m[0], g.x_energy_min_m[0], 1e-15);
+  DOUBLES_EQUAL(0.0, constants.x_energy_min_m[1], 0.0);
+  for (const double sign : {1.0, -1.0}) {
+    for (const double f : {0.0, 0.2, 0.45, 0.499, 0.5, 0.501, 0.7, 0.95}) {
+      const double x_abs = f * x_inst;
+      stepper.set_state(sign * x_abs, sign * outward_speed(2.0, x_abs, x_inst, omega), 0.0, 0.0);
+      const InstabilityIndicators<double> ind = evaluate_instability(g, stepper, StepReport<double>{});
+      DOUBLES_EQUAL(2.0, ind.energy_ratio, 1e-9);
+      CHECK_EQUAL(f >= 0.5, ind.conditions.energy_over_barrier_outward);
+      CHECK_TRUE(ind.t_valid);  // the prediction is not gated
+      CHECK_TRUE(evaluate_instability(constants, stepper, StepReport<double>{}).conditions.energy_over_barrier_outward);
+    }
+  }
+  // The horizon rule near x_inst stays: ρ 1.1 < 1.5 at 0.3 x_inst is raised by a 10 s horizon whatever energy_min_x.
+  settings.imminent_horizon_s = 10.0;
+  const InstabilityConstants<double> gh = make_instability_constants(wall_setup, settings);
+  stepper.set_state(0.3 * x_inst, outward_speed(1.1, 0.3 * x_inst, x_inst, omega), 0.0, 0.0);
+  CHECK_TRUE(evaluate_instability(gh, stepper, StepReport<double>{}).conditions.energy_over_barrier_outward);
+  AlarmSettings bad;
+  bad.energy_min_x = -0.01;
+  CHECK_FALSE(alarm_settings_valid(bad));
+  bad.energy_min_x = 1.01;
+  CHECK_FALSE(alarm_settings_valid(bad));
+  bad.energy_min_x = 1.0;
+  CHECK_TRUE(alarm_settings_valid(bad));
+}
+
 TEST(InstabilityIndicators, PredictionIsCappedAtTMax) {
   InstabilityConstants<double> capped = constants;
   capped.t_max_s = 0.25;

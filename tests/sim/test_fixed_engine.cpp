@@ -204,6 +204,37 @@ TEST(FixedEngine, ImminentHorizonAgreesWithTheDoubleIndicators) {
   CHECK(raised >= 1 && raised <= 4);
 }
 
+TEST(FixedEngine, EnergyMinXAgreesWithTheDoubleIndicators) {
+  // energy_min_x (core/instability_indicators.hpp) in fixed point: with ρ = 2 over the margin moving outward, the
+  // same flag as the double indicators at displacements either side of 0.5 x_inst; with the default (0) every one.
+  const core::StepperSetup<double> setup = paper_setup(0.9);
+  core::AlarmSettings settings;
+  settings.energy_min_x = 0.5;
+  core::FixedInstabilityConstants c{}, off{};
+  CHECK_TRUE(core::make_fixed_instability_constants(setup, settings, c));
+  CHECK_TRUE(core::make_fixed_instability_constants(setup, core::AlarmSettings{}, off));
+  const core::InstabilityConstants<double> d = core::make_instability_constants(setup, settings);
+  core::FixedRockingStepper f;
+  CHECK(f.init(setup) == core::FixedSetupError::ok);
+  core::RockingStepper<double> s;
+  s.init(setup);
+  const double xi = d.x_inst_m[1], omega = d.omega_rps[1];
+  int raised = 0;
+  for (const double frac : {0.1, 0.3, 0.49, 0.51, 0.7, 0.9}) {
+    const double x_abs = frac * xi;
+    const double yd = std::sqrt(omega * omega * ((x_abs - xi) * (x_abs - xi) + 1.0 * xi * xi));  // ρ = 2
+    f.set_state(core::LengthQ1_62(x_abs), core::SpeedQ3_60(yd), core::AccelQ7_56{}, core::AccelQ7_56{});
+    s.set_state(x_abs, yd, 0.0, 0.0);
+    const core::FixedInstabilityIndicators fi = core::evaluate_instability(c, f, core::FixedStepReport{});
+    const core::InstabilityIndicators<double> di = core::evaluate_instability(d, s, core::StepReport<double>{});
+    CHECK_EQUAL(frac >= 0.5, fi.conditions.energy_over_barrier_outward);
+    CHECK_EQUAL(di.conditions.energy_over_barrier_outward, fi.conditions.energy_over_barrier_outward);
+    raised += fi.conditions.energy_over_barrier_outward ? 1 : 0;
+    CHECK_TRUE(core::evaluate_instability(off, f, core::FixedStepReport{}).conditions.energy_over_barrier_outward);
+  }
+  LONGS_EQUAL(3, raised);
+}
+
 TEST(FixedEngine, IndicatorsMatchTheClosedFormOfFreeRocking) {
   // Linear free motion about x_inst: y(t) = y0 cosh ωt + (ẏ0/ω) sinh ωt. Released above the barrier moving
   // outward, the predicted time to x_inst must match the time the engine takes to pass it.

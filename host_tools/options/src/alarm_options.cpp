@@ -27,6 +27,7 @@ std::string energy_margin_range_text() {
   return "in " + range_closed(kMinEnergyMargin, kMaxEnergyMargin) + ", a multiple of the energy barrier";
 }
 std::string imminent_horizon_range_text() { return "in " + range_closed(0.0, kMaxImminentHorizon_s) + " s"; }
+std::string energy_min_x_range_text() { return "in [0, 1], a fraction of x_inst"; }
 
 void check_lambda_w(const std::string& name, double value) {
   if (!(value > 0.0 && value <= 1.0)) {
@@ -52,6 +53,12 @@ void check_imminent_horizon(const std::string& name, double value) {
   }
 }
 
+void check_energy_min_x(const std::string& name, double value) {
+  if (!core::energy_min_x_valid(value)) {
+    throw UsageError(name + " must be " + energy_min_x_range_text() + " (got " + number_text(value) + ")");
+  }
+}
+
 void add_alarm_setting_options(CLI::App& app, AlarmOptionTexts& texts, const std::string& help_prefix) {
   const core::AlarmSettings defaults{};
   // After a prefix the sentence goes on in lower case; without one it starts with a capital.
@@ -74,6 +81,10 @@ void add_alarm_setting_options(CLI::App& app, AlarmOptionTexts& texts, const std
                      "under no further input is at most S [s], 0 (off) to " + number_text(kMaxImminentHorizon_s) +
                      " (default " + number_text(defaults.imminent_horizon_s) + ")")
       ->type_name("S");
+  app.add_option("--energy-min-x", texts.energy_min_x,
+                 help_prefix + "IMMINENT by the energy margin only once |x| >= F * x_inst, 0 (everywhere) to 1 "
+                     "(default " + number_text(defaults.energy_min_x) + "; SPEC 11: fewer false alarms, less lead)")
+      ->type_name("F");
 }
 
 void add_alarm_options(CLI::App& app, AlarmOptionTexts& texts) {
@@ -103,6 +114,7 @@ AlarmOptionValues alarm_option_values(const CLI::App& app, const AlarmOptionText
   if (given(app, "--imminent-horizon")) {
     v.imminent_horizon_s = parse_finite_number("--imminent-horizon", texts.horizon);
   }
+  if (given(app, "--energy-min-x")) v.energy_min_x = parse_finite_number("--energy-min-x", texts.energy_min_x);
   return v;
 }
 
@@ -131,7 +143,7 @@ void apply_alarm_options(const AlarmOptionValues& v, sim::AnalysisOptions& optio
   }
   const std::pair<const char*, const std::optional<double>*> settings[] = {
       {"--lambda-w", &v.lambda_w}, {"--alarm-hold", &v.hold_s}, {"--energy-margin", &v.energy_margin},
-      {"--imminent-horizon", &v.imminent_horizon_s}};
+      {"--imminent-horizon", &v.imminent_horizon_s}, {"--energy-min-x", &v.energy_min_x}};
   for (const auto& [option, value] : settings) {
     if (value->has_value() && !v.alarms) {
       throw UsageError(std::string(option) + " sets the instability alarm: give --alarms too");
@@ -154,6 +166,10 @@ void apply_alarm_options(const AlarmOptionValues& v, sim::AnalysisOptions& optio
   if (v.imminent_horizon_s) {
     a.imminent_horizon_s = *v.imminent_horizon_s;
     check_imminent_horizon("--imminent-horizon", a.imminent_horizon_s);
+  }
+  if (v.energy_min_x) {
+    a.energy_min_x = *v.energy_min_x;
+    check_energy_min_x("--energy-min-x", a.energy_min_x);
   }
 }
 

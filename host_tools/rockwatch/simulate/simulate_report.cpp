@@ -86,6 +86,7 @@ nlohmann::ordered_json alarm_json(const SimulateRequest& q, const sim::AlarmSumm
   j["settings"] = {{"lambda_warning", s.lambda_warning}, {"hold_s", s.hold_s}, {"energy_margin", s.energy_margin}};
   // The opt-in look-ahead rule (--imminent-horizon, SPEC §11): named when on, absent at the default (0).
   if (s.imminent_horizon_s > 0.0) j["settings"]["imminent_horizon_s"] = s.imminent_horizon_s;
+  if (s.energy_min_x > 0.0) j["settings"]["energy_min_x"] = s.energy_min_x;  // likewise (--energy-min-x)
   j["max_level"] = core::alarm_level_name(a.max_level);
   j["t_first_warning_s"] = number_or_null(a.t_first_warning_s);
   j["t_first_imminent_s"] = number_or_null(a.t_first_imminent_s);
@@ -130,6 +131,9 @@ void alarm_text(std::string& out, const SimulateRequest& q, const sim::AlarmSumm
   if (s.imminent_horizon_s > 0.0) {
     line(out, "", format("IMMINENT also at E >= E_barrier moving outward with x_inst predicted within %s s",
                          number_text(s.imminent_horizon_s).c_str()));
+  }
+  if (s.energy_min_x > 0.0) {
+    line(out, "", format("IMMINENT by the energy margin only from |x| >= %s x_inst", number_text(s.energy_min_x).c_str()));
   }
   line(out, "highest level", core::alarm_level_name(a.max_level));
   line(out, "first WARNING", time_text(a.t_first_warning_s, "never"));

@@ -211,6 +211,25 @@ TEST(MonitorCommandLine, EquivalentSettingsHaveOneDigest) {
   CHECK(defaults.at("config_digest") == url.at("config_digest"));
 }
 
+// The opt-in energy rule's displacement (issue 40; `simulate --energy-min-x`): the file's alarm.energy_min_x, the
+// option over it, echoed and in the digest only when on; out of [0, 1] rejected naming the file's key or the option.
+TEST(MonitorCommandLine, TheEnergyRulesDisplacementIsReadEchoedAndInTheDigestOnlyWhenOn) {
+  const json defaults = printed_config("", {});
+  CHECK_FALSE(defaults.at("settings").at("alarm").contains("energy_min_x"));
+  const json off = printed_config(R"({"alarm": {"energy_min_x": 0}})", {"--energy-min-x", "0"});
+  CHECK(off.at("config_digest") == defaults.at("config_digest"));
+  const json file = printed_config(R"({"alarm": {"energy_min_x": 0.5}})", {});
+  DOUBLES_EQUAL(0.5, file.at("settings").at("alarm").at("energy_min_x").get<double>(), 0.0);
+  CHECK(file.at("config_digest") != defaults.at("config_digest"));
+  const json option = printed_config("", {"--energy-min-x", "0.5"});
+  CHECK(option.at("config_digest") == file.at("config_digest"));
+  const json over = printed_config(R"({"alarm": {"energy_min_x": 0.5}})", {"--energy-min-x", "0.6"});
+  DOUBLES_EQUAL(0.6, over.at("settings").at("alarm").at("energy_min_x").get<double>(), 0.0);
+  expect_config_rejected(R"({"alarm": {"energy_min_x": 1.2}})", {"alarm.energy_min_x must be in [0, 1]", "got 1.2"});
+  expect_config_rejected(R"({"alarm": {"energy_min_x": "0.5"}})", {"alarm.energy_min_x:", "expected a number"});
+  expect_config_rejected("{}", {"--energy-min-x must be in [0, 1]"}, {"--energy-min-x", "-0.1"});
+}
+
 // The opt-in look-ahead (issue 40; `simulate --imminent-horizon`): the file's alarm.imminent_horizon_s, the option
 // over it, echoed in the settings and in the digest only when on (every existing configuration keeps its digest).
 TEST(MonitorCommandLine, TheImminentHorizonIsReadEchoedAndInTheDigestOnlyWhenOn) {

@@ -64,6 +64,10 @@ struct AlarmSettings {
   // IMMINENT also when E ≥ E_barrier moving outward and the predicted time to x_inst under zero further input is at
   // most this [s] (the wall about to pass x_inst in free motion; reason bit energy_over_barrier_outward); 0 = off.
   double imminent_horizon_s = 0.0;
+  // IMMINENT by the energy margin only from |x| ≥ this × x_inst [-] (0 = everywhere, the default): a wall near the
+  // vertical with E ≥ margin·E_barrier is far from its barrier in time, and the ground's next reversal often stops it
+  // (SPEC §11 "The energy rule near the vertical"). Not applied to the horizon rule or to |x| ≥ x_inst.
+  double energy_min_x = 0.0;
 };
 
 // The ranges of the settings, one check each (callers name the field at fault); alarm_settings_valid: all of them.
@@ -71,10 +75,11 @@ inline bool lambda_warning_valid(double v) { return v > 0.0 && v <= 1.0; }     /
 inline bool hold_valid(double s) { return s >= 0.0 && s <= 3600.0; }           // [0, 3600] s
 inline bool energy_margin_valid(double m) { return m >= 1.0 && m <= 100.0; }   // [1, 100]
 inline bool imminent_horizon_valid(double s) { return s >= 0.0 && s <= 10.0; }   // [0, 10] s
+inline bool energy_min_x_valid(double f) { return f >= 0.0 && f <= 1.0; }        // [0, 1]
 
 inline bool alarm_settings_valid(const AlarmSettings& s) {
   return lambda_warning_valid(s.lambda_warning) && hold_valid(s.hold_s) && energy_margin_valid(s.energy_margin) &&
-         imminent_horizon_valid(s.imminent_horizon_s);
+         imminent_horizon_valid(s.imminent_horizon_s) && energy_min_x_valid(s.energy_min_x);
 }
 
 // Samples of the hold time at a sample interval dt_s (rounded to nearest). Initialisation-time code.

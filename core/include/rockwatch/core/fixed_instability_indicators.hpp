@@ -1,7 +1,8 @@
 // The alarm's physical conditions evaluated on the fixed-point engine's state: the definitions of
 // instability_indicators.hpp (their one home, with the prediction cap), in fixed point and with constant work.
 //   y = s·x − x_inst,s,  ẏ = s·ẋ,  ρ = E/E_barrier = 1 + (ẏ/(ω x_i))² − (y/x_i)²  (linear model, SPEC §2),
-//   IMMINENT by energy when moving, ẏ > 0 and ρ ≥ margin (or ρ ≥ 1 and the prediction ≤ the horizon); predicted time to x_inst under zero input
+//   IMMINENT by energy when moving, ẏ > 0 and ρ ≥ margin from |x| ≥ energy_min_x·x_inst (or ρ ≥ 1 and the
+//   prediction ≤ the horizon); predicted time to x_inst under zero input
 //   t = atanh(ω|y|/ẏ)/ω (0 once |x| ≥ x_inst; none below the barrier or moving inward), capped at
 //   kInstabilityPredictionCap_s (instability_indicators.hpp).
 //
@@ -38,6 +39,7 @@ using RateQ7_24 = Fixed<7, 24>;   // ω [1/s] and 1/(ω x_i) [s/m], 1/x_i [1/m]
 struct FixedInstabilityConstants {
   LengthQ1_30 x_inst_m[2];       // per side (index side_index) [m]
   LengthQ1_30 x_warning_m[2];    // λ_w·x_inst [m]
+  LengthQ1_30 x_energy_min_m[2];  // energy_min_x·x_inst: the energy margin's rule applies from here [m]
   RateQ7_24 inv_x_inst_pm[2];    // 1/x_inst [1/m]
   RateQ7_24 inv_omega_x_inst_spm[2];  // 1/(ω x_inst) [s/m]
   RateQ7_24 inv_omega_s[2];      // 1/ω [s]
@@ -58,6 +60,7 @@ inline bool make_fixed_instability_constants(const StepperSetup<double>& s, cons
     const double omega = k > 0.0 ? std::sqrt(k) : 1.0;
     out.x_inst_m[i] = LengthQ1_30(xi);
     out.x_warning_m[i] = LengthQ1_30(a.lambda_warning * xi);
+    out.x_energy_min_m[i] = LengthQ1_30(a.energy_min_x * xi);
     out.inv_x_inst_pm[i] = RateQ7_24(1.0 / xi);
     out.inv_omega_x_inst_spm[i] = RateQ7_24(1.0 / (omega * xi));
     out.inv_omega_s[i] = RateQ7_24(1.0 / omega);
@@ -103,7 +106,8 @@ inline FixedInstabilityIndicators evaluate_instability(const FixedInstabilityCon
   k.over_instability_displacement = ax >= c.x_inst_m[i];
   k.over_collapse_displacement = stepper.collapsed();
   const bool outward = syd > SpeedQ3_28{};
-  k.energy_over_barrier_outward = moving && outward && out.energy_ratio >= c.energy_margin;
+  k.energy_over_barrier_outward =
+      moving && outward && out.energy_ratio >= c.energy_margin && ax >= c.x_energy_min_m[i];
   k.input_invalid = report.input_invalid;
   k.arithmetic_saturated = report.saturated;
 

@@ -19,8 +19,9 @@
 //   over_warning_displacement      |x| ≥ λ_w·x_i
 //   over_instability_displacement  |x| ≥ x_i
 //   over_collapse_displacement     stepper.collapsed() (|x| reached κ·x_inst)
-//   energy_over_barrier_outward    moving and ẏ > 0 and (ρ ≥ energy_margin, or ρ ≥ 1 and 0 < t_to_instability ≤
-//                                  imminent_horizon_s: about to pass x_inst in free motion; horizon 0 = off)
+//   energy_over_barrier_outward    moving and ẏ > 0 and (ρ ≥ energy_margin and |x| ≥ energy_min_x·x_i, or ρ ≥ 1 and
+//                                  0 < t_to_instability ≤ imminent_horizon_s: about to pass x_inst in free motion;
+//                                  horizon 0 = off; energy_min_x 0 = the margin everywhere)
 //   input_invalid                  the step's report says G = g + v̈ ≤ 0 (state held)
 //   arithmetic_saturated           always false in floating point
 //
@@ -51,6 +52,7 @@ template <typename Scalar>
 struct InstabilityConstants {
   Scalar x_inst_m[2];               // x_i [m]
   Scalar x_warning_m[2];            // λ_w·x_i [m]
+  Scalar x_energy_min_m[2];         // energy_min_x·x_i: the energy margin's rule applies from here [m]
   Scalar omega_rps[2];              // ω [rad/s]
   Scalar omega2_rps2[2];            // ω² [1/s²]
   Scalar inv_omega2_x_inst2_s2pm2[2];  // 1/(ω² x_i²) [s²/m²]: ρ without a division per step
@@ -71,6 +73,7 @@ inline InstabilityConstants<double> make_instability_constants(const StepperSetu
     const double x_inst = setup.x_inst_m[i];
     c.x_inst_m[i] = x_inst;
     c.x_warning_m[i] = settings.lambda_warning * x_inst;
+    c.x_energy_min_m[i] = settings.energy_min_x * x_inst;
     c.omega2_rps2[i] = omega2;
     c.omega_rps[i] = std::sqrt(omega2);
     c.inv_omega2_x_inst2_s2pm2[i] = 1.0 / (omega2 * x_inst * x_inst);
@@ -87,6 +90,7 @@ InstabilityConstants<Other> cast_instability_constants(const InstabilityConstant
   for (int i = 0; i < 2; ++i) {
     o.x_inst_m[i] = Other(c.x_inst_m[i]);
     o.x_warning_m[i] = Other(c.x_warning_m[i]);
+    o.x_energy_min_m[i] = Other(c.x_energy_min_m[i]);
     o.omega_rps[i] = Other(c.omega_rps[i]);
     o.omega2_rps2[i] = Other(c.omega2_rps2[i]);
     o.inv_omega2_x_inst2_s2pm2[i] = Other(c.inv_omega2_x_inst2_s2pm2[i]);
@@ -127,7 +131,8 @@ InstabilityIndicators<Scalar> evaluate_instability(const InstabilityConstants<Sc
   k.over_warning_displacement = abs_x >= c.x_warning_m[i];
   k.over_instability_displacement = abs_x >= x_i;
   k.over_collapse_displacement = stepper.collapsed();
-  k.energy_over_barrier_outward = k.moving && yd > Scalar(0) && out.energy_ratio >= c.energy_margin;
+  k.energy_over_barrier_outward =
+      k.moving && yd > Scalar(0) && out.energy_ratio >= c.energy_margin && abs_x >= c.x_energy_min_m[i];
   k.input_invalid = report.input_invalid;
   k.arithmetic_saturated = false;
 

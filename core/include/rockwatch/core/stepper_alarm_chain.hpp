@@ -55,13 +55,14 @@ struct AlarmChainTraits<RockingStepper<double>> {
   static Fraction fraction(int j, int n) { return double(j) / double(n); }
   // A fraction f of sub-step j (1-based) of n as a fraction of the whole sample.
   static Fraction sample_fraction(Fraction f, int j, int n, const Fraction*) { return (double(j - 1) + f) / double(n); }
-  // The constants of the estimated wall (the observer's): x_inst and λ_w·x_inst times q, ω² times kk (so the
+  // The constants of the estimated wall (the observer's): x_inst, λ_w·x_inst and energy_min_x·x_inst times q, ω² times kk (so the
   // barrier c²/2k and ρ follow), from the nominal ones.
   static void scale_constants(Constants& c, const Constants& n, double q, double kk) {
     const double w = std::sqrt(kk);
     for (int i = 0; i < 2; ++i) {
       c.x_inst_m[i] = q * n.x_inst_m[i];
       c.x_warning_m[i] = q * n.x_warning_m[i];
+      c.x_energy_min_m[i] = q * n.x_energy_min_m[i];
       c.omega2_rps2[i] = kk * n.omega2_rps2[i];
       c.omega_rps[i] = w * n.omega_rps[i];
       c.inv_omega2_x_inst2_s2pm2[i] = n.inv_omega2_x_inst2_s2pm2[i] / (kk * q * q);
@@ -98,7 +99,7 @@ struct AlarmChainTraits<FixedRockingStepper> {
   }
   // As the double chain's, in the indicators' 32-bit formats. Once per observed sample: the root and the three
   // reciprocals in single precision on the M4F's FPU (24-bit mantissas: within a unit in the last place of the
-  // Q7.24 ratios, for a few dozen instructions instead of soft double's ~3 000), then five 32-bit products per side.
+  // Q7.24 ratios, for a few dozen instructions instead of soft double's ~3 000), then six 32-bit products per side.
   static void scale_constants(Constants& c, const Constants& n, double q, double kk) {
     const float qf = static_cast<float>(q), w = std::sqrt(static_cast<float>(kk));
     const RatioQ7_24 fq(q), inv_q(static_cast<double>(1.0f / qf)), inv_w(static_cast<double>(1.0f / w)),
@@ -106,6 +107,7 @@ struct AlarmChainTraits<FixedRockingStepper> {
     for (int i = 0; i < 2; ++i) {
       c.x_inst_m[i] = fixed_mul<LengthQ1_30>(fq, n.x_inst_m[i]);
       c.x_warning_m[i] = fixed_mul<LengthQ1_30>(fq, n.x_warning_m[i]);
+      c.x_energy_min_m[i] = fixed_mul<LengthQ1_30>(fq, n.x_energy_min_m[i]);
       c.inv_x_inst_pm[i] = fixed_mul<RateQ7_24>(inv_q, n.inv_x_inst_pm[i]);
       c.inv_omega_x_inst_spm[i] = fixed_mul<RateQ7_24>(inv_qw, n.inv_omega_x_inst_spm[i]);
       c.inv_omega_s[i] = fixed_mul<RateQ7_24>(inv_w, n.inv_omega_s[i]);

@@ -156,6 +156,7 @@ nlohmann::ordered_json plan_json(const study::StudyPlan& plan) {
   if (plan.analysis.evaluate_alarm && a.imminent_horizon_s > 0.0) {
     j["alarm"]["imminent_horizon_s"] = a.imminent_horizon_s;
   }
+  if (plan.analysis.evaluate_alarm && a.energy_min_x > 0.0) j["alarm"]["energy_min_x"] = a.energy_min_x;
   return j;
 }
 

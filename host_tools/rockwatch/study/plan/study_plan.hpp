@@ -43,7 +43,7 @@ std::uint64_t samples_hash(const sim::study::StudyRecord& record);
 // The plan: "records" [{name, component, dt_s, samples, vertical_partner, samples_hash}], "pga_g", "restitutions"
 // [{r, r_value}], "vertical" [bool], "cases" [{vertical, r}], "wall", "model", "kappa", "max_step_s", "dt_check",
 // "arithmetic" ("double" | "fixed"), "alarm" ({lambda_warning, hold_s, energy_margin} or null without --alarms;
-// work_overflow and imminent_horizon_s only when not at their defaults).
+// work_overflow, imminent_horizon_s and energy_min_x only when not at their defaults).
 // Everything that decides the results, nothing that does not (paths, --jobs, --plots).
 nlohmann::ordered_json plan_json(const sim::study::StudyPlan& plan);
 

@@ -101,6 +101,7 @@ nlohmann::ordered_json alarm_json(const study::StudyPlan& plan, const study::Ala
   nlohmann::ordered_json j = alarm_score_json(a);
   j["settings"] = {{"lambda_warning", s.lambda_warning}, {"hold_s", s.hold_s}, {"energy_margin", s.energy_margin}};
   if (s.imminent_horizon_s > 0.0) j["settings"]["imminent_horizon_s"] = s.imminent_horizon_s;  // opt-in, SPEC §11
+  if (s.energy_min_x > 0.0) j["settings"]["energy_min_x"] = s.energy_min_x;                    // opt-in, SPEC §11
   j["alarm_engine"] = arithmetic_name(plan.analysis.arithmetic);
   j["definitions"] = {
       {"verdict", "the double engine's (collapsed or collapsed after the record)"},
@@ -402,6 +403,9 @@ std::string study_summary_text(const StudyRequest& q, const study::StudyPlan& pl
     if (st.imminent_horizon_s > 0.0) {
       line(out, "", format("IMMINENT also at E >= E_barrier moving outward with x_inst predicted within %s s",
                            number_text(st.imminent_horizon_s).c_str()));
+    }
+    if (st.energy_min_x > 0.0) {
+      line(out, "", format("IMMINENT by the energy margin only from |x| >= %s x_inst", number_text(st.energy_min_x).c_str()));
     }
     line(out, "", format("recall %s: %zu of %zu collapses flagged IMMINENT before t_collapse",
                          probability_text(a.recall).c_str(), a.collapsed_flagged, a.collapsed));

@@ -90,6 +90,36 @@ TEST(SimulateAlarm, TheImminentHorizonIsNamedWhenOnAndOnlyBringsImminentEarlier)
   CHECK_TEXT(text.out.find("predicted within 0.3 s") != std::string::npos, text.out.c_str());
 }
 
+// The opt-in energy rule's displacement (--energy-min-x, SPEC §11): named when on, absent at the default, and it can
+// only bring IMMINENT later (it removes part of a condition); at 1 the energy margin never decides before |x| ≥ x_inst,
+// so IMMINENT comes no earlier than the first exceedance of x_inst; out of [0, 1] or without --alarms an error naming it.
+TEST(SimulateAlarm, TheEnergyRulesDisplacementIsNamedWhenOnAndOnlyDelaysImminent) {
+  const ProcessResult off = run_rockwatch(simulate_el_centro({"--alarms", "--json"}));
+  const ProcessResult half = run_rockwatch(simulate_el_centro({"--alarms", "--json", "--energy-min-x", "0.5"}));
+  const ProcessResult one = run_rockwatch(simulate_el_centro({"--alarms", "--json", "--energy-min-x", "1"}));
+  check_ok(off);
+  check_ok(half);
+  check_ok(one);
+  const nlohmann::json j_off = nlohmann::json::parse(off.out), j_one = nlohmann::json::parse(one.out);
+  const nlohmann::json a_off = j_off["alarm"], a_half = nlohmann::json::parse(half.out)["alarm"], a_one = j_one["alarm"];
+  CHECK_FALSE(a_off["settings"].contains("energy_min_x"));
+  DOUBLES_EQUAL(0.5, a_half["settings"]["energy_min_x"].get<double>(), 0.0);
+  const double t_off = a_off["t_first_imminent_s"].get<double>(), t_half = a_half["t_first_imminent_s"].get<double>(),
+               t_one = a_one["t_first_imminent_s"].get<double>();
+  CHECK(t_off <= t_half && t_half <= t_one);
+  CHECK(t_off < t_one);  // the energy margin decided this record's first IMMINENT before x_inst
+  DOUBLES_EQUAL(j_one["t_exceed_s"].get<double>(), t_one, 0.011);  // at the first exceedance (a sample later at most)
+  CHECK(t_one >= j_one["t_exceed_s"].get<double>() - 1e-9);
+  const ProcessResult text = run_rockwatch(simulate_el_centro({"--alarms", "--energy-min-x", "0.5"}));
+  check_ok(text);
+  CHECK_TEXT(text.out.find("only from |x| >= 0.5 x_inst") != std::string::npos, text.out.c_str());
+  const ProcessResult bad = run_rockwatch(simulate_el_centro({"--alarms", "--energy-min-x", "1.5"}));
+  CHECK_EQUAL(2, bad.exit_status);
+  CHECK_TEXT(bad.err.find("--energy-min-x must be in [0, 1]") != std::string::npos, bad.err.c_str());
+  const ProcessResult lone = run_rockwatch(simulate_el_centro({"--energy-min-x", "0.5"}));
+  CHECK_TEXT(lone.err.find("--energy-min-x sets the instability alarm") != std::string::npos, lone.err.c_str());
+}
+
 TEST(SimulateAlarm, CollapseIsForetoldByWarningThenImminentAtIncreasingTimes) {
   const ProcessResult r = run_rockwatch(simulate_el_centro({"--alarms", "--json"}));
   check_ok(r);

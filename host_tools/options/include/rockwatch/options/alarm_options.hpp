@@ -1,5 +1,6 @@
 // The engine options shared by simulate and study: --arith fixed|double (the engine's arithmetic) and the instability
-// alarm, --alarms with --lambda-w, --alarm-hold, --energy-margin and --imminent-horizon (core::AlarmSettings),
+// alarm, --alarms with --lambda-w, --alarm-hold, --energy-margin, --imminent-horizon and --energy-min-x
+// (core::AlarmSettings),
 // validated with messages that name the option at fault. rockwatch-monitor registers and checks the alarm settings
 // with the same functions.
 #pragma once
@@ -19,7 +20,7 @@ namespace rockwatch::options {
 struct AlarmOptionTexts {
   std::string arith = "double";
   bool alarms = false;
-  std::string lambda_w, hold, margin, horizon;
+  std::string lambda_w, hold, margin, horizon, energy_min_x;
   std::string work_overflow;  // --work-overflow (fixed point with --alarms: the publication's measurement)
 };
 
@@ -37,19 +38,21 @@ void check_lambda_w(const std::string& name, double value);
 void check_alarm_hold(const std::string& name, double value);
 void check_energy_margin(const std::string& name, double value);
 void check_imminent_horizon(const std::string& name, double value);  // core::imminent_horizon_valid
+void check_energy_min_x(const std::string& name, double value);      // core::energy_min_x_valid
 // The ranges as the messages say them: "in (0, 1], a fraction of x_inst", "in [0, 3600] s", ...
 std::string lambda_w_range_text();
 std::string alarm_hold_range_text();
 std::string energy_margin_range_text();
 std::string imminent_horizon_range_text();
+std::string energy_min_x_range_text();
 
-// Registers --lambda-w, --alarm-hold, --energy-margin and --imminent-horizon, in that order, their help starting with
+// Registers --lambda-w, --alarm-hold, --energy-margin, --imminent-horizon and --energy-min-x, in that order, their help starting with
 // `help_prefix` ("With --alarms: " in the tool; "" in the monitor, whose alarm always runs) and stating
 // core::AlarmSettings's defaults.
 void add_alarm_setting_options(CLI::App& app, AlarmOptionTexts& texts, const std::string& help_prefix);
 
-// Registers --arith, --alarms, --lambda-w, --alarm-hold, --energy-margin, --imminent-horizon and --work-overflow, in
-// that order.
+// Registers --arith, --alarms, --lambda-w, --alarm-hold, --energy-margin, --imminent-horizon, --energy-min-x and
+// --work-overflow, in that order.
 void add_alarm_options(CLI::App& app, AlarmOptionTexts& texts);
 
 // The same options as values: what the command line's texts convert to (alarm_option_values), or what a program sets
@@ -59,6 +62,7 @@ struct AlarmOptionValues {
   bool alarms = false;                         // --alarms
   std::optional<double> lambda_w, hold_s, energy_margin;  // --lambda-w, --alarm-hold, --energy-margin
   std::optional<double> imminent_horizon_s;    // --imminent-horizon
+  std::optional<double> energy_min_x;          // --energy-min-x
   std::optional<std::string> work_overflow;    // --work-overflow: shed | finish
 };
 
