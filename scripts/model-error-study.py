@@ -18,17 +18,20 @@ and scores them per truth family (SPEC §11 "Model error" defines every figure):
     observer's x_inst and r after 5 impacts and at the end, identify's, each with |error| / its stated σ;
   - the fused run's published P(collapse within H) (raw and calibrated) against the truth's outcome in (t, t + H]:
     Brier score, skill, reliability bins of width 0.1; per family and over all families ("all");
-  - with --forecast-control, the same forecasts where the wall *is* the model: `simulate --record ground.csv <wall
-    told> --r <the truth's r_equiv> --forecast-…` open loop, scored against that run's own collapse (the engine that
-    made the outcome; its state exact). What the odds can reach on these records and levels when nothing is wrong
-    with the model: the share of the fused odds' error that model error is to blame for is the difference.
+  - with --control (alias --forecast-control), mode `control`: the same record and level where the wall *is* the
+    model: `simulate --record ground.csv <wall told> --r <the truth's r_equiv> --alarms [--forecast-…]` open loop,
+    its alarm and its forecasts scored against that run's own collapse (the engine that made the outcome; its state
+    exact; every case counted, robust or not: the model's own verdict is the outcome). What the alarm's lead and the
+    odds can reach on these records and levels when nothing is wrong with the model: the share of the fused figures'
+    shortfall that model error is to blame for is the difference. In runs.csv a control row's true_collapse,
+    t_collapse_true_s and t_exceed_true_s are the control run's own.
 
     scripts/model-error-study.py [--truths tests/data/truths] [--families multibody,crushed] [--out DIR]
                                  [--forecast-members 200] [--forecast-horizon-s 5] [--plots] [--jobs 2]
-                                 [--forecast-control] [--check-fused-alarm] [--check-x-inst-median 0.05]
+                                 [--control] [--check-fused-alarm] [--check-x-inst-median 0.05]
 
 Writes DIR/runs.csv (one row per case x mode), DIR/forecasts.csv (one row per forecast), DIR/summary.json (per family
-and mode), with --forecast-control DIR/forecasts_control.csv, DIR/report.txt (the table printed) and with --plots DIR/reliability.png, DIR/estimates.png. Exits 2 naming
+and mode), with --control DIR/forecasts_control.csv, DIR/report.txt (the table printed) and with --plots DIR/reliability.png, DIR/estimates.png. Exits 2 naming
 the file and field on a malformed truth; exits 1 when a --check-… goal fails (naming the case or family).
 Deterministic (every tool it runs is).
 """
@@ -45,7 +48,7 @@ import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.normpath(os.path.join(HERE, ".."))
-MODES = ("open_loop", "fused", "identified")
+MODES = ("open_loop", "fused", "identified", "control")
 WALL_KEYS = (("b", "--b"), ("h1", "--h1"), ("h2", "--h2"), ("rho", "--rho"), ("fp", "--fp"), ("Fp_N_per_m", "--fp"),
              ("a", "--a"), ("a_prime", "--a-prime"))
 MIN_LEAD_S = 0.2       # issue 40: IMMINENT at least this long before a true collapse
@@ -114,9 +117,12 @@ def run_case(case_dir, a):
                       repr(a.forecast_horizon_s)]
     results["fused"] = run_json(fused_cmd)
     control = None
-    if a.forecast_control and a.forecast_members > 0 and truth.get("r_equiv") is not None:
-        control = run_json(base + ["--r", repr(float(truth["r_equiv"])), "--alarms", "--json", "--forecast-members",
-                                   str(a.forecast_members), "--forecast-horizon-s", repr(a.forecast_horizon_s)])
+    if a.control and truth.get("r_equiv") is not None:
+        control_cmd = base + ["--r", repr(float(truth["r_equiv"])), "--alarms", "--json"]
+        if a.forecast_members > 0:
+            control_cmd += ["--forecast-members", str(a.forecast_members), "--forecast-horizon-s",
+                            repr(a.forecast_horizon_s)]
+        control = results["control"] = run_json(control_cmd)
     snap = os.path.join(case_dir, "snapback.csv")
     ident = None
     if a.identify and os.path.isfile(snap):
@@ -130,16 +136,20 @@ def run_case(case_dir, a):
             except RuntimeError as e:  # identify refuses (exit 2, saying why): counted, not fatal
                 ident = {"refused": str(e).splitlines()[-1][:200]}
     x_inst_true = x_inst_of(truth)
-    tc = float(truth["t_collapse_s"]) if truth["collapsed"] else None
-    te = truth.get("t_exceed_s")
+    truth_tc = float(truth["t_collapse_s"]) if truth["collapsed"] else None
+    truth_te = truth.get("t_exceed_s")
     for mode in MODES:
         res = results.get(mode)
         if res is None:
             continue
+        tc, te, collapsed, robust = truth_tc, truth_te, bool(truth["collapsed"]), bool(truth["robust"])
+        if mode == "control":  # the model's own world: its own outcome, every case
+            tc, te = res.get("t_collapse_s"), res.get("t_exceed_s")
+            collapsed, robust = tc is not None, True
         imminent, collapsed_alarm = alarm_fields(res)
         row = {"family": truth["family"], "case": truth["case"], "mode": mode, "record": truth.get("record", ""),
-               "scale_pga_g": truth.get("scale_pga_g", ""), "robust": int(bool(truth["robust"])),
-               "true_collapse": int(bool(truth["collapsed"])), "t_collapse_true_s": tc,
+               "scale_pga_g": truth.get("scale_pga_g", ""), "robust": int(robust),
+               "true_collapse": int(collapsed), "t_collapse_true_s": tc,
                "t_exceed_true_s": te, "x_inst_true_m": x_inst_true, "r_true": truth["r_equiv"],
                "model_collapse": int(bool(res.get("collapsed") or res.get("collapse_after_end"))),
                "t_first_imminent_s": imminent, "t_first_collapsed_s": collapsed_alarm}
@@ -156,7 +166,7 @@ def run_case(case_dir, a):
         rows.append(row)
     series = ((results["fused"].get("forecast") or {}).get("series")) or []
     for e in series:
-        y = int(tc is not None and e["t_s"] < tc <= e["t_s"] + a.forecast_horizon_s)
+        y = int(truth_tc is not None and e["t_s"] < truth_tc <= e["t_s"] + a.forecast_horizon_s)
         forecasts.append({"family": truth["family"], "case": truth["case"], "t_s": e["t_s"],
                           "p_collapse": e["p_collapse"], "p_collapse_calibrated": e.get("p_collapse_calibrated"),
                           "outcome": y})
@@ -246,45 +256,49 @@ def forecast_scores(fc):
     return {"raw": brier(fc, "p_collapse"), "calibrated": brier(fc, "p_collapse_calibrated")}
 
 
+def mode_summary(m, mode):
+    """One mode's figures over rows m (one family's, or every family's for "all")."""
+    robust = [r for r in m if r["robust"]]
+    coll = [r for r in robust if r["true_collapse"]]
+    surv = [r for r in robust if not r["true_collapse"]]
+    leads = [r["lead_s"] for r in coll if r["lead_s"] is not None]
+    leads_x = [r["lead_to_exceed_s"] for r in coll if r["lead_to_exceed_s"] is not None]
+    ms = {"robust_collapses": len(coll), "robust_survivors": len(surv),
+          "right": sum(r["alarm_right"] for r in robust), "robust": len(robust),
+          "recall": (sum(r["alarm_right"] for r in coll) / len(coll)) if coll else None,
+          "caught_at_all": sum(r["lead_s"] is not None and r["lead_s"] > 0 for r in coll),
+          "false_alarms": sum(1 - r["alarm_right"] for r in surv),
+          "false_alarm_rate": (sum(1 - r["alarm_right"] for r in surv) / len(surv)) if surv else None,
+          "lead_s_median": statistics.median(leads) if leads else None,
+          "lead_s_p05": quantile(leads, 0.05),
+          "lead_to_exceed_s_median": statistics.median(leads_x) if leads_x else None}
+    for est in ("x_inst_end", "x_inst_5", "r_end", "r_5", "r_5rock"):
+        vals = [r for r in m if r.get(est) is not None and r.get(est + "_error") is not None]
+        if not vals:
+            continue
+        tol = 0.05 if est.startswith("x_inst") else 0.03
+        ms[est] = {"n": len(vals),
+                   "abs_error_median": statistics.median(abs(r[est + "_error"]) for r in vals),
+                   "abs_error_max": max(abs(r[est + "_error"]) for r in vals),
+                   "within_tolerance": sum(abs(r[est + "_error"]) <= tol for r in vals),
+                   "tolerance": tol,
+                   "within_3_sigma": sum(r[est + "_z"] <= 3 for r in vals),
+                   "z_max": max(r[est + "_z"] for r in vals)}
+    if mode == "identified":
+        ms["identify_refused"] = sum(1 for r in m if r.get("identify_refused"))
+    return ms
+
+
 def summarise(rows, forecasts, controls=()):
     summary = {}
     for fam in sorted({r["family"] for r in rows}):
         fam_rows = [r for r in rows if r["family"] == fam]
         s = {"cases": len({r["case"] for r in fam_rows}),
-             "robust_cases": len({r["case"] for r in fam_rows if r["robust"]})}
+             "robust_cases": len({r["case"] for r in fam_rows if r["robust"] and r["mode"] != "control"})}
         for mode in MODES:
             m = [r for r in fam_rows if r["mode"] == mode]
-            if not m:
-                continue
-            robust = [r for r in m if r["robust"]]
-            coll = [r for r in robust if r["true_collapse"]]
-            surv = [r for r in robust if not r["true_collapse"]]
-            leads = [r["lead_s"] for r in coll if r["lead_s"] is not None]
-            leads_x = [r["lead_to_exceed_s"] for r in coll if r["lead_to_exceed_s"] is not None]
-            ms = {"robust_collapses": len(coll), "robust_survivors": len(surv),
-                  "right": sum(r["alarm_right"] for r in robust), "robust": len(robust),
-                  "recall": (sum(r["alarm_right"] for r in coll) / len(coll)) if coll else None,
-                  "caught_at_all": sum(r["lead_s"] is not None and r["lead_s"] > 0 for r in coll),
-                  "false_alarms": sum(1 - r["alarm_right"] for r in surv),
-                  "false_alarm_rate": (sum(1 - r["alarm_right"] for r in surv) / len(surv)) if surv else None,
-                  "lead_s_median": statistics.median(leads) if leads else None,
-                  "lead_s_p05": quantile(leads, 0.05),
-                  "lead_to_exceed_s_median": statistics.median(leads_x) if leads_x else None}
-            for est in ("x_inst_end", "x_inst_5", "r_end", "r_5", "r_5rock"):
-                vals = [r for r in m if r.get(est) is not None and r.get(est + "_error") is not None]
-                if not vals:
-                    continue
-                tol = 0.05 if est.startswith("x_inst") else 0.03
-                ms[est] = {"n": len(vals),
-                           "abs_error_median": statistics.median(abs(r[est + "_error"]) for r in vals),
-                           "abs_error_max": max(abs(r[est + "_error"]) for r in vals),
-                           "within_tolerance": sum(abs(r[est + "_error"]) <= tol for r in vals),
-                           "tolerance": tol,
-                           "within_3_sigma": sum(r[est + "_z"] <= 3 for r in vals),
-                           "z_max": max(r[est + "_z"] for r in vals)}
-            if mode == "identified":
-                ms["identify_refused"] = sum(1 for r in m if r.get("identify_refused"))
-            s[mode] = ms
+            if m:
+                s[mode] = mode_summary(m, mode)
         fam_fc = [f for f in forecasts if f["family"] == fam]
         if fam_fc:
             s["forecast"] = forecast_scores(fam_fc)
@@ -292,10 +306,17 @@ def summarise(rows, forecasts, controls=()):
         if fam_ctl:
             s["forecast_control"] = forecast_scores(fam_ctl)
         summary[fam] = s
-    if len(summary) > 1 and forecasts:  # every family's forecasts together
-        summary["all"] = {"forecast": forecast_scores(forecasts)}
+    if len(summary) > 1:  # every family together: the alarm of the fused and control modes, the odds
+        everything = {}
+        for mode in ("fused", "control"):
+            m = [r for r in rows if r["mode"] == mode]
+            if m:
+                everything[mode] = mode_summary(m, mode)
+        if forecasts:
+            everything["forecast"] = forecast_scores(forecasts)
         if controls:
-            summary["all"]["forecast_control"] = forecast_scores(controls)
+            everything["forecast_control"] = forecast_scores(controls)
+        summary["all"] = everything
     return summary
 
 
@@ -310,7 +331,7 @@ def report(summary, horizon_s):
                  f"{'after 5 rocking (in 3σ, ≤ 0.03)':>32s}")
     for fam, s in summary.items():
         for mode in MODES:
-            ms = s.get(mode) if fam != "all" else None
+            ms = s.get(mode)
             if not ms:
                 continue
             xi = ms.get("x_inst_5") or ms.get("x_inst_end")
@@ -387,9 +408,10 @@ def main():
     ap.add_argument("--forecast-members", type=int, default=200)
     ap.add_argument("--forecast-horizon-s", type=float, default=5.0)
     ap.add_argument("--no-identify", dest="identify", action="store_false")
-    ap.add_argument("--forecast-control", action="store_true",
-                    help="also forecast where the wall is the model (open loop, the wall told, --r the truth's r_equiv) "
-                         "and score against that run's own collapse: forecasts_control.csv, the report's control lines")
+    ap.add_argument("--control", "--forecast-control", dest="control", action="store_true",
+                    help="also run each case where the wall is the model (open loop, the wall told, --r the truth's "
+                         "r_equiv), its alarm and forecasts scored against that run's own collapse: mode control, "
+                         "forecasts_control.csv, the report's control lines")
     ap.add_argument("--simulate-args", default="", help="more options for every simulate run (e.g. alarm ones)")
     ap.add_argument("--observer-args", default="", help="more options for the fused runs (the observer's)")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
@@ -467,7 +489,7 @@ def main():
     settings = {"truths": os.path.relpath(a.truths, ROOT) if a.truths.startswith(ROOT) else a.truths,
                 "families": families, "forecast_members": a.forecast_members,
                 "forecast_horizon_s": a.forecast_horizon_s, "identify": a.identify,
-                "forecast_control": a.forecast_control,
+                "control": a.control,
                 "simulate_args": a.simulate_args, "observer_args": a.observer_args, "min_lead_s": MIN_LEAD_S, "bin_min_count": BIN_MIN_COUNT}
     with open(os.path.join(a.out, "summary.json"), "w") as f:
         json.dump({"settings": settings, "families": summary}, f, indent=1)

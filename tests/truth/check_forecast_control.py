@@ -1,12 +1,13 @@
 #!/usr/bin/python3
-"""Checks model-error-study.py --forecast-control (issue 40; SPEC §11 "The odds, and whose error it is").
+"""Checks model-error-study.py --control (issue 40; SPEC §11 "The odds, and whose error it is").
 
     check_forecast_control.py ROCKWATCH TRUTHS STUDY_OUT
 
 For every case of STUDY_OUT/forecasts_control.csv: runs the control itself (rockwatch simulate on the case's
 ground.csv, the wall told, --r the truth's r_equiv, --json) to get *that run's own* collapse time, and checks every
 control forecast's outcome against it (collapse in (t, t + H]) — not against the truth's collapse, which is what the
-fused forecasts are scored by. At least one case must have a different outcome under the two (else the check could
+fused forecasts are scored by — and that the case's `control` row of runs.csv carries that collapse and the run's
+first IMMINENT, its lead the difference. At least one case must have a different outcome under the two (else the check could
 not tell them apart). Then recomputes the control's pooled Brier score from the CSV and compares it with summary.json.
 Exit 1 naming the case and time on a mismatch.
 """
@@ -24,6 +25,8 @@ def main():
     summary = json.load(open(os.path.join(out, "summary.json")))
     horizon = float(summary["settings"]["forecast_horizon_s"])
     rows = list(csv.DictReader(open(os.path.join(out, "forecasts_control.csv"))))
+    runs = {(r["family"], r["case"]): r for r in csv.DictReader(open(os.path.join(out, "runs.csv")))
+            if r["mode"] == "control"}
     if not rows:
         sys.exit("check_forecast_control: forecasts_control.csv is empty")
     bad, differs = [], 0
@@ -36,7 +39,16 @@ def main():
         for key, opt in WALL_KEYS:
             if key in told:
                 cmd += [opt, repr(float(told[key]))]
-        own = json.loads(subprocess.run(cmd, check=True, capture_output=True, text=True).stdout).get("t_collapse_s")
+        run = json.loads(subprocess.run(cmd + ["--alarms"], check=True, capture_output=True, text=True).stdout)
+        own = run.get("t_collapse_s")
+        row = runs.get((fam, case))
+        imminent = (run.get("alarm") or {}).get("t_first_imminent_s")
+        want_row = (own, imminent, own - imminent if own is not None and imminent is not None else None)
+        got_row = tuple(float(row[k]) if row and row[k] != "" else None
+                        for k in ("t_collapse_true_s", "t_first_imminent_s", "lead_s")) if row else None
+        if got_row is None or any((a is None) != (b is None) or (a is not None and abs(a - b) > 1e-9)
+                                  for a, b in zip(got_row, want_row)):
+            bad.append(f"{fam}/{case}: runs.csv control row (t_collapse, IMMINENT, lead) {got_row}, the run says {want_row}")
         tc_truth = truth["t_collapse_s"] if truth["collapsed"] else None
         for r in (r for r in rows if r["family"] == fam and r["case"] == case):
             t = float(r["t_s"])
