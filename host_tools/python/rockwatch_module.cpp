@@ -200,7 +200,8 @@ py::object simulate(const Array& accel_mps2, double dt_s, const std::optional<Wa
                     const std::optional<std::string>& wall_sensors, const std::optional<double>& kappa,
                     const std::optional<std::string>& model, const std::optional<double>& t_end_s,
                     const std::optional<double>& lambda_w, const std::optional<double>& alarm_hold_s,
-                    const std::optional<double>& energy_margin, bool history) {
+                    const std::optional<double>& energy_margin, const std::optional<double>& imminent_horizon_s,
+                    const std::optional<double>& energy_min_x, bool history) {
   // The typed settings simulate's parser builds from its texts, checked by the same function (apply_simulate_settings).
   cli::SimulateSettings settings;
   if (wall_arg) settings.wall = wall_arg->choice;
@@ -216,6 +217,8 @@ py::object simulate(const Array& accel_mps2, double dt_s, const std::optional<Wa
   settings.alarm.lambda_w = lambda_w;
   settings.alarm.hold_s = alarm_hold_s;
   settings.alarm.energy_margin = energy_margin;
+  settings.alarm.imminent_horizon_s = imminent_horizon_s;
+  settings.alarm.energy_min_x = energy_min_x;
   settings.keep_history = history;
   settings.history_kept_by = "keeping the history (history=True)";
   cli::SimulateRequest q;
@@ -574,13 +577,14 @@ PYBIND11_MODULE(rockwatch, m) {
         py::arg("max_step_s") = py::none(), py::arg("arith") = py::none(), py::arg("alarms") = false,
         py::arg("wall_sensors") = py::none(), py::arg("kappa") = py::none(), py::arg("model") = py::none(),
         py::arg("t_end_s") = py::none(), py::arg("lambda_w") = py::none(), py::arg("alarm_hold_s") = py::none(),
-        py::arg("energy_margin") = py::none(), py::arg("history") = true,
+        py::arg("energy_margin") = py::none(), py::arg("imminent_horizon_s") = py::none(),
+        py::arg("energy_min_x") = py::none(), py::arg("history") = true,
         "Runs a wall through a ground motion as `rockwatch simulate --json` does (the same engine and defaults). "
         "accel_mps2: horizontal samples [m/s2] every dt_s; wall: a Wall (default the paper's); r: --r (\"ana\", "
         "\"exp\", \"impulse\" or a number; default exp, or the wall file's); vertical_mps2 on the same grid; "
         "scale_pga_g: --scale-pga; max_step_s: --max-step; arith: \"double\" | \"fixed\"; alarms: --alarms; "
         "wall_sensors: --wall-sensors FILE.csv; kappa, model, t_end_s, lambda_w, alarm_hold_s, energy_margin: the "
-        "options of those names; history=False skips the time history.");
+        "options of those names; imminent_horizon_s: --imminent-horizon; energy_min_x: --energy-min-x; history=False skips the time history.");
 
   m.def("static_check", &static_check, py::kw_only(), py::arg("wall") = py::none(), py::arg("b_m") = py::none(),
         py::arg("h_m") = py::none(), py::arg("h1_m") = py::none(), py::arg("h2_m") = py::none(),

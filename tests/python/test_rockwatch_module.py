@@ -58,6 +58,8 @@ SIMULATE_CASES = [
     (["--scale-pga", "0.3", "--alarms", "--arith", "fixed"], dict(scale_pga_g=0.3, alarms=True, arith="fixed")),
     (["--scale-pga", "0.3", "--alarms", "--lambda-w", "0.6", "--alarm-hold", "0.5", "--energy-margin", "2"],
      dict(scale_pga_g=0.3, alarms=True, lambda_w=0.6, alarm_hold_s=0.5, energy_margin=2)),
+    (["--scale-pga", "0.25", "--alarms", "--imminent-horizon", "0.17", "--energy-min-x", "0.5"],
+     dict(scale_pga_g=0.25, alarms=True, imminent_horizon_s=0.17, energy_min_x=0.5)),
     (["--model", "full", "--t-end", "20", "--scale-pga", "0.3"], dict(model="full", t_end_s=20, scale_pga_g=0.3)),
     ([], {}),
 ]
