@@ -31,8 +31,8 @@ and scores them per truth family (SPEC §11 "Model error" defines every figure):
                                  [--control] [--check-fused-alarm] [--check-x-inst-median 0.05]
 
 Writes DIR/runs.csv (one row per case x mode), DIR/forecasts.csv (one row per forecast), DIR/summary.json (per family
-and mode), with --control DIR/forecasts_control.csv, DIR/report.txt (the table printed) and with --plots DIR/reliability.png, DIR/estimates.png. Exits 2 naming
-the file and field on a malformed truth; exits 1 when a --check-… goal fails (naming the case or family).
+and mode), with --control DIR/forecasts_control.csv, DIR/report.txt (the table printed) and with --plots
+DIR/reliability.png, DIR/estimates.png. Exits 2 naming the file and field on a malformed truth; exits 1 when a --check-… goal fails (naming the case or family).
 Deterministic (every tool it runs is).
 """
 import argparse
@@ -109,20 +109,16 @@ def run_case(case_dir, a):
     truth = load_truth(case_dir)
     ground = os.path.join(case_dir, "ground.csv")
     base = [a.rockwatch, "simulate", "--record", ground, "--units", "mps2"] + wall_args(truth) + a.simulate_args
-    rows, forecasts = [], []
+    rows = []
     results = {"open_loop": run_json(base + ["--alarms", "--json"])}
-    fused_cmd = base + ["--alarms", "--wall-sensors", os.path.join(case_dir, "sensors.csv"), "--json"] + a.observer_args
-    if a.forecast_members > 0:
-        fused_cmd += ["--forecast-members", str(a.forecast_members), "--forecast-horizon-s",
-                      repr(a.forecast_horizon_s)]
-    results["fused"] = run_json(fused_cmd)
+    forecast_args = (["--forecast-members", str(a.forecast_members), "--forecast-horizon-s", repr(a.forecast_horizon_s)]
+                     if a.forecast_members > 0 else [])
+    results["fused"] = run_json(base + ["--alarms", "--wall-sensors", os.path.join(case_dir, "sensors.csv"), "--json"]
+                                + a.observer_args + forecast_args)
     control = None
     if a.control and truth.get("r_equiv") is not None:
-        control_cmd = base + ["--r", repr(float(truth["r_equiv"])), "--alarms", "--json"]
-        if a.forecast_members > 0:
-            control_cmd += ["--forecast-members", str(a.forecast_members), "--forecast-horizon-s",
-                            repr(a.forecast_horizon_s)]
-        control = results["control"] = run_json(control_cmd)
+        control = results["control"] = run_json(base + ["--r", repr(float(truth["r_equiv"])), "--alarms", "--json"]
+                                                + forecast_args)
     snap = os.path.join(case_dir, "snapback.csv")
     ident = None
     if a.identify and os.path.isfile(snap):
@@ -164,22 +160,18 @@ def run_case(case_dir, a):
         est = estimates(mode, res, ident, truth, x_inst_true)
         row.update(est)
         rows.append(row)
-    series = ((results["fused"].get("forecast") or {}).get("series")) or []
-    for e in series:
-        y = int(truth_tc is not None and e["t_s"] < truth_tc <= e["t_s"] + a.forecast_horizon_s)
-        forecasts.append({"family": truth["family"], "case": truth["case"], "t_s": e["t_s"],
-                          "p_collapse": e["p_collapse"], "p_collapse_calibrated": e.get("p_collapse_calibrated"),
-                          "outcome": y})
-    controls = []
-    if control is not None:
-        # Scored against the model's own collapse: here the wall is the model (SPEC §11 "The odds").
-        tm = control.get("t_collapse_s")
-        for e in ((control.get("forecast") or {}).get("series")) or []:
-            y = int(tm is not None and e["t_s"] < tm <= e["t_s"] + a.forecast_horizon_s)
-            controls.append({"family": truth["family"], "case": truth["case"], "t_s": e["t_s"],
-                             "p_collapse": e["p_collapse"], "p_collapse_calibrated": e.get("p_collapse_calibrated"),
-                             "outcome": y})
+    forecasts = scored_forecasts(truth, results["fused"], truth_tc, a.forecast_horizon_s)
+    # The control's against the model's own collapse: there the wall is the model (SPEC §11).
+    controls = scored_forecasts(truth, control, control.get("t_collapse_s"), a.forecast_horizon_s) if control else []
     return rows, forecasts, controls
+
+
+def scored_forecasts(truth, res, t_collapse, horizon_s):
+    """A run's forecast series, each with its outcome: collapse at t_collapse within (t, t + horizon_s]."""
+    return [{"family": truth["family"], "case": truth["case"], "t_s": e["t_s"], "p_collapse": e["p_collapse"],
+             "p_collapse_calibrated": e.get("p_collapse_calibrated"),
+             "outcome": int(t_collapse is not None and e["t_s"] < t_collapse <= e["t_s"] + horizon_s)}
+            for e in ((res.get("forecast") or {}).get("series")) or []]
 
 
 def estimates(mode, res, ident, truth, x_inst_true):
@@ -352,7 +344,8 @@ def report(summary, horizon_s):
             for kind in ("raw", "calibrated"):
                 b = fc[kind]
                 if b:
-                    lines.append(f"{fam:13s} P(collapse in {horizon_s:g} s) {label + kind:19s}: {b['forecasts']} forecasts, "
+                    lines.append(f"{fam:13s} P(collapse in {horizon_s:g} s) {label + kind:19s}: "
+                                 f"{b['forecasts']} forecasts, "
                                  f"base rate {b['base_rate']:.3f}, Brier {b['brier']:.4f}, skill {fmt(b['skill'], '.3f')}"
                                  f", worst bin gap {fmt(b['worst_bin_gap'], '+.3f')}, "
                                  f"{'calibrated' if b['calibrated'] else 'NOT calibrated'}")

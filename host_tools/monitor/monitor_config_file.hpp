@@ -50,8 +50,8 @@ struct FileValues {
   std::optional<core::Restitution> r;
   std::optional<core::ModelKind> model;
   std::optional<firmware::MonitorArithmetic> arith;
-  std::optional<double> kappa, lambda_w, hold_s, energy_margin, imminent_horizon_s, energy_min_x, sample_rate_hz, max_step_s,
-      sensor_range_mps2, late_limit_s, clock_tolerance_s, work_budget_units;
+  std::optional<double> kappa, lambda_w, hold_s, energy_margin, imminent_horizon_s, energy_min_x, sample_rate_hz,
+      max_step_s, sensor_range_mps2, late_limit_s, clock_tolerance_s, work_budget_units;
   std::optional<core::WorkOverflow> work_overflow;
   std::optional<long long> realtime_priority, cpu, busy_poll_us;  // range-checked when read
   std::optional<std::int32_t> max_bridge_samples;

@@ -584,7 +584,8 @@ PYBIND11_MODULE(rockwatch, m) {
         "\"exp\", \"impulse\" or a number; default exp, or the wall file's); vertical_mps2 on the same grid; "
         "scale_pga_g: --scale-pga; max_step_s: --max-step; arith: \"double\" | \"fixed\"; alarms: --alarms; "
         "wall_sensors: --wall-sensors FILE.csv; kappa, model, t_end_s, lambda_w, alarm_hold_s, energy_margin: the "
-        "options of those names; imminent_horizon_s: --imminent-horizon; energy_min_x: --energy-min-x; history=False skips the time history.");
+        "options of those names; imminent_horizon_s: --imminent-horizon; energy_min_x: --energy-min-x; "
+        "history=False skips the time history.");
 
   m.def("static_check", &static_check, py::kw_only(), py::arg("wall") = py::none(), py::arg("b_m") = py::none(),
         py::arg("h_m") = py::none(), py::arg("h1_m") = py::none(), py::arg("h2_m") = py::none(),

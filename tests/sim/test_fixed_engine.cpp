@@ -39,6 +39,38 @@ sim::GroundMotion scaled(const std::vector<double>& a, double dt_s, double pga_m
   return m;
 }
 
+// The energy flag of the fixed-point and the double indicators, and the fixed-point one at the default settings, for
+// one state (x ≥ 0, ẋ) of the paper wall (r 0.9): the comparisons of the opt-in rules' tests below.
+struct EnergyFlags {
+  bool fixed, dbl, fixed_default;
+};
+class IndicatorsBothWays {
+ public:
+  explicit IndicatorsBothWays(const core::AlarmSettings& settings)
+      : setup_(paper_setup(0.9)), d_(core::make_instability_constants(setup_, settings)) {
+    CHECK_TRUE(core::make_fixed_instability_constants(setup_, settings, c_));
+    CHECK_TRUE(core::make_fixed_instability_constants(setup_, core::AlarmSettings{}, off_));
+    CHECK(f_.init(setup_) == core::FixedSetupError::ok);
+    s_.init(setup_);
+  }
+  double x_inst_m() const { return d_.x_inst_m[1]; }
+  double omega_rps() const { return d_.omega_rps[1]; }
+  EnergyFlags at(double x_m, double xd_mps) {
+    f_.set_state(core::LengthQ1_62(x_m), core::SpeedQ3_60(xd_mps), core::AccelQ7_56{}, core::AccelQ7_56{});
+    s_.set_state(x_m, xd_mps, 0.0, 0.0);
+    return {core::evaluate_instability(c_, f_, core::FixedStepReport{}).conditions.energy_over_barrier_outward,
+            core::evaluate_instability(d_, s_, core::StepReport<double>{}).conditions.energy_over_barrier_outward,
+            core::evaluate_instability(off_, f_, core::FixedStepReport{}).conditions.energy_over_barrier_outward};
+  }
+
+ private:
+  core::StepperSetup<double> setup_;
+  core::InstabilityConstants<double> d_;
+  core::FixedInstabilityConstants c_{}, off_{};
+  core::FixedRockingStepper f_;
+  core::RockingStepper<double> s_;
+};
+
 }  // namespace
 
 TEST_GROUP(FixedEngine){};
@@ -178,28 +210,17 @@ TEST(FixedEngine, SaturationIsReportedNotWrapped) {
 TEST(FixedEngine, ImminentHorizonAgreesWithTheDoubleIndicators) {
   // The horizon rule (core/instability_indicators.hpp) in fixed point: the same flag as the double indicators on
   // states above the barrier (ρ 1.1 < the margin 1.5) at several distances from x_inst, none off.
-  const core::StepperSetup<double> setup = paper_setup(0.9);
   core::AlarmSettings settings;
   settings.imminent_horizon_s = 0.15;
-  core::FixedInstabilityConstants c{}, off{};
-  CHECK_TRUE(core::make_fixed_instability_constants(setup, settings, c));
-  CHECK_TRUE(core::make_fixed_instability_constants(setup, core::AlarmSettings{}, off));
-  const core::InstabilityConstants<double> d = core::make_instability_constants(setup, settings);
-  core::FixedRockingStepper f;
-  CHECK(f.init(setup) == core::FixedSetupError::ok);
-  core::RockingStepper<double> s;
-  s.init(setup);
-  const double xi = d.x_inst_m[1], omega = d.omega_rps[1];
+  IndicatorsBothWays w(settings);
+  const double xi = w.x_inst_m(), omega = w.omega_rps();
   int raised = 0;
   for (const double x_abs : {0.3 * xi, 0.5 * xi, 0.7 * xi, 0.85 * xi, 0.95 * xi}) {
     const double yd = std::sqrt(omega * omega * ((x_abs - xi) * (x_abs - xi) + 0.1 * xi * xi));
-    f.set_state(core::LengthQ1_62(x_abs), core::SpeedQ3_60(yd), core::AccelQ7_56{}, core::AccelQ7_56{});
-    s.set_state(x_abs, yd, 0.0, 0.0);
-    const core::FixedInstabilityIndicators fi = core::evaluate_instability(c, f, core::FixedStepReport{});
-    const core::InstabilityIndicators<double> di = core::evaluate_instability(d, s, core::StepReport<double>{});
-    CHECK_EQUAL(di.conditions.energy_over_barrier_outward, fi.conditions.energy_over_barrier_outward);
-    raised += fi.conditions.energy_over_barrier_outward ? 1 : 0;
-    CHECK_FALSE(core::evaluate_instability(off, f, core::FixedStepReport{}).conditions.energy_over_barrier_outward);
+    const EnergyFlags e = w.at(x_abs, yd);
+    CHECK_EQUAL(e.dbl, e.fixed);
+    raised += e.fixed ? 1 : 0;
+    CHECK_FALSE(e.fixed_default);
   }
   CHECK(raised >= 1 && raised <= 4);
 }
@@ -207,30 +228,19 @@ TEST(FixedEngine, ImminentHorizonAgreesWithTheDoubleIndicators) {
 TEST(FixedEngine, EnergyMinXAgreesWithTheDoubleIndicators) {
   // energy_min_x (core/instability_indicators.hpp) in fixed point: with ρ = 2 over the margin moving outward, the
   // same flag as the double indicators at displacements either side of 0.5 x_inst; with the default (0) every one.
-  const core::StepperSetup<double> setup = paper_setup(0.9);
   core::AlarmSettings settings;
   settings.energy_min_x = 0.5;
-  core::FixedInstabilityConstants c{}, off{};
-  CHECK_TRUE(core::make_fixed_instability_constants(setup, settings, c));
-  CHECK_TRUE(core::make_fixed_instability_constants(setup, core::AlarmSettings{}, off));
-  const core::InstabilityConstants<double> d = core::make_instability_constants(setup, settings);
-  core::FixedRockingStepper f;
-  CHECK(f.init(setup) == core::FixedSetupError::ok);
-  core::RockingStepper<double> s;
-  s.init(setup);
-  const double xi = d.x_inst_m[1], omega = d.omega_rps[1];
+  IndicatorsBothWays w(settings);
+  const double xi = w.x_inst_m(), omega = w.omega_rps();
   int raised = 0;
   for (const double frac : {0.1, 0.3, 0.49, 0.51, 0.7, 0.9}) {
     const double x_abs = frac * xi;
     const double yd = std::sqrt(omega * omega * ((x_abs - xi) * (x_abs - xi) + 1.0 * xi * xi));  // ρ = 2
-    f.set_state(core::LengthQ1_62(x_abs), core::SpeedQ3_60(yd), core::AccelQ7_56{}, core::AccelQ7_56{});
-    s.set_state(x_abs, yd, 0.0, 0.0);
-    const core::FixedInstabilityIndicators fi = core::evaluate_instability(c, f, core::FixedStepReport{});
-    const core::InstabilityIndicators<double> di = core::evaluate_instability(d, s, core::StepReport<double>{});
-    CHECK_EQUAL(frac >= 0.5, fi.conditions.energy_over_barrier_outward);
-    CHECK_EQUAL(di.conditions.energy_over_barrier_outward, fi.conditions.energy_over_barrier_outward);
-    raised += fi.conditions.energy_over_barrier_outward ? 1 : 0;
-    CHECK_TRUE(core::evaluate_instability(off, f, core::FixedStepReport{}).conditions.energy_over_barrier_outward);
+    const EnergyFlags e = w.at(x_abs, yd);
+    CHECK_EQUAL(frac >= 0.5, e.fixed);
+    CHECK_EQUAL(e.dbl, e.fixed);
+    raised += e.fixed ? 1 : 0;
+    CHECK_TRUE(e.fixed_default);
   }
   LONGS_EQUAL(3, raised);
 }

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Checks model-error-study.py --control (issue 40; SPEC §11 "The odds, and whose error it is").
+"""Checks model-error-study.py --control (issue 40; SPEC §11 "The odds and the lead, and whose error it is").
 
     check_forecast_control.py ROCKWATCH TRUTHS STUDY_OUT
 
@@ -7,17 +7,25 @@ For every case of STUDY_OUT/forecasts_control.csv: runs the control itself (rock
 ground.csv, the wall told, --r the truth's r_equiv, --json) to get *that run's own* collapse time, and checks every
 control forecast's outcome against it (collapse in (t, t + H]) — not against the truth's collapse, which is what the
 fused forecasts are scored by — and that the case's `control` row of runs.csv carries that collapse and the run's
-first IMMINENT, its lead the difference. At least one case must have a different outcome under the two (else the check could
-not tell them apart). Then recomputes the control's pooled Brier score from the CSV and compares it with summary.json.
+first IMMINENT, its lead the difference. At least one case must have a different outcome under the two (else the
+check could not tell them apart). Then recomputes the control's pooled Brier score from the CSV and compares it with summary.json.
 Exit 1 naming the case and time on a mismatch.
 """
 import csv
+import importlib.util
 import json
 import os
 import subprocess
 import sys
 
-WALL_KEYS = (("b", "--b"), ("h1", "--h1"), ("h2", "--h2"), ("rho", "--rho"), ("Fp_N_per_m", "--fp"))
+
+def study_module():
+    """scripts/model-error-study.py as a module: the wall told is its wall_args (what is checked is the scoring)."""
+    path = os.path.join(os.path.dirname(__file__), "..", "..", "scripts", "model-error-study.py")
+    spec = importlib.util.spec_from_file_location("model_error_study", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
 
 
 def main():
@@ -30,15 +38,12 @@ def main():
     if not rows:
         sys.exit("check_forecast_control: forecasts_control.csv is empty")
     bad, differs = [], 0
+    study = study_module()
     for fam, case in sorted({(r["family"], r["case"]) for r in rows}):
         d = os.path.join(truths, fam, case)
         truth = json.load(open(os.path.join(d, "truth.json")))
-        told = truth.get("wall_told") or {}
         cmd = [rockwatch, "simulate", "--record", os.path.join(d, "ground.csv"), "--units", "mps2", "--json",
-               "--r", repr(float(truth["r_equiv"]))]
-        for key, opt in WALL_KEYS:
-            if key in told:
-                cmd += [opt, repr(float(told[key]))]
+               "--r", repr(float(truth["r_equiv"]))] + study.wall_args(truth)
         run = json.loads(subprocess.run(cmd + ["--alarms"], check=True, capture_output=True, text=True).stdout)
         own = run.get("t_collapse_s")
         row = runs.get((fam, case))
@@ -48,7 +53,8 @@ def main():
                         for k in ("t_collapse_true_s", "t_first_imminent_s", "lead_s")) if row else None
         if got_row is None or any((a is None) != (b is None) or (a is not None and abs(a - b) > 1e-9)
                                   for a, b in zip(got_row, want_row)):
-            bad.append(f"{fam}/{case}: runs.csv control row (t_collapse, IMMINENT, lead) {got_row}, the run says {want_row}")
+            bad.append(f"{fam}/{case}: runs.csv control row (t_collapse, IMMINENT, lead) {got_row}, "
+                       f"the run says {want_row}")
         tc_truth = truth["t_collapse_s"] if truth["collapsed"] else None
         for r in (r for r in rows if r["family"] == fam and r["case"] == case):
             t = float(r["t_s"])
@@ -66,13 +72,10 @@ def main():
         bad.append("indistinguishable")
     pairs = [(float(r["p_collapse"]), int(r["outcome"])) for r in rows]
     brier = sum((p - o) ** 2 for p, o in pairs) / len(pairs)
-    ctl = ((summary["families"].get("all") or next(iter(summary["families"].values()))).get("forecast_control")
-           or {}).get("raw") or {}
-    if len(summary["families"]) > 1 and "all" not in summary["families"]:
-        bad.append("summary.json: no 'all' entry for several families")
+    # Every family's forecasts together: the one family's entry, or "all" for several.
     fams = {r["family"] for r in rows}
-    if len(fams) == 1:
-        ctl = summary["families"][next(iter(fams))]["forecast_control"]["raw"]
+    pooled = summary["families"].get(next(iter(fams)) if len(fams) == 1 else "all") or {}
+    ctl = (pooled.get("forecast_control") or {}).get("raw") or {}
     if ctl.get("forecasts") != len(pairs) or abs(ctl.get("brier", -1) - brier) > 1e-12:
         bad.append(f"summary.json control raw: {ctl.get('forecasts')} forecasts, Brier {ctl.get('brier')}; "
                    f"the CSV: {len(pairs)}, {brier}")

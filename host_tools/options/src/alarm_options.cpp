@@ -173,6 +173,18 @@ void apply_alarm_options(const AlarmOptionValues& v, sim::AnalysisOptions& optio
   }
 }
 
+std::vector<std::string> opt_in_alarm_rule_texts(const core::AlarmSettings& s) {
+  std::vector<std::string> texts;
+  if (s.imminent_horizon_s > 0.0) {
+    texts.push_back("IMMINENT also at E >= E_barrier moving outward with x_inst predicted within " +
+                    number_text(s.imminent_horizon_s) + " s");
+  }
+  if (s.energy_min_x > 0.0) {
+    texts.push_back("IMMINENT by the energy margin only from |x| >= " + number_text(s.energy_min_x) + " x_inst");
+  }
+  return texts;
+}
+
 void parse_alarm_options(const CLI::App& app, const AlarmOptionTexts& texts, sim::AnalysisOptions& options) {
   apply_alarm_options(alarm_option_values(app, texts), options);
 }

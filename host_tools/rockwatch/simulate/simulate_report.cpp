@@ -128,13 +128,7 @@ void alarm_text(std::string& out, const SimulateRequest& q, const sim::AlarmSumm
                                "outward; hold %s s",
                                number_text(s.lambda_warning).c_str(), number_text(s.energy_margin).c_str(),
                                number_text(s.hold_s).c_str()));
-  if (s.imminent_horizon_s > 0.0) {
-    line(out, "", format("IMMINENT also at E >= E_barrier moving outward with x_inst predicted within %s s",
-                         number_text(s.imminent_horizon_s).c_str()));
-  }
-  if (s.energy_min_x > 0.0) {
-    line(out, "", format("IMMINENT by the energy margin only from |x| >= %s x_inst", number_text(s.energy_min_x).c_str()));
-  }
+  for (const std::string& rule : options::opt_in_alarm_rule_texts(s)) line(out, "", rule);
   line(out, "highest level", core::alarm_level_name(a.max_level));
   line(out, "first WARNING", time_text(a.t_first_warning_s, "never"));
   line(out, "first IMMINENT", time_text(a.t_first_imminent_s, "never"));

@@ -55,8 +55,8 @@ struct AlarmChainTraits<RockingStepper<double>> {
   static Fraction fraction(int j, int n) { return double(j) / double(n); }
   // A fraction f of sub-step j (1-based) of n as a fraction of the whole sample.
   static Fraction sample_fraction(Fraction f, int j, int n, const Fraction*) { return (double(j - 1) + f) / double(n); }
-  // The constants of the estimated wall (the observer's): x_inst, λ_w·x_inst and energy_min_x·x_inst times q, ω² times kk (so the
-  // barrier c²/2k and ρ follow), from the nominal ones.
+  // The constants of the estimated wall (the observer's): x_inst, λ_w·x_inst and energy_min_x·x_inst times q, ω²
+  // times kk (so the barrier c²/2k and ρ follow), from the nominal ones.
   static void scale_constants(Constants& c, const Constants& n, double q, double kk) {
     const double w = std::sqrt(kk);
     for (int i = 0; i < 2; ++i) {

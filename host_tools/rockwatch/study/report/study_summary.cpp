@@ -400,13 +400,7 @@ std::string study_summary_text(const StudyRequest& q, const study::StudyPlan& pl
     line(out, "alarm", format("lambda_w %s, hold %s s, energy margin %s (%s engine; verdicts of the double engine)",
                               number_text(st.lambda_warning).c_str(), number_text(st.hold_s).c_str(),
                               number_text(st.energy_margin).c_str(), arithmetic_name(plan.analysis.arithmetic)));
-    if (st.imminent_horizon_s > 0.0) {
-      line(out, "", format("IMMINENT also at E >= E_barrier moving outward with x_inst predicted within %s s",
-                           number_text(st.imminent_horizon_s).c_str()));
-    }
-    if (st.energy_min_x > 0.0) {
-      line(out, "", format("IMMINENT by the energy margin only from |x| >= %s x_inst", number_text(st.energy_min_x).c_str()));
-    }
+    for (const std::string& rule : options::opt_in_alarm_rule_texts(st)) line(out, "", rule);
     line(out, "", format("recall %s: %zu of %zu collapses flagged IMMINENT before t_collapse",
                          probability_text(a.recall).c_str(), a.collapsed_flagged, a.collapsed));
     line(out, "", format("false alarms %s: %zu of %zu survivors flagged IMMINENT",

@@ -46,9 +46,9 @@ std::string energy_margin_range_text();
 std::string imminent_horizon_range_text();
 std::string energy_min_x_range_text();
 
-// Registers --lambda-w, --alarm-hold, --energy-margin, --imminent-horizon and --energy-min-x, in that order, their help starting with
-// `help_prefix` ("With --alarms: " in the tool; "" in the monitor, whose alarm always runs) and stating
-// core::AlarmSettings's defaults.
+// Registers --lambda-w, --alarm-hold, --energy-margin, --imminent-horizon and --energy-min-x, in that order, their
+// help starting with `help_prefix` ("With --alarms: " in the tool; "" in the monitor, whose alarm always runs) and
+// stating core::AlarmSettings's defaults.
 void add_alarm_setting_options(CLI::App& app, AlarmOptionTexts& texts, const std::string& help_prefix);
 
 // Registers --arith, --alarms, --lambda-w, --alarm-hold, --energy-margin, --imminent-horizon, --energy-min-x and
@@ -77,6 +77,10 @@ void apply_alarm_options(const AlarmOptionValues& values, sim::AnalysisOptions& 
 
 // apply_alarm_options(alarm_option_values(app, texts), options).
 void parse_alarm_options(const CLI::App& app, const AlarmOptionTexts& texts, sim::AnalysisOptions& options);
+
+// The opt-in rules that are on (the look-ahead horizon, the energy rule's displacement), a sentence each, for the
+// text reports of simulate and study: empty at the defaults.
+std::vector<std::string> opt_in_alarm_rule_texts(const core::AlarmSettings& s);
 
 // "double" | "fixed".
 const char* arithmetic_name(sim::Arithmetic arithmetic);
