@@ -21,7 +21,7 @@
 # release_only (tests/CMakeLists.txt: an image built by arm-none-eabi-g++, a Python engine, a check of the docs) are
 # registered disabled under the sanitizers: the summary line names them apart from the skipped ones.
 # A background build's output goes to build/ci-<name>.log (printed when it fails).
-# Prints how long each stage took at the end (docs/BENCHMARKS.md, "The test loop"). Exits non-zero on any failure.
+# Prints how long each stage took and the CPU its processes used at the end (docs/BENCHMARKS.md, "The test loop"). Exits non-zero on any failure.
 # Ends, pass or fail, with a line of the suites run and skipped per preset (scripts/ctest-summary.py). Under CI=true
 # a test that would skip for a missing tool or service fails instead (tests/support/no_skip_in_ci.sh, ci_skip.hpp),
 # and any skip left fails the run: CI expects 0 skipped.
@@ -49,13 +49,35 @@ child_cpu() {
   read -r -a f </proc/$$/stat
   echo $(((f[15] + f[16]) / ticks))
 }
+# The CPU ticks of this (sub)shell's finished children: cutime + cstime of /proc/BASHPID/stat.
+own_child_ticks() {
+  local f
+  read -r -a f </proc/$BASHPID/stat
+  echo $((f[15] + f[16]))
+}
+# with_cpu COMMAND...: runs COMMAND in a subshell and adds its CPU (all its processes) to the stage's; returns its status.
+with_cpu() {
+  local rc=0 file=build/.stage-cpu.$$
+  mkdir -p build
+  (
+    status=0
+    "$@" || status=$?
+    own_child_ticks >"$file"
+    exit "$status"
+  ) || rc=$?
+  stage_cpu_ticks=$((stage_cpu_ticks + $(cat "$file" 2>/dev/null || echo 0)))
+  rm -f "$file"
+  return "$rc"
+}
 stage() {  # stage NAME: starts NAME's clock; stage_done records it
   echo "== $1 ($(date +%T))"
   stage_start=$SECONDS
   stage_name=$1
+  stage_cpu_ticks=0
 }
 stage_done() {
-  stage_times+=("$(printf '%-26s %4d s wall, from %4d s' "$stage_name" $((SECONDS - stage_start)) "$stage_start")")
+  stage_times+=("$(printf '%-26s %4d s wall, from %4d s %5d s CPU' "$stage_name" $((SECONDS - stage_start)) "$stage_start" \
+    $((stage_cpu_ticks / ticks)))")
 }
 log_of() { echo "build/ci-$(tr -cs 'a-z0-9' '-' <<<"$1" | sed 's/-$//').log"; }
 # bg_start NAME NICE COMMAND...: runs COMMAND in the background at NICE (its own process group, so a failure elsewhere
@@ -73,19 +95,19 @@ bg_start() {
     start=$SECONDS
     status=0
     nice -n "$niceness" "$@" >"$log" 2>&1 </dev/null || status=$?
-    echo "$status $start $SECONDS" >"$log.status"
+    echo "$status $start $SECONDS $(($(own_child_ticks) / ticks))" >"$log.status"
   ) &
   bg_pid[$name]=$!
   set +m
 }
 # bg_wait NAME: waits for NAME; on failure prints the end of its log and exits.
 bg_wait() {
-  local name=$1 log status start end
+  local name=$1 log status start end cpu
   log=$(log_of "$name")
   wait "${bg_pid[$name]}" || true
   unset "bg_pid[$name]"
-  read -r status start end <"$log.status" || { status=1 start=0 end=0; }
-  stage_times+=("$(printf '%-26s %4d s wall, from %4d s (background)' "$name" $((end - start)) "$start")")
+  read -r status start end cpu <"$log.status" || { status=1 start=0 end=0 cpu=0; }
+  stage_times+=("$(printf '%-26s %4d s wall, from %4d s %5d s CPU (background)' "$name" $((end - start)) "$start" "$cpu")")
   if [ "$status" -ne 0 ]; then
     tail -n 60 "$log" >&2
     echo "FAILED: $name (exit status $status; the whole output: $log)" >&2
@@ -99,7 +121,7 @@ run_ctest() {
   shift 2
   rm -f "$junit"
   ctest_status=0
-  ctest --preset "$preset" -j "$(nproc)" --output-junit "$junit" "$@" || ctest_status=$?
+  with_cpu ctest --preset "$preset" -j "$(nproc)" --output-junit "$junit" "$@" || ctest_status=$?
 }
 # summarise PRESET JUNIT...: the preset's line of suites run and skipped; fails on a failure, or a skip under CI=true.
 summarise() {
@@ -120,7 +142,7 @@ summarise() {
 }
 
 stage "release: build"
-./scripts/build.sh release
+with_cpu ./scripts/build.sh release
 stage_done
 # The end-to-end tests run LCM over real UDP multicast on loopback (they skip, saying why, when it is unavailable,
 # and fail under CI=true); after the build, which installs iproute2.
