@@ -21,7 +21,8 @@
 # release_only (tests/CMakeLists.txt: an image built by arm-none-eabi-g++, a Python engine, a check of the docs) are
 # registered disabled under the sanitizers: the summary line names them apart from the skipped ones.
 # A background build's output goes to build/ci-<name>.log (printed when it fails).
-# Prints how long each stage took and the CPU its processes used at the end (docs/BENCHMARKS.md, "The test loop"). Exits non-zero on any failure.
+# Prints how long each stage took and the CPU its processes used at the end (docs/BENCHMARKS.md, "The test loop").
+# Exits non-zero on any failure.
 # Ends, pass or fail, with a line of the suites run and skipped per preset (scripts/ctest-summary.py). Under CI=true
 # a test that would skip for a missing tool or service fails instead (tests/support/no_skip_in_ci.sh, ci_skip.hpp),
 # and any skip left fails the run: CI expects 0 skipped.
@@ -55,7 +56,8 @@ own_child_ticks() {
   read -r -a f </proc/$BASHPID/stat
   echo $((f[15] + f[16]))
 }
-# with_cpu COMMAND...: runs COMMAND in a subshell and adds its CPU (all its processes) to the stage's; returns its status.
+# with_cpu COMMAND...: runs COMMAND in a subshell and adds its CPU (all its processes) to the stage's; returns its
+# status.
 with_cpu() {
   local rc=0 file=build/.stage-cpu.$$
   mkdir -p build
@@ -76,8 +78,8 @@ stage() {  # stage NAME: starts NAME's clock; stage_done records it
   stage_cpu_ticks=0
 }
 stage_done() {
-  stage_times+=("$(printf '%-26s %4d s wall, from %4d s %5d s CPU' "$stage_name" $((SECONDS - stage_start)) "$stage_start" \
-    $((stage_cpu_ticks / ticks)))")
+  stage_times+=("$(printf '%-26s %4d s wall, from %4d s %5d s CPU' "$stage_name" $((SECONDS - stage_start)) \
+    "$stage_start" $((stage_cpu_ticks / ticks)))")
 }
 log_of() { echo "build/ci-$(tr -cs 'a-z0-9' '-' <<<"$1" | sed 's/-$//').log"; }
 # bg_start NAME NICE COMMAND...: runs COMMAND in the background at NICE (its own process group, so a failure elsewhere

@@ -5,6 +5,7 @@
   /usr/bin/python3 tests/truth/make_truths.py --family crushed      # one family (its folder and rows of index.csv)
   /usr/bin/python3 tests/truth/make_truths.py --regenerate DIR      # one kept case from its truth.json, compared
   /usr/bin/python3 tests/truth/make_truths.py --heldout --out DIR   # the validation set: other records and walls
+  /usr/bin/python3 tests/truth/make_truths.py --wall b=0.21,h=2.7,rho=1900 --heldout --out DIR  # another told wall
 
 Per truth: its x_inst from a static push (both sides), a snap-back test (released from 0.5 x_inst, 8 s) and r_equiv
 from it; per record a PGA scan (×1.25 from 0.08 g up to the first collapse, then 4 bisections) for the collapse PGA
@@ -68,12 +69,14 @@ def crushing(k, c_over_k, fc, n=11):
     return {"kind": "crushing", "n_fibres": n, "k_N_per_m3": k, "c_Ns_per_m3": k * c_over_k, "fc_Pa": fc}
 
 
-def family_table(recs, crushed, cracks, loads):
-    """family -> list of (truth name, params, records): the paper wall as rigid blocks on every record; each other
-    family's two walls (name, params) on alternate records, the first on the even-numbered ones, the second on the odd."""
+def family_table(recs, crushed, cracks, loads, rigid=None):
+    """family -> list of (truth name, params, records): the told wall as rigid blocks (RIGID: name, params; default
+    the paper wall) on every record; each other family's two walls (name, params) on alternate records, the first on
+    the even-numbered ones, the second on the odd."""
     def pair(walls):
         return [(name, tp, recs[i:8:2]) for i, (name, tp) in enumerate(walls)]
-    return {"multibody": [("paper", truth_params(), recs)],
+    name, tp = rigid or ("paper", truth_params())
+    return {"multibody": [(name, tp, recs)],
             "crushed": pair(crushed), "crack_height": pair(cracks), "overburden": pair(loads)}
 
 
@@ -103,6 +106,52 @@ FAMILIES_HELDOUT = family_table(
              ("k1e9_fc0.3MPa", truth_params(interface=crushing(1e9, 3e-3, 0.3e6)))],
     cracks=[("h1_1.50_h2_2.00", truth_params(h1=1.50, h2=2.00)), ("h1_2.00_h2_1.50", truth_params(h1=2.00, h2=1.50))],
     loads=[("Fp2000", truth_params(Fp_N_per_m=2000.0)), ("Fp1000", truth_params(Fp_N_per_m=1000.0))])
+
+
+def families_for_wall(recs, wall):
+    """The four families around another told wall WALL (b, h1, h2, rho; `--wall`): its rigid blocks (multibody); the
+    held-out set's two crushing interfaces under it; cracks at 0.42 : 0.58 and 0.58 : 0.42 of its height; overburdens
+    of 0.2 and 0.4 of its weight. The same kinds as the kept set's, on a wall no setting was chosen on."""
+    geo = {k: wall[k] for k in ("b", "h1", "h2", "rho")}
+    h = wall["h1"] + wall["h2"]
+    weight = wall["rho"] * G * wall["b"] * h
+    cracks = [round(f * h, 2) for f in (0.42, 0.58)]
+    loads = [round(f * weight, -2) for f in (0.2, 0.4)]
+    return family_table(
+        recs,
+        crushed=[("k1e9_fc0.4MPa", truth_params(interface=crushing(1e9, 5e-3, 0.4e6), **geo)),
+                 ("k1e9_fc0.3MPa_damped", truth_params(interface=crushing(1e9, 1e-2, 0.3e6), **geo))],
+        cracks=[("h1_%.2f_h2_%.2f" % (c, h - c), truth_params(**dict(geo, h1=c, h2=round(h - c, 2)))) for c in cracks],
+        loads=[("Fp%.0f" % f, truth_params(Fp_N_per_m=f, **geo)) for f in loads],
+        rigid=("b%.3g_h%.3g" % (wall["b"], h), truth_params(**geo)))
+
+
+def parse_wall(text):
+    """`b=0.21,h=2.7,rho=1900` (h: the height, split equally) or `b=…,h1=…,h2=…,rho=…` -> the told wall; a clear error
+    naming the field otherwise."""
+    vals = {}
+    for item in text.split(","):
+        key, sep, val = item.partition("=")
+        key = key.strip()
+        if not sep or key not in ("b", "h", "h1", "h2", "rho"):
+            raise ValueError("--wall: '%s': expected KEY=VALUE with KEY one of b, h, h1, h2, rho" % item)
+        try:
+            vals[key] = float(val)
+        except ValueError:
+            raise ValueError("--wall: %s='%s' is not a number" % (key, val)) from None
+        if not (math.isfinite(vals[key]) and vals[key] > 0):
+            raise ValueError("--wall: %s=%s: expected a positive number" % (key, val))
+    if "h" in vals:
+        if "h1" in vals or "h2" in vals:
+            raise ValueError("--wall: give h or h1 and h2, not both")
+        vals["h1"] = vals["h2"] = vals.pop("h") / 2
+    missing = [k for k in ("b", "h1", "h2", "rho") if k not in vals]
+    if missing:
+        raise ValueError("--wall: missing %s (expected b, h or h1 and h2, rho)" % ", ".join(missing))
+    if vals["b"] >= min(vals["h1"], vals["h2"]):
+        raise ValueError("--wall: b=%g is not smaller than each block's height (h1=%g, h2=%g)" % (
+            vals["b"], vals["h1"], vals["h2"]))
+    return dict(WALL_TOLD, **vals)
 
 
 def log(msg):
@@ -360,10 +409,21 @@ def main():
     ap.add_argument("--regenerate", metavar="CASE_DIR", help="recompute one kept case and compare")
     ap.add_argument("--heldout", action="store_true",
                     help="the validation set (other records and walls, HELDOUT_RECORDS); needs --out")
+    ap.add_argument("--wall", metavar="b=B,h=H,rho=RHO",
+                    help="another told wall (h, or h1 and h2, in m; rho in kg/m^3): the four families around it "
+                         "(families_for_wall), on the kept records or with --heldout the held-out ones; needs --out")
     a = ap.parse_args()
-    if a.heldout:
-        if os.path.abspath(a.out) == os.path.abspath(OUT_DIR):
-            ap.error("--heldout needs --out DIR (not the kept truths' folder)")
+    if (a.heldout or a.wall) and os.path.abspath(a.out) == os.path.abspath(OUT_DIR):
+        ap.error("%s needs --out DIR (not the kept truths' folder)" % ("--wall" if a.wall else "--heldout"))
+    if a.wall:
+        global WALL_TOLD
+        try:
+            WALL_TOLD = parse_wall(a.wall)
+        except ValueError as e:
+            ap.error(str(e))
+        FAMILIES.clear()
+        FAMILIES.update(families_for_wall(HELDOUT_RECORDS if a.heldout else RECORDS, WALL_TOLD))
+    elif a.heldout:
         FAMILIES.clear()
         FAMILIES.update(FAMILIES_HELDOUT)
     if a.regenerate:
