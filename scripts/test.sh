@@ -97,7 +97,8 @@ bg_start() {
     start=$SECONDS
     status=0
     nice -n "$niceness" "$@" >"$log" 2>&1 </dev/null || status=$?
-    echo "$status $start $SECONDS $(($(own_child_ticks) / ticks))" >"$log.status"
+    own_child_ticks >"$log.cpu"  # not in $(…): that is another subshell, without these children
+    echo "$status $start $SECONDS $(($(cat "$log.cpu") / ticks))" >"$log.status"
   ) &
   bg_pid[$name]=$!
   set +m
