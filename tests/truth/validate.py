@@ -49,6 +49,16 @@ def paper(h=make_truths.H_RIGID, **kw):
     return tp
 
 
+def r_impulse_spec(b, h1, h2):
+    """SPEC §3's impulse restitution (per metre of wall, density cancels): e = (Jt − Vt)/(Jt + Vt), r = e²."""
+    m1, m2 = b * h1, b * h2
+    j1, j2 = m1 * (b * b + h1 * h1) / 12.0, m2 * (b * b + h2 * h2) / 12.0
+    jt = j1 / h1 ** 2 + j2 / h2 ** 2 + (m1 + m2) / 4.0
+    vt = m1 * b * b / (4.0 * h1 ** 2) + m2 * (b / h1 + b / (2.0 * h2)) ** 2
+    e = (jt - vt) / (jt + vt)
+    return e * e
+
+
 def hold(tp, ug_g, t_end=2.0, ramp=0.05):
     """max |x| under a constant ground acceleration ug_g·g, ramped in over `ramp` s."""
     w = runs.make_wall(tp)
@@ -103,6 +113,33 @@ def quick():
     problems = layout_problems()
     check(not problems, "tests/data/truths layout: index.csv, 4 files and the truth.json keys per case%s" % (
         "" if not problems else ": " + "; ".join(problems[:5])))
+    # 7. another wall (make_truths --wall): the engine's energy ratio per impact against SPEC §3's impulse formula for
+    #    that geometry (the formula is written here from SPEC, not taken from rockwatch), and the families around it
+    wall = make_truths.parse_wall("b=0.21,h=2.7,rho=1900")
+    tw = paper(b=wall["b"], h1=wall["h1"], h2=wall["h2"], rho=wall["rho"])
+    xw, _, xwp, _ = runs.static_push(tw, 1)
+    rw_list = runs.impact_energy_ratios(runs.snapback(tw, round(0.5 * xwp, 4), rate=200.0))
+    rw = float(np.median(rw_list))
+    r_formula = r_impulse_spec(wall["b"], wall["h1"], wall["h2"])
+    check(abs(rw - r_formula) <= 0.01 and abs(xwp - wall["b"]) <= 0.02 * wall["b"],
+          "another wall (b 0.21, h 2.7 m): energy ratio per impact %.4f against SPEC's r_impulse %.4f for it; "
+          "x_inst %.5f m (b %.2f)" % (rw, r_formula, xwp, wall["b"]))
+    fams = make_truths.families_for_wall(make_truths.RECORDS, wall)
+    geo_ok = all(abs(tp["h1"] + tp["h2"] - 2.7) < 1e-9 and tp["b"] == 0.21 and tp["rho"] == 1900.0
+                 for ts in fams.values() for _, tp, _ in ts)
+    kinds = {f: sorted({tp["interface"]["kind"] for _, tp, _ in ts}) for f, ts in fams.items()}
+    loads = [tp["Fp_N_per_m"] for _, tp, _ in fams["overburden"]]
+    check(geo_ok and kinds == {"multibody": ["rigid"], "crushed": ["crushing"], "crack_height": ["rigid"],
+                               "overburden": ["rigid"]} and loads == [2100.0, 4200.0]
+          and sum(len(r) for _, _, r in fams["crushed"]) == 8,
+          "make_truths --wall: the four families around b 0.21, h 2.7 m (overburdens %s N/m)" % loads)
+    errors = []
+    for bad in ("b=0.21,h=2.7", "b=0.21,h=2.7,rho=x", "b=0.21,h=2.7,h1=1,rho=1900", "b=2,h=2.7,rho=1900", "q=1"):
+        try:
+            make_truths.parse_wall(bad)
+        except ValueError as e:
+            errors.append(str(e).startswith("--wall: "))
+    check(errors == [True] * 5, "make_truths --wall: bad walls refused, naming the field (%d of 5)" % sum(errors))
     # 6. a kept case regenerates
     case = kept_case()
     if case is None:
