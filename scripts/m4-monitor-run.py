@@ -35,7 +35,7 @@ ENGINE_KEYS = {  # EngineInputKey (rockwatch/firmware/engine_input_format.hpp)
     ("alarm", "imminent_horizon_s"): 37, ("observer", "doubt_nis"): 44, ("observer", "capacity_min_x"): 48,
     ("observer", "doubt_capacity_min_x"): 49, ("observer", "model_form_sigma"): 50,
     ("observer", "doubt_model_form_sigma"): 51, ("observer", "quiet_motion_spread_noises"): 52,
-    ("alarm", "energy_min_x"): 53,
+    ("alarm", "energy_min_x"): 53, ("observer", "capacity_correlation"): 54,
 }
 # The settings groups whose every key must reach the image (a key the table above does not map fails the run instead
 # of the image running its default while the host runs what it was told).

@@ -42,7 +42,7 @@ using options::UsageError;
 
 // What the file set; absent keys keep the defaults.
 // The observer keys a configuration may give (kObserverFields below).
-inline constexpr int kObserverFieldCount = 14;
+inline constexpr int kObserverFieldCount = 15;
 
 struct FileValues {
   std::optional<double> wall[8];  // in kWallFields order
@@ -115,6 +115,7 @@ inline constexpr ObserverField kObserverFields[kObserverFieldCount] = {
     {"doubt_model_form_sigma", &core::ObserverOptions::doubt_model_form_sigma, "-"},          // SPEC §11
     {"capacity_min_x", &core::ObserverOptions::capacity_min_x_fraction, "-"},                 // SPEC §11
     {"doubt_capacity_min_x", &core::ObserverOptions::doubt_capacity_min_x_fraction, "-"},     // SPEC §11
+    {"capacity_correlation", &core::ObserverOptions::capacity_correlation, "-"},              // SPEC §11
 };
 
 inline std::string json_type(const json& v) {

@@ -93,6 +93,7 @@ json observer_json(const core::ObserverOptions& o, const core::ObserverSample& l
   if (o.doubt_capacity_min_x_fraction != 0.0) {
     out["settings"]["doubt_capacity_min_x"] = o.doubt_capacity_min_x_fraction;
   }
+  if (o.capacity_correlation != 0.0) out["settings"]["capacity_correlation"] = o.capacity_correlation;  // opt-in
   return out;
 }
 

@@ -111,6 +111,9 @@ json normalised_settings(const MonitorConfig& config) {
     if (o.doubt_capacity_min_x_fraction != core::ObserverOptions{}.doubt_capacity_min_x_fraction) {
       out["observer"]["doubt_capacity_min_x"] = o.doubt_capacity_min_x_fraction;
     }
+    if (o.capacity_correlation != core::ObserverOptions{}.capacity_correlation) {
+      out["observer"]["capacity_correlation"] = o.capacity_correlation;
+    }
     out["channels"]["wall_sensor"] = s.channels.wall_sensor;
     out["channels"]["wall_estimate"] = s.channels.wall_estimate;
   }

@@ -610,6 +610,43 @@ TEST(WallObserver, TheCapacityLearnsOnlyFromReadingsBeyondItsMinimumDisplacement
   DOUBLES_EQUAL(part.x_inst_double, part.x_inst_fixed, 1e-3 * part.x_inst_true);
 }
 
+// The prior correlation of κc and κk (ObserverOptions::capacity_correlation, opt-in; SPEC §11): the prior block is
+// σ0²·[[1, ρ], [ρ, 1]] in both arithmetics, and what teaches κc moves κk. A wall 10 % thinner than drawn has κk = 1
+// (its heights are the drawings'), so ρ = 0.9 pulls κk down with κc and reads its capacity higher than ρ = 0 does:
+// the trade SPEC §11 names (an overburden or other heights move both; a thickness κc alone).
+TEST(WallObserver, TheCapacitysPriorCorrelationMovesKappaKWithKappaC) {
+  ObserverOptions o;
+  o.capacity_correlation = 1.0;  // a singular prior
+  CHECK(validate_observer_options(o) == ObserverError::prior_out_of_range);
+  o.capacity_correlation = -0.1;
+  CHECK(validate_observer_options(o) == ObserverError::prior_out_of_range);
+  o.capacity_correlation = 0.9;
+  CHECK(validate_observer_options(o) == ObserverError::ok);
+  WallObserver<RockingStepper<double>> dobs;
+  WallObserver<FixedRockingStepper> fobs;
+  CHECK(dobs.init(o, setup_with_r(0.85), paper_wall()) == ObserverError::ok);
+  CHECK(fobs.init(o, setup_with_r(0.85), paper_wall()) == ObserverError::ok);
+  using D = WallObserver<RockingStepper<double>>;
+  const double var0 = o.capacity_sigma0 * o.capacity_sigma0;
+  DOUBLES_EQUAL(var0, double(dobs.covariance()(D::C, D::C)), 1e-15);
+  DOUBLES_EQUAL(0.9 * var0, double(dobs.covariance()(D::C, D::K)), 1e-15);
+  DOUBLES_EQUAL(0.9 * var0, double(dobs.covariance()(D::K, D::C)), 1e-15);
+  DOUBLES_EQUAL(0.9 * var0, double(fobs.covariance()(D::C, D::K)), 1e-7);
+  WallObserver<RockingStepper<double>> independent;
+  CHECK(independent.init(ObserverOptions{}, setup_with_r(0.85), paper_wall()) == ObserverError::ok);
+  DOUBLES_EQUAL(0.0, double(independent.covariance()(D::C, D::K)), 0.0);
+  // Learning: the thinner wall released from 0.6 x_inst (release_thinner_wall), capacity learned only from 0.3 x_inst
+  // so that the first half-cycle's readings teach it.
+  ObserverOptions learn;
+  learn.capacity_min_x_fraction = 0.3;
+  ObserverOptions correlated = learn;
+  correlated.capacity_correlation = 0.9;
+  const ThinnerWall apart = release_thinner_wall(0.9, learn);
+  const ThinnerWall together = release_thinner_wall(0.9, correlated);
+  CHECK(together.x_inst_double > apart.x_inst_double + 0.01 * apart.x_inst_true);
+  DOUBLES_EQUAL(together.x_inst_double, together.x_inst_fixed, 1e-3 * together.x_inst_true);
+}
+
 TEST(WallObserver, ClampsACapacityOutsideThePhysicalRangeAndFlagsIt) {
   // A wall far thinner than the nominal one (x_inst 0.25 × nominal): the estimate stops at 0.3 × nominal, flagged,
   // finite.

@@ -101,6 +101,12 @@ void add_observer_options(CLI::App& app, ObserverOptionTexts& texts, const std::
                      range_text(kMinObserverCapacityMinX, kMaxObserverCapacityMinX, "") + " (default " +
                      number_text(d.doubt_capacity_min_x_fraction) + ")")
       ->type_name("F");
+  app.add_option("--observer-capacity-correlation", texts.capacity_correlation,
+                 help_prefix + "the prior correlation of kappa_c and kappa_k: an overburden or other heights than "
+                     "drawn move both, a thickness other than drawn kappa_c alone (SPEC 11); 0: independent, " +
+                     range_text(kMinObserverCapacityCorrelation, kMaxObserverCapacityCorrelation, "") +
+                     " (default " + number_text(d.capacity_correlation) + ")")
+      ->type_name("R");
 }
 
 bool observer_option_given(const CLI::App& app) {
@@ -143,6 +149,9 @@ core::ObserverOptions parse_observer_options(const CLI::App& app, const Observer
   o.doubt_capacity_min_x_fraction =
       parse_in_range(app, "--observer-doubt-capacity-min-x", texts.doubt_capacity_min_x, kMinObserverCapacityMinX,
                      kMaxObserverCapacityMinX, "", o.doubt_capacity_min_x_fraction);
+  o.capacity_correlation =
+      parse_in_range(app, "--observer-capacity-correlation", texts.capacity_correlation,
+                     kMinObserverCapacityCorrelation, kMaxObserverCapacityCorrelation, "", o.capacity_correlation);
   // The core's own check, in case its ranges ever become narrower than the ones above.
   const core::ObserverError err = core::validate_observer_options(o);
   if (err != core::ObserverError::ok) throw UsageError(core::observer_error_message(err));

@@ -214,6 +214,7 @@ nlohmann::ordered_json observer_json(const SimulateRequest& q, const sim::Observ
   if (o.doubt_capacity_min_x_fraction != 0.0) {
     j["settings"]["doubt_capacity_min_x_fraction"] = o.doubt_capacity_min_x_fraction;
   }
+  if (o.capacity_correlation != 0.0) j["settings"]["capacity_correlation"] = o.capacity_correlation;  // opt-in
   return j;
 }
 

@@ -87,6 +87,7 @@ enum class EngineInputKey : std::uint64_t {
   observer_doubt_model_form_sigma = 51,  // `--observer-doubt-model-form-sigma`
   observer_quiet_motion_spread_noises = 52,  // `--observer-quiet-motion-noises`
   alarm_energy_min_x = 53,  // the energy margin's rule from |x| ≥ this × x_inst (`--energy-min-x`, issue 40)
+  observer_capacity_correlation = 54,  // `--observer-capacity-correlation` (issue 40)
 };
 
 // Every configuration field with its key, in key order: the one list both the writer and the reader use.
@@ -147,6 +148,7 @@ void visit_engine_input_fields(Config& c, Visit&& visit) {
   visit(EngineInputKey::observer_doubt_model_form_sigma, c.observer.doubt_model_form_sigma);
   visit(EngineInputKey::observer_quiet_motion_spread_noises, c.observer.quiet_motion_spread_noises);
   visit(EngineInputKey::alarm_energy_min_x, c.alarm.energy_min_x);
+  visit(EngineInputKey::observer_capacity_correlation, c.observer.capacity_correlation);
 }
 
 // A field's value as the file carries it (a double).

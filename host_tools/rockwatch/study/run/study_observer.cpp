@@ -138,6 +138,9 @@ nlohmann::ordered_json observer_plan_json(const study::ObserverEvaluationPlan& e
   if (o.accel_inform_peak_noises != defaults.accel_inform_peak_noises) {
     j["observer"]["accel_inform_peak_noises"] = o.accel_inform_peak_noises;
   }
+  if (o.capacity_correlation != defaults.capacity_correlation) {
+    j["observer"]["capacity_correlation"] = o.capacity_correlation;
+  }
   j["r_after_impacts"] = e.r_after_impacts;
   return j;
 }

@@ -60,7 +60,7 @@ inline void WallObserver<Stepper>::reopen_capacity(Cov kappa_error) {
     p_(K, j) = p_(j, K) = Cov(0);
   }
   const Cov prior = capacity_sigma0_ * capacity_sigma0_, need = kappa_error * kappa_error;
-  p_(C, C) = p_(K, K) = need > prior ? need : prior;
+  set_capacity_prior(need > prior ? need : prior);
   consecutive_a_rejections_ = 0;
   ++counters_.capacity_reopened;
 }

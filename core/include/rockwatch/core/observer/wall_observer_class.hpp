@@ -72,6 +72,7 @@ class WallObserver {
     q_(B, B) = Cov(o.bias_walk_m * o.bias_walk_m);
     q_(C, C) = q_(K, K) = Cov(o.capacity_walk * o.capacity_walk);
     capacity_sigma0_ = Cov(o.capacity_sigma0);
+    capacity_correlation_ = Cov(o.capacity_correlation);
     alarm_capacity_sigmas_ = Cov(o.alarm_capacity_sigmas);
     r_x_ = Cov(o.x_noise_m * o.x_noise_m);
     r_a_ = Cov(o.a_noise_mps2 * o.a_noise_mps2);
@@ -124,7 +125,7 @@ class WallObserver {
     p_(B, B) = b_sigma0_ * b_sigma0_;
     kc_ = kk_ = Scalar(1);
     refresh_parameters();
-    p_(C, C) = p_(K, K) = capacity_sigma0_ * capacity_sigma0_;
+    set_capacity_prior(capacity_sigma0_ * capacity_sigma0_);
     x_prev_ = Scalar(0);
     reset_transition();
     head_ = count_ = 0;
@@ -537,6 +538,12 @@ class WallObserver {
   bool fuse_a(Stepper& stepper, const WallSensorSample& s, Scalar ug_s, Input vg, Input ug, bool learn_a);
   void control_a(Stepper& stepper, const WallSensorSample& s, ObserverStepReport& out);
   void reopen_capacity(Cov kappa_error);
+  // κc and κk's prior block: variance `var` each, covariance capacity_correlation × var (ObserverOptions); the rest of
+  // their rows and columns as they are (zero at a start or a re-opening).
+  void set_capacity_prior(Cov var) {
+    p_(C, C) = p_(K, K) = var;
+    p_(C, K) = p_(K, C) = capacity_correlation_ * var;
+  }
   void put_to_rest(Stepper& stepper, Input ug, Input vg);
   bool a_used_recent(std::int64_t t_us) const;
 
@@ -544,7 +551,7 @@ class WallObserver {
   Cov k0_[2]{};        // the nominal k_s = p4/p1 at ü = 0, G = g per side [1/s²]
   Cov x_inst0_[2]{};   // the nominal x_inst per side [m]
   Cov h_{}, half_h_{}, quarter_h2_{};  // the step h, h/2, h²/4 [s, s, s²]
-  Cov capacity_sigma0_{};
+  Cov capacity_sigma0_{}, capacity_correlation_{};
   Cov alarm_capacity_sigmas_ = Cov(0.5);
   Mat q_{};            // process noise per step
   Cov f0_[2]{};        // ẍ at the hinge with ü = 0 per side [m/s²]

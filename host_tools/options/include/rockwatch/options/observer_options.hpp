@@ -1,7 +1,8 @@
 // The wall observer's settings on a command line (core::ObserverOptions, core/wall_observer.hpp): --observer-x-noise-m,
 // --observer-a-noise-mps2, --observer-process-mps2, --observer-gate-chi2, --observer-capacity-sigmas and
 // --observer-accel-inform-peak-noises, --observer-doubt-nis, --observer-quiet-motion-noises, --observer-model-form-sigma,
-// --observer-doubt-model-form-sigma, --observer-capacity-min-x, --observer-doubt-capacity-min-x, with the defaults of
+// --observer-doubt-model-form-sigma, --observer-capacity-min-x, --observer-doubt-capacity-min-x,
+// --observer-capacity-correlation, with the defaults of
 // core::ObserverOptions in their help and one range check each, whose message names the option. `rockwatch simulate
 // --wall-sensors` and `rockwatch study --observer` use them; the monitor can register the same options.
 #pragma once
@@ -18,7 +19,7 @@ namespace rockwatch::options {
 
 struct ObserverOptionTexts {
   std::string x_noise, a_noise, process, gate, capacity_sigmas, accel_inform_peak_noises, doubt_nis, quiet_motion_noises;
-  std::string model_form_sigma, doubt_model_form_sigma, capacity_min_x, doubt_capacity_min_x;
+  std::string model_form_sigma, doubt_model_form_sigma, capacity_min_x, doubt_capacity_min_x, capacity_correlation;
 };
 
 // The ranges core::validate_observer_options accepts: its table's (core::kObserverParameters), not a copy.
@@ -52,6 +53,8 @@ inline constexpr double kMinObserverCapacityMinX = observer_range("capacity_min_
 static_assert(observer_range("doubt_capacity_min_x_fraction").min == kMinObserverCapacityMinX &&
                   observer_range("doubt_capacity_min_x_fraction").max == kMaxObserverCapacityMinX,
               "--observer-doubt-capacity-min-x shares --observer-capacity-min-x's range");
+inline constexpr double kMinObserverCapacityCorrelation = observer_range("capacity_correlation").min,
+                        kMaxObserverCapacityCorrelation = observer_range("capacity_correlation").max;
 
 // The option names, in registration order.
 inline constexpr const char* kObserverOptionNames[] = {"--observer-x-noise-m", "--observer-a-noise-mps2",
@@ -62,7 +65,8 @@ inline constexpr const char* kObserverOptionNames[] = {"--observer-x-noise-m", "
                                                        "--observer-model-form-sigma",
                                                        "--observer-doubt-model-form-sigma",
                                                        "--observer-capacity-min-x",
-                                                       "--observer-doubt-capacity-min-x"};
+                                                       "--observer-doubt-capacity-min-x",
+                                                       "--observer-capacity-correlation"};
 
 // Registers the options; each help starts with `help_prefix` (e.g. "With --wall-sensors: ").
 void add_observer_options(CLI::App& app, ObserverOptionTexts& texts, const std::string& help_prefix);
