@@ -201,6 +201,8 @@ TEST(SimulateObserver, RefusesBadSensorFilesAndOptionsNamingThem) {
                           {"--observer-process-mps2 must be in [1e-04, 100] m/s2"});
   expect_command_rejected("simulate", set10({"--wall-sensors", good, "--observer-a-noise-mps2", "11"}),
                           {"--observer-a-noise-mps2"});
+  expect_command_rejected("simulate", set10({"--wall-sensors", good, "--observer-capacity-correlation", "1"}),
+                          {"--observer-capacity-correlation must be in [0, 0.99] (got 1)"});
   expect_command_rejected("simulate", set10({"--wall-sensors", good, "--observer-accel-inform-peak-noises", "-1"}),
                           {"--observer-accel-inform-peak-noises must be in [0, 1000] (got -1)"});
   expect_command_rejected("simulate", set10({"--sensor-noise-m", "0.001"}),
