@@ -3,7 +3,6 @@
 // their own thread, systemd told when the monitor is ready, alive and stopping.
 #include <cstdio>
 #include <memory>
-#include <sstream>
 #include <string>
 
 #include <lcm/lcm-cpp.hpp>
@@ -69,9 +68,7 @@ json traffic_log_summary(const TrafficLog& log, const std::string& path, bool cl
 }
 
 // The line that says the monitor runs: where it listens, its channels, rate and digest (and each wall's channels).
-// Written in one piece: a supervisor (or a test) that reads "listening on" finds the walls' line with it.
-void announce(std::ostream& to, const MonitorConfig& config, const std::string& url, MonitorWalls& walls) {
-  std::ostringstream err;
+void announce(std::ostream& err, const MonitorConfig& config, const std::string& url, MonitorWalls& walls) {
   const firmware::MonitorChannels& ch = config.settings.channels;
   const bool observer = config.settings.engine.observer_enabled;
   err << kMessagePrefix << "listening on " << url << " (" << config.lcm_url_origin << "): " << ch.accel << ", "
@@ -89,8 +86,7 @@ void announce(std::ostream& to, const MonitorConfig& config, const std::string& 
     err << std::endl;
   }
   const std::string buffer_warning = receive_buffer_warning(url);
-  if (!buffer_warning.empty()) err << kMessagePrefix << "note: " << buffer_warning << '\n';
-  to << err.str() << std::flush;
+  if (!buffer_warning.empty()) err << kMessagePrefix << "note: " << buffer_warning << std::endl;
 }
 
 // --forecast: its own thread, publishing on an LCM instance of its own (the sample path's lcm_publish never waits
