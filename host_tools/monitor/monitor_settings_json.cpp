@@ -70,12 +70,12 @@ json normalised_settings(const MonitorConfig& config) {
        {{"accel", s.channels.accel}, {"accel_batch", s.channels.accel_batch}, {"wall_state", s.channels.wall_state},
         {"alarm", s.channels.alarm}, {"status", s.channels.status}}},
   };
-  // The look-ahead horizon (opt-in): only when on, so the digest of every configuration without it stays.
-  if (s.engine.alarm.imminent_horizon_s != core::AlarmSettings{}.imminent_horizon_s) {
+  // The horizon and energy_min_x: named when not 0, their value before they became defaults (2026-12-01), so that
+  // the digest of a configuration written before says what ran then and today's defaults are named in it.
+  if (s.engine.alarm.imminent_horizon_s != 0.0) {
     out["alarm"]["imminent_horizon_s"] = s.engine.alarm.imminent_horizon_s;
   }
-  // Likewise the energy rule's displacement (opt-in, SPEC §11).
-  if (s.engine.alarm.energy_min_x != core::AlarmSettings{}.energy_min_x) {
+  if (s.engine.alarm.energy_min_x != 0.0) {
     out["alarm"]["energy_min_x"] = s.engine.alarm.energy_min_x;
   }
   // The observer changes every output; absent when off, so that the digest of a configuration without it stays.

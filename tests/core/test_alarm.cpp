@@ -230,9 +230,13 @@ TEST(AlarmStateMachine, EveryConditionHasItsReasonBit) {
   LONGS_EQUAL(0, all & alarm_reason::held);
 }
 
+// The margin's rule alone at the barrier (margin 1, no horizon, from the vertical): what these tests check is that
+// rule; the defaults' horizon and energy_min_x (2026-12-01) have tests of their own below.
+const AlarmSettings kMarginOnly{0.4, 1.0, 1.0, 0.0, 0.0};
+
 TEST_GROUP(InstabilityIndicators) {
   StepperSetup<double> wall_setup = paper_setup(0.001);
-  InstabilityConstants<double> constants = make_instability_constants(wall_setup, AlarmSettings{0.4, 1.0, 1.0});
+  InstabilityConstants<double> constants = make_instability_constants(wall_setup, kMarginOnly);
   RockingStepper<double> stepper;
   void setup() override { stepper.init(wall_setup); }
 };
@@ -380,7 +384,7 @@ TEST(InstabilityIndicators, AboveTheBarrierMovingInwardThereIsNoPrediction) {
 }
 
 TEST(InstabilityIndicators, EnergyMarginRaisesTheFlagButNotThePrediction) {
-  const InstabilityConstants<double> margin = make_instability_constants(wall_setup, AlarmSettings{0.4, 1.0, 1.1});
+  const InstabilityConstants<double> margin = make_instability_constants(wall_setup, AlarmSettings{0.4, 1.0, 1.1, 0.0, 0.0});
   const double x_inst = margin.x_inst_m[1], omega = margin.omega_rps[1];
   stepper.set_state(0.02, outward_speed(1.05, 0.02, x_inst, omega), 0.0, 0.0);
   InstabilityIndicators<double> ind = evaluate_instability(margin, stepper, StepReport<double>{});
@@ -398,7 +402,7 @@ TEST(InstabilityIndicators, ImminentHorizonRaisesTheEnergyFlagOnlyWhenXInstIsTha
   AlarmSettings settings;
   settings.imminent_horizon_s = 0.15;
   const InstabilityConstants<double> h = make_instability_constants(wall_setup, settings);
-  const InstabilityConstants<double> off = make_instability_constants(wall_setup, AlarmSettings{});
+  const InstabilityConstants<double> off = make_instability_constants(wall_setup, AlarmSettings{0.4, 1.0, 1.5, 0.0, 0.0});
   DOUBLES_EQUAL(0.15, h.horizon_s, 0.0);
   DOUBLES_EQUAL(0.0, off.horizon_s, 0.0);
   const double x_inst = h.x_inst_m[1], omega = h.omega_rps[1];
@@ -427,10 +431,11 @@ TEST(InstabilityIndicators, ImminentHorizonRaisesTheEnergyFlagOnlyWhenXInstIsTha
 
 TEST(InstabilityIndicators, EnergyMinXKeepsTheMarginsRuleFromTheVertical) {
   // energy_min_x 0.5 (issue 40, SPEC §11): with ρ = 2 (over the margin 1.5) moving outward, the flag is raised only
-  // from |x| ≥ 0.5 x_inst, on both sides; at 0 (the default) everywhere; the displacement's own rule (|x| ≥ x_inst)
+  // from |x| ≥ 0.5 x_inst (the default since 2026-12-01), on both sides; at 0 everywhere; the displacement's own rule (|x| ≥ x_inst)
   // and the horizon rule are not gated. Out of [0, 1] the settings are invalid.
   AlarmSettings settings;
   settings.energy_min_x = 0.5;
+  settings.imminent_horizon_s = 0.0;  // the horizon's own flag (not gated) would fire near x_inst at ρ = 2
   const InstabilityConstants<double> g = make_instability_constants(wall_setup, settings);
   const double x_inst = g.x_inst_m[1], omega = g.omega_rps[1];
   DOUBLES_EQUAL(0.5 * x_inst, g.x_energy_min_m[1], 1e-15);
@@ -475,7 +480,7 @@ TEST(InstabilityIndicators, PredictionIsCappedAtTMax) {
 TEST(InstabilityIndicators, CollapseSetsTheCollapseCondition) {
   const StepperSetup<double> s = paper_setup(0.005, ModelKind::linear, 1.2);
   stepper.init(s);
-  const InstabilityConstants<double> c = make_instability_constants(s, AlarmSettings{0.4, 1.0, 1.0});
+  const InstabilityConstants<double> c = make_instability_constants(s, kMarginOnly);
   stepper.set_state(0.05, outward_speed(1.3, 0.05, c.x_inst_m[1], c.omega_rps[1]), 0.0, 0.0);
   InstabilityAlarm alarm = make_alarm(hold_samples(AlarmSettings{0.4, 1.0, 1.0}, s.dt_s));
   AlarmLevel highest = AlarmLevel::quiet;

@@ -39,8 +39,9 @@ sim::GroundMotion scaled(const std::vector<double>& a, double dt_s, double pga_m
   return m;
 }
 
-// The energy flag of the fixed-point and the double indicators, and the fixed-point one at the default settings, for
-// one state (x ≥ 0, ẋ) of the paper wall (r 0.9): the comparisons of the opt-in rules' tests below.
+// The energy flag of the fixed-point and the double indicators, and the fixed-point one with both rules off (no
+// horizon, the margin from the vertical: the defaults before 2026-12-01), for one state (x ≥ 0, ẋ) of the paper wall
+// (r 0.9): the comparisons of the rules' tests below.
 struct EnergyFlags {
   bool fixed, dbl, fixed_default;
 };
@@ -49,7 +50,7 @@ class IndicatorsBothWays {
   explicit IndicatorsBothWays(const core::AlarmSettings& settings)
       : setup_(paper_setup(0.9)), d_(core::make_instability_constants(setup_, settings)) {
     CHECK_TRUE(core::make_fixed_instability_constants(setup_, settings, c_));
-    CHECK_TRUE(core::make_fixed_instability_constants(setup_, core::AlarmSettings{}, off_));
+    CHECK_TRUE(core::make_fixed_instability_constants(setup_, core::AlarmSettings{0.4, 1.0, 1.5, 0.0, 0.0}, off_));
     CHECK(f_.init(setup_) == core::FixedSetupError::ok);
     s_.init(setup_);
   }
@@ -227,9 +228,10 @@ TEST(FixedEngine, ImminentHorizonAgreesWithTheDoubleIndicators) {
 
 TEST(FixedEngine, EnergyMinXAgreesWithTheDoubleIndicators) {
   // energy_min_x (core/instability_indicators.hpp) in fixed point: with ρ = 2 over the margin moving outward, the
-  // same flag as the double indicators at displacements either side of 0.5 x_inst; with the default (0) every one.
+  // same flag as the double indicators at displacements either side of 0.5 x_inst; with the rule off (0) every one.
   core::AlarmSettings settings;
   settings.energy_min_x = 0.5;
+  settings.imminent_horizon_s = 0.0;  // the horizon's own flag (not gated) would fire near x_inst at ρ = 2
   IndicatorsBothWays w(settings);
   const double xi = w.x_inst_m(), omega = w.omega_rps();
   int raised = 0;
@@ -252,7 +254,7 @@ TEST(FixedEngine, IndicatorsMatchTheClosedFormOfFreeRocking) {
   core::FixedRockingStepper f;
   CHECK(f.init(setup) == core::FixedSetupError::ok);
   core::FixedInstabilityConstants c{};
-  CHECK_TRUE(core::make_fixed_instability_constants(setup, core::AlarmSettings{0.4, 1.0, 1.0}, c));  // margin 1: the barrier itself
+  CHECK_TRUE(core::make_fixed_instability_constants(setup, core::AlarmSettings{0.4, 1.0, 1.0, 0.0, 0.0}, c));  // margin 1: the barrier itself
   const double xi = setup.x_inst_m[1];
   const double omega = std::sqrt(-(setup.model.c4_fp[1] + setup.model.c4_g * 9.81) / setup.model.c1);
   // At x = x_inst with ẋ = 0 the energy ratio is 1; below the barrier there is no prediction.
@@ -331,12 +333,12 @@ TEST(FixedEngine, AgreesWithTheDoubleEngineOnAStudySubset) {
          runs, flips, flips_explained, survivor_diff_m.size(), long(within),
          survivor_diff_m[survivor_diff_m.size() / 2], imminent_both, imminent_within_step);
   LONGS_EQUAL(80, runs);
-  // Measured on this subset: 0 flips, 75 of 75 survivors within 0.5 mm (median 3e-16 m), 37 of 37 first
-  // IMMINENT times within one step.
+  // Measured on this subset: 0 flips, 74 of 74 survivors within 0.5 mm (median 3e-16 m), 22 of 22 first
+  // IMMINENT times within one step (37 of 37 before the alarm's defaults of 2026-12-01 flagged fewer survivors).
   CHECK(flips <= 1);
   CHECK(survivor_diff_m.size() >= 70);
   CHECK(survivor_diff_m[survivor_diff_m.size() / 2] < 1e-12);
   CHECK(long(survivor_diff_m.size()) - long(within) <= 1);
-  CHECK(imminent_both >= 30);
+  CHECK(imminent_both >= 20);
   CHECK(imminent_both - imminent_within_step <= 1);
 }

@@ -84,7 +84,7 @@ nlohmann::ordered_json alarm_json(const SimulateRequest& q, const sim::AlarmSumm
   nlohmann::ordered_json j;
   const core::AlarmSettings& s = q.analysis.alarm;
   j["settings"] = {{"lambda_warning", s.lambda_warning}, {"hold_s", s.hold_s}, {"energy_margin", s.energy_margin}};
-  // The opt-in look-ahead rule (--imminent-horizon, SPEC §11): named when on, absent at the default (0).
+  // The look-ahead rule (--imminent-horizon, SPEC §11): named when on (the default since 2026-12-01), absent at 0.
   if (s.imminent_horizon_s > 0.0) j["settings"]["imminent_horizon_s"] = s.imminent_horizon_s;
   if (s.energy_min_x > 0.0) j["settings"]["energy_min_x"] = s.energy_min_x;  // likewise (--energy-min-x)
   j["max_level"] = core::alarm_level_name(a.max_level);

@@ -58,7 +58,7 @@ def main():
     run = load_runner()
 
     # 1. Every alarm and observer key the monitor accepts, off its default.
-    alarm = {"lambda_w": 0.35, "hold_s": 0.75, "energy_margin": 1.75, "imminent_horizon_s": 0.17, "energy_min_x": 0.5}
+    alarm = {"lambda_w": 0.35, "hold_s": 0.75, "energy_margin": 1.75, "imminent_horizon_s": 0.17, "energy_min_x": 0.4}
     observer = {"enabled": True, "x_noise_m": 0.0007, "a_noise_mps2": 0.07, "process_accel_mps2": 0.3,
                 "gate_chi2": 20.0, "dropout_s": 0.3, "max_age_s": 0.06, "capacity_sigmas": 0.5,
                 "accel_inform_peak_noises": 5.0, "doubt_nis": 8.0, "quiet_motion_spread_noises": 30.0,

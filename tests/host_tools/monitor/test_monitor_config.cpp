@@ -211,16 +211,21 @@ TEST(MonitorCommandLine, EquivalentSettingsHaveOneDigest) {
   CHECK(defaults.at("config_digest") == url.at("config_digest"));
 }
 
-// The opt-in energy rule's displacement (issue 40; `simulate --energy-min-x`): the file's alarm.energy_min_x, the
-// option over it, echoed and in the digest only when on; out of [0, 1] rejected naming the file's key or the option.
+// The energy rule's displacement (issue 40; `simulate --energy-min-x`; 0.5 by default since 2026-12-01): the file's
+// alarm.energy_min_x, the option over it, echoed and in the digest only when on (0, the value before, is absent: a
+// configuration written before that says 0 keeps its digest, and the default is named); out of [0, 1] rejected naming
+// the file's key or the option.
 TEST(MonitorCommandLine, TheEnergyRulesDisplacementIsReadEchoedAndInTheDigestOnlyWhenOn) {
   const json defaults = printed_config("", {});
-  CHECK_FALSE(defaults.at("settings").at("alarm").contains("energy_min_x"));
+  DOUBLES_EQUAL(0.5, defaults.at("settings").at("alarm").at("energy_min_x").get<double>(), 0.0);
   const json off = printed_config(R"({"alarm": {"energy_min_x": 0}})", {"--energy-min-x", "0"});
-  CHECK(off.at("config_digest") == defaults.at("config_digest"));
+  CHECK_FALSE(off.at("settings").at("alarm").contains("energy_min_x"));
+  CHECK(off.at("config_digest") != defaults.at("config_digest"));
   const json file = printed_config(R"({"alarm": {"energy_min_x": 0.5}})", {});
   DOUBLES_EQUAL(0.5, file.at("settings").at("alarm").at("energy_min_x").get<double>(), 0.0);
-  CHECK(file.at("config_digest") != defaults.at("config_digest"));
+  CHECK(file.at("config_digest") == defaults.at("config_digest"));
+  const json other = printed_config(R"({"alarm": {"energy_min_x": 0.4}})", {});
+  CHECK(other.at("config_digest") != defaults.at("config_digest"));
   const json option = printed_config("", {"--energy-min-x", "0.5"});
   CHECK(option.at("config_digest") == file.at("config_digest"));
   const json over = printed_config(R"({"alarm": {"energy_min_x": 0.5}})", {"--energy-min-x", "0.6"});
@@ -230,13 +235,14 @@ TEST(MonitorCommandLine, TheEnergyRulesDisplacementIsReadEchoedAndInTheDigestOnl
   expect_config_rejected("{}", {"--energy-min-x must be in [0, 1]"}, {"--energy-min-x", "-0.1"});
 }
 
-// The opt-in look-ahead (issue 40; `simulate --imminent-horizon`): the file's alarm.imminent_horizon_s, the option
-// over it, echoed in the settings and in the digest only when on (every existing configuration keeps its digest).
+// The look-ahead (issue 40; `simulate --imminent-horizon`; 0.13 s by default since 2026-12-01): the file's
+// alarm.imminent_horizon_s, the option over it, echoed in the settings and in the digest only when on (0, the value
+// before, is absent: a configuration that says 0 keeps the digest it had; the default is named and moves it).
 TEST(MonitorCommandLine, TheImminentHorizonIsReadEchoedAndInTheDigestOnlyWhenOn) {
   const json defaults = printed_config("", {});
-  CHECK_FALSE(defaults.at("settings").at("alarm").contains("imminent_horizon_s"));
+  DOUBLES_EQUAL(0.13, defaults.at("settings").at("alarm").at("imminent_horizon_s").get<double>(), 0.0);
   const json off = printed_config(R"({"alarm": {"imminent_horizon_s": 0}})", {"--imminent-horizon", "0"});
-  CHECK(off.at("config_digest") == defaults.at("config_digest"));
+  CHECK(off.at("config_digest") != defaults.at("config_digest"));
   CHECK_FALSE(off.at("settings").at("alarm").contains("imminent_horizon_s"));
 
   const json file = printed_config(R"({"alarm": {"hold_s": 2, "imminent_horizon_s": 0.17}})", {});

@@ -358,12 +358,17 @@ TEST(MonitorGoldenReplay, TheImminentHorizonGivesSimulatesFirstImminent) {
 
 // With the Cortex-M4 firmware's work budget (--work-budget, carry-over): the same alarm events, a sample whose work
 // does not fit one call published at a later sample's event; the IMMINENT at the sample that simulate's
-// alarm.published names (the study's "as published" figures are this monitor's).
+// alarm.published names (the study's "as published" figures are this monitor's). The alarm's rules before 2026-12-01
+// (no horizon, the margin from the vertical): their IMMINENT on this log falls on a sample the budget delays; the
+// defaults' falls on one it does not, and the late publication is what this checks.
 TEST(MonitorGoldenReplay, WithTheFirmwaresWorkBudgetTheSameEventsArePublishedWhereSimulateSays) {
   const TempDir dir;
   const std::string in = monitor_data_path(rockwatch::test::kShippedLog);
-  const ProcessResult plain = run_offline(in, dir.file("plain.lcmlog"));
-  const ProcessResult budgeted = run_offline(in, dir.file("budget.lcmlog"), {"--work-budget", "23000"});
+  const std::vector<std::string> rules{"--imminent-horizon", "0", "--energy-min-x", "0"};
+  const ProcessResult plain = run_offline(in, dir.file("plain.lcmlog"), rules);
+  std::vector<std::string> with_budget = rules;
+  with_budget.insert(with_budget.end(), {"--work-budget", "23000"});
+  const ProcessResult budgeted = run_offline(in, dir.file("budget.lcmlog"), with_budget);
   CHECK_EQUAL_TEXT(0, plain.exit_status, describe(plain).c_str());
   CHECK_EQUAL_TEXT(0, budgeted.exit_status, describe(budgeted).c_str());
   const OutputLog a = rockwatch::test::read_output_log(dir.file("plain.lcmlog"));
@@ -392,6 +397,7 @@ TEST(MonitorGoldenReplay, WithTheFirmwaresWorkBudgetTheSameEventsArePublishedWhe
   std::vector<std::string> args{"simulate"};
   args.insert(args.end(), kSimulateArgs.begin(), kSimulateArgs.end());
   args.insert(args.end(), {"--arith", "fixed", "--alarms", "--json"});
+  args.insert(args.end(), rules.begin(), rules.end());
   const ProcessResult sim = rockwatch::test::run_rockwatch(args);
   CHECK_EQUAL_TEXT(0, sim.exit_status, describe(sim).c_str());
   const json published = json::parse(sim.out).at("alarm").at("published");

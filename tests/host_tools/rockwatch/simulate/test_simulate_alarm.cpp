@@ -73,10 +73,13 @@ std::vector<std::string> simulate_el_centro(const std::vector<std::string>& more
 
 TEST_GROUP(SimulateAlarm){};
 
-// The opt-in look-ahead rule (--imminent-horizon, SPEC §11) is named in the settings when on and absent at the default,
-// and it can only bring IMMINENT earlier (it adds a condition; the others are unchanged).
+// The look-ahead rule (--imminent-horizon, SPEC §11; 0.13 s by default since 2026-12-01) is named in the settings when
+// on and absent at 0, and it can only bring IMMINENT earlier (it adds a condition; the others are unchanged).
 TEST(SimulateAlarm, TheImminentHorizonIsNamedWhenOnAndOnlyBringsImminentEarlier) {
-  const ProcessResult off = run_rockwatch(simulate_el_centro({"--alarms", "--json"}));
+  const ProcessResult by_default = run_rockwatch(simulate_el_centro({"--alarms", "--json"}));
+  check_ok(by_default);
+  DOUBLES_EQUAL(0.13, nlohmann::json::parse(by_default.out)["alarm"]["settings"]["imminent_horizon_s"].get<double>(), 0.0);
+  const ProcessResult off = run_rockwatch(simulate_el_centro({"--alarms", "--json", "--imminent-horizon", "0"}));
   const ProcessResult on = run_rockwatch(simulate_el_centro({"--alarms", "--json", "--imminent-horizon", "0.3"}));
   check_ok(off);
   check_ok(on);
@@ -90,13 +93,21 @@ TEST(SimulateAlarm, TheImminentHorizonIsNamedWhenOnAndOnlyBringsImminentEarlier)
   CHECK_TEXT(text.out.find("predicted within 0.3 s") != std::string::npos, text.out.c_str());
 }
 
-// The opt-in energy rule's displacement (--energy-min-x, SPEC §11): named when on, absent at the default, and it can
-// only bring IMMINENT later (it removes part of a condition); at 1 the energy margin never decides before |x| ≥ x_inst,
-// so IMMINENT comes no earlier than the first exceedance of x_inst; out of [0, 1] or without --alarms an error naming it.
+// The energy rule's displacement (--energy-min-x, SPEC §11; 0.5 by default since 2026-12-01): named when on, absent
+// at 0, and it can only bring IMMINENT later (it removes part of a condition); at 1 the energy margin never decides
+// before |x| ≥ x_inst, so IMMINENT comes no earlier than the first exceedance of x_inst (the horizon off here: it is
+// not gated); out of [0, 1] or without --alarms an error naming it.
 TEST(SimulateAlarm, TheEnergyRulesDisplacementIsNamedWhenOnAndOnlyDelaysImminent) {
-  const ProcessResult off = run_rockwatch(simulate_el_centro({"--alarms", "--json"}));
-  const ProcessResult half = run_rockwatch(simulate_el_centro({"--alarms", "--json", "--energy-min-x", "0.5"}));
-  const ProcessResult one = run_rockwatch(simulate_el_centro({"--alarms", "--json", "--energy-min-x", "1"}));
+  const ProcessResult by_default = run_rockwatch(simulate_el_centro({"--alarms", "--json"}));
+  check_ok(by_default);
+  DOUBLES_EQUAL(0.5, nlohmann::json::parse(by_default.out)["alarm"]["settings"]["energy_min_x"].get<double>(), 0.0);
+  const auto without_horizon = [](std::vector<std::string> a) {
+    a.insert(a.end(), {"--imminent-horizon", "0"});
+    return simulate_el_centro(a);
+  };
+  const ProcessResult off = run_rockwatch(without_horizon({"--alarms", "--json", "--energy-min-x", "0"}));
+  const ProcessResult half = run_rockwatch(without_horizon({"--alarms", "--json", "--energy-min-x", "0.5"}));
+  const ProcessResult one = run_rockwatch(without_horizon({"--alarms", "--json", "--energy-min-x", "1"}));
   check_ok(off);
   check_ok(half);
   check_ok(one);
