@@ -29,6 +29,7 @@ and scores them per truth family (SPEC §11 "Model error" defines every figure):
     scripts/model-error-study.py [--truths tests/data/truths] [--families multibody,crushed] [--out DIR]
                                  [--forecast-members 200] [--forecast-horizon-s 5] [--plots] [--jobs 2]
                                  [--control] [--check-fused-alarm] [--check-x-inst-median 0.05]
+                                 [--check-lead-median crack_height:0.5,crushed:0.5,multibody:0.5]
 
 Writes DIR/runs.csv (one row per case x mode), DIR/forecasts.csv (one row per forecast), DIR/summary.json (per family
 and mode), with --control DIR/forecasts_control.csv, DIR/report.txt (the table printed) and with --plots
@@ -417,6 +418,9 @@ def main():
     ap.add_argument("--check-x-inst-z", type=float, default=None, metavar="Z",
                     help="exit 1 naming the case when a fused x_inst, at the end of the run or after five impacts, is "
                          "more than Z of its published sigma from the truth's (issue 40's goal: 3; the ctest)")
+    ap.add_argument("--check-lead-median", default=None, metavar="FAMILY:S[,FAMILY:S…]",
+                    help="exit 1 naming the family when the fused alarm's median lead (robust collapses) is under S "
+                         "seconds on that family, or the family has no lead (issue 40's goal: 0.5; the ctest)")
     ap.add_argument("--check-r-z", type=float, default=None, metavar="Z",
                     help="the same for the fused r (at the end, after five impacts, after five rocking impacts)")
     a = ap.parse_args()
@@ -496,6 +500,22 @@ def main():
         print(f"model-error-study: {len(failures)} case(s) failed:", *failures, sep="\n  ", file=sys.stderr)
         sys.exit(1)
     bad_estimates = []
+    if a.check_lead_median:
+        for item in a.check_lead_median.split(","):
+            fam, sep, limit_text = item.partition(":")
+            try:
+                limit = float(limit_text)
+            except ValueError:
+                limit = None
+            if not sep or fam not in families or limit is None:
+                sys.exit(f"model-error-study: --check-lead-median: '{item}': expected FAMILY:SECONDS with FAMILY one of "
+                         f"{', '.join(families)}")
+            lead = ((summary.get(fam) or {}).get("fused") or {}).get("lead_s_median")  # the report's own figure
+            ok = lead is not None and lead == lead and lead >= limit  # NaN or no collapse fails
+            print(f"model-error-study: {fam}: fused median lead {fmt(lead)} s (at least {limit:g} s wanted)"
+                  f"{'' if ok else ': FAIL'}", file=sys.stdout if ok else sys.stderr)
+            if not ok:
+                bad_estimates.append(fam)
     if a.check_x_inst_median is not None:
         for fam in families:
             est = ((summary.get(fam) or {}).get("fused") or {}).get("x_inst_end")  # the report's own figure
