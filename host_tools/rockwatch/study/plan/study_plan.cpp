@@ -152,7 +152,7 @@ nlohmann::ordered_json plan_json(const study::StudyPlan& plan) {
   if (plan.analysis.work_overflow != core::WorkOverflow::shed) {
     j["alarm"]["work_overflow"] = work_overflow_name(plan.analysis.work_overflow);
   }
-  // Likewise the opt-in look-ahead rule (SPEC §11): shards run with another horizon are another plan.
+  // Likewise the look-ahead rule (SPEC §11; named when not 0): shards run with another horizon are another plan.
   if (plan.analysis.evaluate_alarm && a.imminent_horizon_s > 0.0) {
     j["alarm"]["imminent_horizon_s"] = a.imminent_horizon_s;
   }
