@@ -311,7 +311,7 @@ TEST(MonitorGoldenReplay, AlarmTimelineEqualsSimulateFixed) {
   expect_simulate_transitions(sim_json, rockwatch::test::read_output_log(dir.file("out.lcmlog")));
 }
 
-// The opt-in look-ahead (issue 40): `--imminent-horizon 0.17` gives the monitor simulate's alarm with the same horizon,
+// The look-ahead (issue 40): `--imminent-horizon 0.17` gives the monitor simulate's alarm with the same horizon,
 // every transition and so the first IMMINENT, with either engine (the fixed-point one: the firmware's indicators).
 // Suite set 2 X at 0.30 g (the shipped log's record does not tell: there the horizon changes nothing): the wall
 // collapses at 4.65 s, IMMINENT at 3.755 s without the horizon, 3.4 s with it, so a monitor that dropped the setting

@@ -101,7 +101,7 @@ nlohmann::ordered_json alarm_json(const study::StudyPlan& plan, const study::Ala
   nlohmann::ordered_json j = alarm_score_json(a);
   j["settings"] = {{"lambda_warning", s.lambda_warning}, {"hold_s", s.hold_s}, {"energy_margin", s.energy_margin}};
   if (s.imminent_horizon_s > 0.0) j["settings"]["imminent_horizon_s"] = s.imminent_horizon_s;  // opt-in, SPEC §11
-  if (s.energy_min_x > 0.0) j["settings"]["energy_min_x"] = s.energy_min_x;                    // opt-in, SPEC §11
+  if (s.energy_min_x > 0.0) j["settings"]["energy_min_x"] = s.energy_min_x;                    // when not 0, SPEC §11
   j["alarm_engine"] = arithmetic_name(plan.analysis.arithmetic);
   j["definitions"] = {
       {"verdict", "the double engine's (collapsed or collapsed after the record)"},

@@ -78,8 +78,8 @@ void apply_alarm_options(const AlarmOptionValues& values, sim::AnalysisOptions& 
 // apply_alarm_options(alarm_option_values(app, texts), options).
 void parse_alarm_options(const CLI::App& app, const AlarmOptionTexts& texts, sim::AnalysisOptions& options);
 
-// The opt-in rules that are on (the look-ahead horizon, the energy rule's displacement), a sentence each, for the
-// text reports of simulate and study: empty at the defaults.
+// The rules of issue 40 that are on (the look-ahead horizon, the energy rule's displacement), a sentence each, for the
+// text reports of simulate and study: empty when both are 0 (the defaults before 2026-12-01).
 std::vector<std::string> opt_in_alarm_rule_texts(const core::AlarmSettings& s);
 
 // "double" | "fixed".
