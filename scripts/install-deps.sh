@@ -63,6 +63,7 @@ TEST_PACKAGES=(
   clang libclang-rt-dev  # fuzzing (scripts/fuzz.sh, preset "fuzz"): clang++ and its libFuzzer/ASan/UBSan runtimes
   chromium               # headless browser of the dashboard's browser test (driven by playwright-core from npm)
   python3-pytest         # the Python module's test (tests/python, ctest test_python_module)
+  patch                  # the mutants (scripts/mutants.sh, ctest mutants_apply)
 )
 
 case "$set_name" in
