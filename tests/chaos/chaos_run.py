@@ -10,7 +10,8 @@
       a collapse record at 1 kHz written by `rockwatch replay --log`, the relay's schedule applied offline (5 %
       random loss; 5 % loss and a burst of 50 samples placed by the seed in the rocking phase from --burst-from-s
       to the clean IMMINENT), the monitor offline on each: IMMINENT before COLLAPSED, each within --tolerance-s
-      (0.1) of the clean log's times (IMMINENT: no later than that, no earlier than --early-tolerance-s, 0.25), every counter as the model derives it. --burst-sweep STEP measures instead.
+      (0.1) of the clean log's times (IMMINENT: no later than that, no earlier than --early-tolerance-s, 0.25),
+      every counter as the model derives it. --burst-sweep STEP measures instead.
   chaos_run.py ci --monitor M --rockwatch R     the CI's short live runs (one wall; three walls with the observer's
       sensor stream), or with --alarm-timing the offline patterns.
 

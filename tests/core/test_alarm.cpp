@@ -384,7 +384,8 @@ TEST(InstabilityIndicators, AboveTheBarrierMovingInwardThereIsNoPrediction) {
 }
 
 TEST(InstabilityIndicators, EnergyMarginRaisesTheFlagButNotThePrediction) {
-  const InstabilityConstants<double> margin = make_instability_constants(wall_setup, AlarmSettings{0.4, 1.0, 1.1, 0.0, 0.0});
+  const InstabilityConstants<double> margin =
+      make_instability_constants(wall_setup, AlarmSettings{0.4, 1.0, 1.1, 0.0, 0.0});
   const double x_inst = margin.x_inst_m[1], omega = margin.omega_rps[1];
   stepper.set_state(0.02, outward_speed(1.05, 0.02, x_inst, omega), 0.0, 0.0);
   InstabilityIndicators<double> ind = evaluate_instability(margin, stepper, StepReport<double>{});
@@ -402,7 +403,8 @@ TEST(InstabilityIndicators, ImminentHorizonRaisesTheEnergyFlagOnlyWhenXInstIsTha
   AlarmSettings settings;
   settings.imminent_horizon_s = 0.15;
   const InstabilityConstants<double> h = make_instability_constants(wall_setup, settings);
-  const InstabilityConstants<double> off = make_instability_constants(wall_setup, AlarmSettings{0.4, 1.0, 1.5, 0.0, 0.0});
+  const InstabilityConstants<double> off =
+      make_instability_constants(wall_setup, AlarmSettings{0.4, 1.0, 1.5, 0.0, 0.0});
   DOUBLES_EQUAL(0.15, h.horizon_s, 0.0);
   DOUBLES_EQUAL(0.0, off.horizon_s, 0.0);
   const double x_inst = h.x_inst_m[1], omega = h.omega_rps[1];
@@ -431,8 +433,8 @@ TEST(InstabilityIndicators, ImminentHorizonRaisesTheEnergyFlagOnlyWhenXInstIsTha
 
 TEST(InstabilityIndicators, EnergyMinXKeepsTheMarginsRuleFromTheVertical) {
   // energy_min_x 0.5 (issue 40, SPEC §11): with ρ = 2 (over the margin 1.5) moving outward, the flag is raised only
-  // from |x| ≥ 0.5 x_inst (the default since 2026-12-01), on both sides; at 0 everywhere; the displacement's own rule (|x| ≥ x_inst)
-  // and the horizon rule are not gated. Out of [0, 1] the settings are invalid.
+  // from |x| ≥ 0.5 x_inst (the default since 2026-12-01), on both sides; at 0 everywhere; the displacement's own
+  // rule (|x| ≥ x_inst) and the horizon rule are not gated. Out of [0, 1] the settings are invalid.
   AlarmSettings settings;
   settings.energy_min_x = 0.5;
   settings.imminent_horizon_s = 0.0;  // the horizon's own flag (not gated) would fire near x_inst at ρ = 2

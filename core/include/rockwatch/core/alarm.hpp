@@ -63,8 +63,8 @@ struct AlarmSettings {
   double energy_margin = 1.5;   // IMMINENT by energy when E ≥ margin·E_barrier moving outward [-], ≥ 1 (see above)
   // IMMINENT also when E ≥ E_barrier moving outward and the predicted time to x_inst under zero further input is at
   // most this [s] (the wall about to pass x_inst in free motion; reason bit energy_over_barrier_outward); 0 = off.
-  // 0.13 with energy_min_x 0.5 since 2026-12-01 (0 and 0 before; SPEC §11 "The defaults of 2026-12-01"): together
-  // more lead and fewer false alarms than either alone or neither, on the truths and the synthetic studies.
+  // 0.13 with energy_min_x 0.5 since 2026-12-01 (0 and 0 before; SPEC §11 "The alarm's defaults of 2026-12-01"):
+  // together more lead and fewer false alarms than either alone or neither, on the truths and the synthetic studies.
   double imminent_horizon_s = 0.13;
   // IMMINENT by the energy margin only from |x| ≥ this × x_inst [-] (0 = everywhere): a wall near the
   // vertical with E ≥ margin·E_barrier is far from its barrier in time, and the ground's next reversal often stops it

@@ -78,7 +78,8 @@ TEST_GROUP(SimulateAlarm){};
 TEST(SimulateAlarm, TheImminentHorizonIsNamedWhenOnAndOnlyBringsImminentEarlier) {
   const ProcessResult by_default = run_rockwatch(simulate_el_centro({"--alarms", "--json"}));
   check_ok(by_default);
-  DOUBLES_EQUAL(0.13, nlohmann::json::parse(by_default.out)["alarm"]["settings"]["imminent_horizon_s"].get<double>(), 0.0);
+  const nlohmann::json default_settings = nlohmann::json::parse(by_default.out)["alarm"]["settings"];
+  DOUBLES_EQUAL(0.13, default_settings["imminent_horizon_s"].get<double>(), 0.0);
   const ProcessResult off = run_rockwatch(simulate_el_centro({"--alarms", "--json", "--imminent-horizon", "0"}));
   const ProcessResult on = run_rockwatch(simulate_el_centro({"--alarms", "--json", "--imminent-horizon", "0.3"}));
   check_ok(off);
