@@ -9,6 +9,8 @@ tests/truth/README.md) and runs, per case, what a user would run:
   fused       ... --wall-sensors sensors.csv [--forecast-members N --forecast-horizon-s H] [--observer-args]
   identified  rockwatch identify --wall-sensors snapback.csv --wall-out W.json (a free-rocking test of the same
               truth), then rockwatch simulate --record ground.csv --wall-file W.json --alarms
+  identified_fused  the same wall file, with the sensors: ... --wall-file W.json --alarms --wall-sensors sensors.csv
+              [--observer-args] (a lab that ran a free-rocking test before it monitors; no forecast)
 
 and scores them per truth family (SPEC §11 "Model error" defines every figure):
   - alarm, on robust cases only (truth.json `robust`): right = IMMINENT at least 0.2 s before the truth's collapse,
@@ -49,7 +51,7 @@ import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.normpath(os.path.join(HERE, ".."))
-MODES = ("open_loop", "fused", "identified", "control")
+MODES = ("open_loop", "fused", "identified", "identified_fused", "control")
 WALL_KEYS = (("b", "--b"), ("h1", "--h1"), ("h2", "--h2"), ("rho", "--rho"), ("fp", "--fp"), ("Fp_N_per_m", "--fp"),
              ("a", "--a"), ("a_prime", "--a-prime"))
 MIN_LEAD_S = 0.2       # issue 40: IMMINENT at least this long before a true collapse
@@ -128,8 +130,13 @@ def run_case(case_dir, a):
             try:
                 ident = run_json([a.rockwatch, "identify", "--wall-sensors", snap, "--wall-out", wall_file, "--json"]
                                  + wall_args(truth))
-                results["identified"] = run_json([a.rockwatch, "simulate", "--record", ground, "--units", "mps2",
-                                                  "--wall-file", wall_file, "--alarms", "--json"])
+                on_wall = [a.rockwatch, "simulate", "--record", ground, "--units", "mps2", "--wall-file", wall_file,
+                           "--alarms", "--json"] + a.simulate_args
+                results["identified"] = run_json(on_wall)
+                # What a lab can do best: the wall its free-rocking test found, then the monitor with the sensors
+                # (the observer's nominal wall is the identified one).
+                results["identified_fused"] = run_json(on_wall + ["--wall-sensors", os.path.join(case_dir, "sensors.csv")]
+                                                       + a.observer_args)
             except RuntimeError as e:  # identify refuses (exit 2, saying why): counted, not fatal
                 ident = {"refused": str(e).splitlines()[-1][:200]}
     x_inst_true = x_inst_of(truth)
@@ -179,7 +186,7 @@ def estimates(mode, res, ident, truth, x_inst_true):
     """The mode's estimates of x_inst and r with their stated σ, beside the truth's equivalent values."""
     out = {}
     r_true = float(truth["r_equiv"]) if truth["r_equiv"] is not None else None
-    if mode == "fused":
+    if mode in ("fused", "identified_fused"):
         o = res.get("observer") or {}
         pairs = (("x_inst_end", o.get("x_inst_estimate_m"), o.get("sigma_x_inst_m"), x_inst_true),
                  # After five impacts: the σ published at that moment (until 2026-11-29 the end's, which made
@@ -301,7 +308,7 @@ def summarise(rows, forecasts, controls=()):
         summary[fam] = s
     if len(summary) > 1:  # every family together: the alarm of the fused and control modes, the odds
         everything = {}
-        for mode in ("fused", "control"):
+        for mode in ("fused", "identified_fused", "control"):
             m = [r for r in rows if r["mode"] == mode]
             if m:
                 everything[mode] = mode_summary(m, mode)
@@ -319,7 +326,7 @@ def fmt(v, spec=".2f"):
 
 def report(summary, horizon_s):
     lines = []
-    lines.append(f"{'family':13s} {'mode':10s} {'right':>7s} {'recall':>6s} {'false':>7s} {'lead med':>8s} "
+    lines.append(f"{'family':13s} {'mode':16s} {'right':>7s} {'recall':>6s} {'false':>7s} {'lead med':>8s} "
                  f"{'p05':>5s} {'x_inst err med/max (in 3σ)':>28s} {'r err after 5 (in 3σ)':>22s} "
                  f"{'after 5 rocking (in 3σ, ≤ 0.03)':>32s}")
     for fam, s in summary.items():
@@ -335,7 +342,7 @@ def report(summary, horizon_s):
             rk = ms.get("r_5rock")
             rks = (f"{fmt(rk['abs_error_median'], '.3f')} ({rk['within_3_sigma']}/{rk['n']}, "
                    f"{rk['within_tolerance']}/{rk['n']})") if rk else "-"
-            lines.append(f"{fam:13s} {mode:10s} {ms['right']:>3d}/{ms['robust']:<3d} {fmt(ms['recall']):>6s} "
+            lines.append(f"{fam:13s} {mode:16s} {ms['right']:>3d}/{ms['robust']:<3d} {fmt(ms['recall']):>6s} "
                          f"{ms['false_alarms']:>3d}/{ms['robust_survivors']:<3d} {fmt(ms['lead_s_median']):>8s} "
                          f"{fmt(ms['lead_s_p05']):>5s} {xs:>28s} {rs:>22s} {rks:>32s}")
         for what, label in (("forecast", ""), ("forecast_control", "control, ")):
