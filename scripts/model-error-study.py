@@ -135,8 +135,8 @@ def run_case(case_dir, a):
                 results["identified"] = run_json(on_wall)
                 # What a lab can do best: the wall its free-rocking test found, then the monitor with the sensors
                 # (the observer's nominal wall is the identified one).
-                results["identified_fused"] = run_json(on_wall + ["--wall-sensors", os.path.join(case_dir, "sensors.csv")]
-                                                       + a.observer_args)
+                sensors = os.path.join(case_dir, "sensors.csv")
+                results["identified_fused"] = run_json(on_wall + ["--wall-sensors", sensors] + a.observer_args)
             except RuntimeError as e:  # identify refuses (exit 2, saying why): counted, not fatal
                 ident = {"refused": str(e).splitlines()[-1][:200]}
     x_inst_true = x_inst_of(truth)
@@ -306,7 +306,7 @@ def summarise(rows, forecasts, controls=()):
         if fam_ctl:
             s["forecast_control"] = forecast_scores(fam_ctl)
         summary[fam] = s
-    if len(summary) > 1:  # every family together: the alarm of the fused and control modes, the odds
+    if len(summary) > 1:  # every family together: the alarm of the fused, identified_fused and control modes, the odds
         everything = {}
         for mode in ("fused", "identified_fused", "control"):
             m = [r for r in rows if r["mode"] == mode]
