@@ -57,8 +57,9 @@ def main():
         truth = json.load(open(os.path.join(d, "truth.json")))
         with tempfile.TemporaryDirectory(prefix="check-identified-fused-") as tmp:
             wall = os.path.join(tmp, "wall.json")
-            subprocess.run([rockwatch, "identify", "--wall-sensors", os.path.join(d, "snapback.csv"), "--wall-out", wall,
-                            "--json"] + study.wall_args(truth), check=True, capture_output=True, text=True)
+            subprocess.run([rockwatch, "identify", "--wall-sensors", os.path.join(d, "snapback.csv"),
+                            "--wall-out", wall, "--json"] + study.wall_args(truth),
+                           check=True, capture_output=True, text=True)
             run = json.loads(subprocess.run(
                 [rockwatch, "simulate", "--record", os.path.join(d, "ground.csv"), "--units", "mps2", "--wall-file",
                  wall, "--alarms", "--wall-sensors", os.path.join(d, "sensors.csv"), "--json"],
