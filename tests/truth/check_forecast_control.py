@@ -12,20 +12,12 @@ check could not tell them apart). Then recomputes the control's pooled Brier sco
 Exit 1 naming the case and time on a mismatch.
 """
 import csv
-import importlib.util
 import json
 import os
 import subprocess
 import sys
 
-
-def study_module():
-    """scripts/model-error-study.py as a module: the wall told is its wall_args (what is checked is the scoring)."""
-    path = os.path.join(os.path.dirname(__file__), "..", "..", "scripts", "model-error-study.py")
-    spec = importlib.util.spec_from_file_location("model_error_study", path)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+from study_module import study_module
 
 
 def main():

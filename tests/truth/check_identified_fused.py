@@ -11,12 +11,13 @@ fused row (the observer started from the told wall) in one of those figures, els
 modes apart (a mode that ignored the wall file would pass the rest). Exit 1 naming the case and the field.
 """
 import csv
-import importlib.util
 import json
 import os
 import subprocess
 import sys
 import tempfile
+
+from study_module import study_module
 
 FIELDS = (("t_first_imminent_s", ("alarm", "t_first_imminent_s")),
           ("t_first_collapsed_s", ("alarm", "t_first_collapsed_s")),
@@ -24,15 +25,6 @@ FIELDS = (("t_first_imminent_s", ("alarm", "t_first_imminent_s")),
           ("x_inst_end_sigma", ("observer", "sigma_x_inst_m")),
           ("r_end", ("observer", "r_estimate")),
           ("r_end_sigma", ("observer", "sigma_r")))
-
-
-def study_module():
-    """scripts/model-error-study.py as a module: the wall told is its wall_args."""
-    path = os.path.join(os.path.dirname(__file__), "..", "..", "scripts", "model-error-study.py")
-    spec = importlib.util.spec_from_file_location("model_error_study", path)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
 
 
 def number(text):
