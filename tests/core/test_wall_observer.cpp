@@ -472,6 +472,45 @@ TEST(WallObserver, ReinitialisesWhenTheRealWallRocksAndTheModelDoesNot) {
   CHECK((flags & observer_flag::motion_while_quiet) == 0);
 }
 
+TEST(WallObserver, ASlowerSensorsReadingsCountTheTimeTheyCover) {
+  // The wall above, read at 50 Hz (every fourth 5 ms step): reinit_after (8) rejections mean 80 ms, the count's
+  // meaning at 100 Hz (count_interval_s 0.01, a reading 20 ms after the previous one counts 2), so the motion is
+  // re-initialised at the fourth rejected reading in a row; with count_interval_s 0 (every reading one, the rule
+  // before issue 40's slower sensors) at the eighth. At 200 Hz the two agree (each reading counts one).
+  const StepperSetup<double> true_setup = thinner_setup(0.09);
+  const StepperSetup<double> nominal = setup_with_r(0.8);
+  const double th_true = threshold_mps2(true_setup.model, Side::positive, 9.81);
+  const double th_nom = threshold_mps2(nominal.model, Side::positive, 9.81);
+  for (const int every : {4, 1}) {
+    for (const double interval_s : {0.01, 0.0}) {
+      RockingStepper<double> truth, model;
+      truth.init(true_setup);
+      model.init(nominal);
+      WallObserver<RockingStepper<double>> observer;
+      ObserverOptions o;
+      o.count_interval_s = interval_s;
+      CHECK(observer.init(o, nominal, paper_wall()) == ObserverError::ok);
+      Noise noise(5);
+      std::int64_t t = 0;
+      int run = 0, run_at_reinit = -1;
+      for (int k = 0; k < 400 && run_at_reinit < 0; ++k) {
+        const double ug = k < 100 ? 0.0 : -0.5 * (th_true + th_nom);
+        t += kDtUs;
+        truth.step(ug, 0.0);
+        if (k % every == 0) observer.push(displacement(t, truth.state().x_m + 0.5e-3 * noise.normal()));
+        const StepReport<double> r = model.step(ug, 0.0);
+        const ObserverStepReport out = observer.after_step(model, r, ug, 0.0, t, kDtUs);
+        if (out.x_updates > 0) run = 0;
+        if (out.flags & observer_flag::rejected) ++run;
+        if (out.flags & observer_flag::reinitialised) run_at_reinit = run;
+        if (truth.collapsed()) break;
+      }
+      const int expected = every == 4 && interval_s > 0.0 ? 4 : 8;
+      LONGS_EQUAL(expected, run_at_reinit);
+    }
+  }
+}
+
 TEST(WallObserver, TheMidHeightAccelerometerAloneFollowsTheRealWall) {
   // No displacement transducer: only a_mid = ü + ẍ − G·x/h1 (SPEC §8) with 0.05 m/s² noise, from a real wall that
   // dissipates less than the model assumes (r 0.85 against 0.7), in free rocking from 5 cm.

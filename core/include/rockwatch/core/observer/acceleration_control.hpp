@@ -27,7 +27,7 @@ inline void WallObserver<Stepper>::control_a(Stepper& stepper, const WallSensorS
     const bool x_agrees = consecutive_rejections_ == 0;  // the last displacement update passed
     // The displacement agrees and the motion is large enough to inform the capacity, yet the accelerometer keeps
     // disagreeing: the capacity is further from the estimate than its covariance says.
-    if (reopen_after_ > 0 && x_agrees && learn && ++consecutive_a_rejections_ >= reopen_after_) {
+    if (reopen_after_ > 0 && x_agrees && learn && (consecutive_a_rejections_ += a_count_) >= reopen_after_) {
       reopen_capacity(cov(last_innovation_a_) / f0_[side_index(stepper.side())]);  // ∂a/∂κc = f_s
     }
     // The reading is what a wall at rest gives (a = ü, block 1 vertical): the model rocks where the real wall
@@ -35,7 +35,7 @@ inline void WallObserver<Stepper>::control_a(Stepper& stepper, const WallSensorS
     // model to rest, where its state is known (x = ẋ = 0), and the stepper's start logic takes it from there.
     const Cov y_rest = cov(Scalar(s.a_mid_mps2) - ug_s);
     if (rest_after_ > 0 && x_agrees && y_rest * y_rest <= gate_ * r_a_) {
-      if (++rest_votes_ >= rest_after_) put_to_rest(stepper, ug, vg);
+      if ((rest_votes_ += a_count_) >= rest_after_) put_to_rest(stepper, ug, vg);
     } else {
       rest_votes_ = 0;
     }

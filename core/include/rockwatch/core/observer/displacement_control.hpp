@@ -14,7 +14,7 @@ inline void WallObserver<Stepper>::control_x(Stepper& stepper, const WallSensorS
                                              Input ug, Input vg, bool quiet, ObserverStepReport& out) {
   // Stuck: the same reading again and again while the wall rocks.
   if (have_last_raw_ && s.x_mid_m == last_raw_x_) {
-    ++identical_run_;
+    identical_run_ += x_count_;
   } else {
     identical_run_ = 0;
   }
@@ -40,7 +40,8 @@ inline void WallObserver<Stepper>::control_x(Stepper& stepper, const WallSensorS
   }
   ++counters_.rejected;
   out.flags |= observer_flag::rejected;
-  ++consecutive_rejections_;
+  const bool first_rejection = consecutive_rejections_ == 0;
+  consecutive_rejections_ += x_count_;
   // The sensor is sending, just disagreeing: not lost (rejections are flagged on their own).
   last_x_used_us_ = s.utime_us;
   have_x_used_ = true;
@@ -51,7 +52,7 @@ inline void WallObserver<Stepper>::control_x(Stepper& stepper, const WallSensorS
     // once): then the wall moves where the model says it cannot (a lower threshold, crushed hinges, an elastic
     // phase), the most informative reading there is (issue 40). The run's readings' spread decides.
     if (!stepper.moving()) {
-      if (consecutive_rejections_ == 1) {
+      if (first_rejection) {
         quiet_lo_ = quiet_hi_ = z;
       } else {
         if (z < quiet_lo_) quiet_lo_ = z;
@@ -82,7 +83,13 @@ inline void WallObserver<Stepper>::note_innovation(Cov y, Cov s) {
   if (!(doubt_nis_ > Cov(0)) || !(s > Cov(0))) return;
   Cov nis = y * y / s;
   if (nis > gate_) nis = gate_;
-  nis_avg_ = nis_avg_ + (nis - nis_avg_) * doubt_alpha_;
+  // A slower sensor's reading weighs as the samples it stands for (reading_count), so that the window is a time.
+  Cov alpha = doubt_alpha_;
+  if (x_count_ > 1) {
+    alpha = alpha * Cov(x_count_);
+    if (alpha > Cov(1)) alpha = Cov(1);
+  }
+  nis_avg_ = nis_avg_ + (nis - nis_avg_) * alpha;
   doubt_ = nis_avg_ > doubt_nis_;
 }
 

@@ -33,6 +33,13 @@ struct ObserverOptions {
   std::int32_t rest_from_accel_after = 8;
   double dropout_s = 0.25;              // no usable displacement sample for this long: sensor lost [s]
   double max_age_s = 0.05;              // older samples (behind the ground stream) are dropped [s]
+  // The sample interval the counts in samples mean (reinit_after, stuck_after, capacity_reopen_after,
+  // rest_from_accel_after, doubt_window): a reading counts as floor(Δt / this) samples, 1 to 8, Δt the shorter of
+  // its interval since its sensor's previous reading and the interval before (a single gap does not count) (issue 40). The counts were chosen on sensors at 100 and 200 Hz; at 50 Hz a count
+  // of 8 rejections meant 160 ms instead of 80, and the model ran that much longer on a wall it did not describe
+  // (docs/BENCHMARKS.md "Model error", "Slower sensors"). Bit-identical at 100 Hz and faster; 0: every reading one
+  // sample, whatever its rate (the rule before) [s].
+  double count_interval_s = 0.01;
   double x_range_m = 0.5;               // |x_mid| beyond this: out of range [m]
   double a_range_mps2 = 80.0;           // |a_mid| beyond this: out of range [m/s²]
   std::int32_t stuck_after = 40;        // identical consecutive displacement readings while rocking: stuck
@@ -195,6 +202,9 @@ inline constexpr ObserverParameter kObserverParameters[] = {
      ObserverError::timing_out_of_range, [](const ObserverOptions& o) { return o.dropout_s; }},
     {"max_age_s", 0.0, 10.0, false, false, "0", "10", "s", "older samples (behind the ground stream) are dropped",
      ObserverError::timing_out_of_range, [](const ObserverOptions& o) { return o.max_age_s; }},
+    {"count_interval_s", 0.0, 1.0, false, false, "0", "1", "s",
+     "a reading Δt after its sensor's previous ones counts floor(Δt / this) samples (1 to 8) in the counts; 0: one",
+     ObserverError::timing_out_of_range, [](const ObserverOptions& o) { return o.count_interval_s; }},
     {"x_range_m", 0.0, 2.0, true, false, "0", "2", "m", "a displacement reading beyond ± this: out of range",
      ObserverError::range_out_of_range, [](const ObserverOptions& o) { return o.x_range_m; }},
     {"a_range_mps2", 0.0, 128.0, true, false, "0", "128", "m/s2", "an acceleration reading beyond ± this: out of range",

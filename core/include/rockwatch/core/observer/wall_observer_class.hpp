@@ -93,6 +93,7 @@ class WallObserver {
     quiet_ug_ = Scalar(o.quiet_fraction * threshold);
     dropout_us_ = std::int64_t(o.dropout_s * 1e6 + 0.5);
     max_age_us_ = std::int64_t(o.max_age_s * 1e6 + 0.5);
+    count_interval_us_ = std::int64_t(o.count_interval_s * 1e6 + 0.5);
     reinit_after_ = o.reinit_after;
     doubt_nis_ = Cov(o.doubt_nis);
     doubt_alpha_ = Cov(1.0 / o.doubt_window);
@@ -139,6 +140,9 @@ class WallObserver {
     consecutive_a_rejections_ = 0;
     rest_votes_ = 0;
     identical_run_ = 0;
+    have_x_reading_ = have_a_reading_ = false;
+    last_x_interval_us_ = last_a_interval_us_ = 0;
+    x_count_ = a_count_ = 1;
     have_last_raw_ = false;
     last_raw_x_ = 0.0;
     impact_last_step_ = false;
@@ -484,7 +488,11 @@ class WallObserver {
     flush();
     // Each sensor's control decides whether and how its reading is fused (displacement first: the accelerometer's
     // rules ask whether the displacement agreed).
-    if (s.x_valid) control_x(stepper, s, age_us, step_ug_, step_vg_, step_quiet_, out);
+    if (s.x_valid) {
+      x_count_ = reading_count(s.utime_us, last_x_reading_us_, last_x_interval_us_, have_x_reading_);
+      control_x(stepper, s, age_us, step_ug_, step_vg_, step_quiet_, out);
+    }
+    if (s.a_valid) a_count_ = reading_count(s.utime_us, last_a_reading_us_, last_a_interval_us_, have_a_reading_);
     control_a(stepper, s, out);
     return passed_units + kWork.update;
   }
@@ -531,6 +539,29 @@ class WallObserver {
   void control_x(Stepper& stepper, const WallSensorSample& s, std::int64_t age_us, Input ug, Input vg, bool quiet,
                  ObserverStepReport& out);
   void note_innovation(Cov y, Cov s);
+  // How many samples a reading at t_us counts in the counts: floor(Δt / count_interval_us_), 1 to 8
+  // (ObserverOptions::count_interval_s), Δt the shorter of this reading's interval and the one before it, so that
+  // the sensor's rate decides and a single gap (a lost packet, a dropout) does not count as many readings; records
+  // t_us and the interval. Constant work: at most seven comparisons, no division (the M4 has no 64-bit divide).
+  std::int32_t reading_count(std::int64_t t_us, std::int64_t& last_us, std::int64_t& last_dt_us, bool& have_last) {
+    std::int32_t n = 1;
+    std::int64_t dt_us = 0;
+    if (have_last) {
+      dt_us = time_difference_us(t_us, last_us);
+      const std::int64_t d_us = dt_us < last_dt_us ? dt_us : last_dt_us;  // last_dt_us 0 until two intervals
+      if (count_interval_us_ > 0) {
+        std::int64_t next_us = 2 * count_interval_us_;
+        while (n < 8 && d_us >= next_us) {
+          ++n;
+          next_us += count_interval_us_;
+        }
+      }
+    }
+    last_us = t_us;
+    last_dt_us = dt_us;
+    have_last = true;
+    return n;
+  }
   void hold_doubt_floors();
   void reinitialise(Stepper& stepper, Scalar z, Input ug, Input vg, ObserverStepReport& out);
   void x_health(std::int64_t t_us, ObserverStepReport& out);
@@ -565,6 +596,11 @@ class WallObserver {
   Cov e_sigma0_{}, b_sigma0_{};
   double x_range_ = 0.5, a_range_ = 80.0;
   std::int64_t dropout_us_ = 250000, max_age_us_ = 50000;
+  std::int64_t count_interval_us_ = 10000;  // ObserverOptions::count_interval_s [µs] (0: every reading one sample)
+  std::int64_t last_x_reading_us_ = 0, last_a_reading_us_ = 0;  // the sensors' previous readings [µs]
+  std::int64_t last_x_interval_us_ = 0, last_a_interval_us_ = 0;  // and the intervals before them [µs]
+  bool have_x_reading_ = false, have_a_reading_ = false;
+  std::int32_t x_count_ = 1, a_count_ = 1;  // the current reading's weight in the counts (reading_count)
   std::int32_t reinit_after_ = 8, stuck_after_ = 40, reopen_after_ = 16, rest_after_ = 8;
   Cov doubt_nis_{}, doubt_alpha_{}, doubt_c_var_{}, doubt_e_var_{};  // model doubt (ObserverOptions) [-]
   // |x| below which a reading does not teach κc, κk: always, and while in doubt (the larger applies) [m]
