@@ -30,7 +30,7 @@ and scores them per truth family (SPEC §11 "Model error" defines every figure):
 
     scripts/model-error-study.py [--truths tests/data/truths] [--families multibody,crushed] [--out DIR]
                                  [--forecast-members 200] [--forecast-horizon-s 5] [--plots] [--jobs 2]
-                                 [--control] [--check-fused-alarm] [--check-x-inst-median 0.05]
+                                 [--control] [--sensor-stride N] [--check-fused-alarm] [--check-x-inst-median 0.05]
                                  [--check-lead-median crack_height:0.5,crushed:0.5,multibody:0.5]
 
 Writes DIR/runs.csv (one row per case x mode), DIR/forecasts.csv (one row per forecast), DIR/summary.json (per family
@@ -108,6 +108,23 @@ def alarm_fields(res):
     return al.get("t_first_imminent_s"), al.get("t_first_collapsed_s")
 
 
+def sensors_for(case_dir, a):
+    """The case's sensors.csv, or with --sensor-stride N every N-th reading of it (a sensor N times slower), written
+    under DIR/sensors_strideN/FAMILY/CASE.csv (the header and the first reading kept)."""
+    path = os.path.join(case_dir, "sensors.csv")
+    if a.sensor_stride <= 1:
+        return path
+    fam, case = os.path.split(os.path.normpath(case_dir))[0], os.path.basename(os.path.normpath(case_dir))
+    out_dir = os.path.join(a.out, f"sensors_stride{a.sensor_stride}", os.path.basename(fam))
+    os.makedirs(out_dir, exist_ok=True)
+    out = os.path.join(out_dir, case + ".csv")
+    with open(path) as f:
+        lines = f.read().splitlines()
+    with open(out, "w") as f:
+        f.write("\n".join([lines[0]] + lines[1::a.sensor_stride]) + "\n")
+    return out
+
+
 def run_case(case_dir, a):
     truth = load_truth(case_dir)
     ground = os.path.join(case_dir, "ground.csv")
@@ -116,7 +133,8 @@ def run_case(case_dir, a):
     results = {"open_loop": run_json(base + ["--alarms", "--json"])}
     forecast_args = (["--forecast-members", str(a.forecast_members), "--forecast-horizon-s", repr(a.forecast_horizon_s)]
                      if a.forecast_members > 0 else [])
-    results["fused"] = run_json(base + ["--alarms", "--wall-sensors", os.path.join(case_dir, "sensors.csv"), "--json"]
+    sensors = sensors_for(case_dir, a)
+    results["fused"] = run_json(base + ["--alarms", "--wall-sensors", sensors, "--json"]
                                 + a.observer_args + forecast_args)
     control = None
     if a.control and truth.get("r_equiv") is not None:
@@ -135,7 +153,6 @@ def run_case(case_dir, a):
                 results["identified"] = run_json(on_wall)
                 # What a lab can do best: the wall its free-rocking test found, then the monitor with the sensors
                 # (the observer's nominal wall is the identified one).
-                sensors = os.path.join(case_dir, "sensors.csv")
                 results["identified_fused"] = run_json(on_wall + ["--wall-sensors", sensors] + a.observer_args)
             except RuntimeError as e:  # identify refuses (exit 2, saying why): counted, not fatal
                 ident = {"refused": str(e).splitlines()[-1][:200]}
@@ -416,6 +433,9 @@ def main():
     ap.add_argument("--simulate-args", default="", help="more options for every simulate run (e.g. alarm ones)")
     ap.add_argument("--observer-args", default="", help="more options for the fused runs (the observer's)")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
+    ap.add_argument("--sensor-stride", type=int, default=1, metavar="N",
+                    help="the fused runs read every N-th reading of sensors.csv: a sensor N times slower (the kept "
+                         "truths' 100 Hz: 2 is 50 Hz); written under DIR/sensors_strideN/")
     ap.add_argument("--plots", action="store_true")
     ap.add_argument("--check-fused-alarm", action="store_true",
                     help="exit 1 naming the case when the fused alarm is not right on a robust case (the ctest)")
@@ -432,6 +452,8 @@ def main():
                     help="the same for the fused r (at the end, after five impacts, after five rocking impacts)")
     a = ap.parse_args()
     a.simulate_args = a.simulate_args.split()
+    if a.sensor_stride < 1:
+        sys.exit(f"model-error-study: --sensor-stride {a.sensor_stride}: expected an integer of at least 1")
     a.observer_args = a.observer_args.split()
     if not os.path.isdir(a.truths):
         sys.exit(f"model-error-study: --truths {a.truths}: not a directory")
@@ -494,7 +516,8 @@ def main():
                 "families": families, "forecast_members": a.forecast_members,
                 "forecast_horizon_s": a.forecast_horizon_s, "identify": a.identify,
                 "control": a.control,
-                "simulate_args": a.simulate_args, "observer_args": a.observer_args, "min_lead_s": MIN_LEAD_S, "bin_min_count": BIN_MIN_COUNT}
+                "simulate_args": a.simulate_args, "observer_args": a.observer_args, "sensor_stride": a.sensor_stride,
+                "min_lead_s": MIN_LEAD_S, "bin_min_count": BIN_MIN_COUNT}
     with open(os.path.join(a.out, "summary.json"), "w") as f:
         json.dump({"settings": settings, "families": summary}, f, indent=1)
     text = report(summary, a.forecast_horizon_s)

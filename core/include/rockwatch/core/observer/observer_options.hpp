@@ -34,11 +34,11 @@ struct ObserverOptions {
   double dropout_s = 0.25;              // no usable displacement sample for this long: sensor lost [s]
   double max_age_s = 0.05;              // older samples (behind the ground stream) are dropped [s]
   // The sample interval the counts in samples mean (reinit_after, stuck_after, capacity_reopen_after,
-  // rest_from_accel_after, doubt_window): a reading counts as floor(Δt / this) samples, 1 to 8, Δt the shorter of
-  // its interval since its sensor's previous reading and the interval before (a single gap does not count) (issue 40). The counts were chosen on sensors at 100 and 200 Hz; at 50 Hz a count
-  // of 8 rejections meant 160 ms instead of 80, and the model ran that much longer on a wall it did not describe
-  // (docs/BENCHMARKS.md "Model error", "Slower sensors"). Bit-identical at 100 Hz and faster; 0: every reading one
-  // sample, whatever its rate (the rule before) [s].
+  // rest_from_accel_after, doubt_window): a reading counts as floor(Δt / this) samples, 1 to 8, Δt the shorter of its
+  // interval since its sensor's previous reading and the interval before (a single gap does not count; issue 40).
+  // The counts were chosen on sensors at 100 and 200 Hz; at 50 Hz a count of 8 rejections meant 160 ms instead of
+  // 80, and the model ran that much longer on a wall it did not describe (docs/BENCHMARKS.md "Model error", "Slower
+  // sensors"). Bit-identical at 100 Hz and faster; 0: every reading one sample, whatever its rate (the rule before) [s].
   double count_interval_s = 0.01;
   double x_range_m = 0.5;               // |x_mid| beyond this: out of range [m]
   double a_range_mps2 = 80.0;           // |a_mid| beyond this: out of range [m/s²]
