@@ -472,6 +472,57 @@ TEST(WallObserver, ReinitialisesWhenTheRealWallRocksAndTheModelDoesNot) {
   CHECK((flags & observer_flag::motion_while_quiet) == 0);
 }
 
+TEST(WallObserver, AReinitialisationKeepsTheModelsVelocity) {
+  // SPEC §11 "The re-initialisation keeps the model's velocity": the model rocks outward at 0.3 m/s in a strong
+  // ground while the transducer reads 3 cm elsewhere (a pulse the model drifts in): after reinit_after rejections the
+  // motion restarts at the reading with the model's ẋ of that step, not from rest — in the double and the
+  // fixed-point observer alike.
+  const StepperSetup<double> nominal = setup_with_r(0.8);
+  const double ug = -threshold_mps2(nominal.model, Side::positive, 9.81);  // pushes the wall towards x > 0
+  RockingStepper<double> dmodel;
+  dmodel.init(nominal);
+  dmodel.set_state(0.02, 0.3, ug, 0.0);
+  FixedRockingStepper fmodel;
+  CHECK(fmodel.init(nominal) == FixedSetupError::ok);
+  fmodel.set_state(LengthQ1_62(0.02), SpeedQ3_60(0.3), AccelQ7_56(ug), AccelQ7_56{});
+  WallObserver<RockingStepper<double>> dobs;
+  WallObserver<FixedRockingStepper> fobs;
+  CHECK(dobs.init(ObserverOptions{}, nominal, paper_wall()) == ObserverError::ok);
+  CHECK(fobs.init(ObserverOptions{}, nominal, paper_wall()) == ObserverError::ok);
+  std::int64_t t = 0;
+  bool d_done = false, f_done = false;
+  for (int k = 0; k < 40 && !(d_done && f_done); ++k) {
+    t += kDtUs;
+    if (!d_done) {
+      const StepReport<double> r = dmodel.step(ug, 0.0);
+      const double z = dmodel.state().x_m + 0.03;
+      dobs.push(displacement(t, z));
+      const double v_model = dmodel.state().xd_mps;
+      if (dobs.after_step(dmodel, r, ug, 0.0, t, kDtUs).flags & observer_flag::reinitialised) {
+        d_done = true;
+        CHECK(std::fabs(v_model) > 0.1);
+        DOUBLES_EQUAL(v_model, dmodel.state().xd_mps, 1e-12);
+        DOUBLES_EQUAL(z - dobs.bias_m(), dmodel.state().x_m, 1e-12);
+      }
+    }
+    if (!f_done) {
+      const FixedStepReport r = fmodel.step(AccelQ7_56(ug), AccelQ7_56{});
+      const double z = fmodel.x_m().to_double() + 0.03;
+      fobs.push(displacement(t, z));
+      const double v_model = fmodel.xd_mps().to_double();
+      if (fobs.after_step(fmodel, r, AccelQ7_56(ug), AccelQ7_56{}, t, kDtUs).flags & observer_flag::reinitialised) {
+        f_done = true;
+        CHECK(std::fabs(v_model) > 0.1);
+        DOUBLES_EQUAL(v_model, fmodel.xd_mps().to_double(), 1e-9);
+      }
+    }
+  }
+  CHECK(d_done);
+  CHECK(f_done);
+  LONGS_EQUAL(1, dobs.counters().reinitialised);
+  LONGS_EQUAL(1, fobs.counters().reinitialised);
+}
+
 TEST(WallObserver, ASlowerSensorsReadingsCountTheTimeTheyCover) {
   // The wall above, read at 50 Hz (every fourth 5 ms step): reinit_after (8) rejections mean 80 ms, the count's
   // meaning at 100 Hz (count_interval_s 0.01, a reading 20 ms after the previous one counts 2), so the motion is
