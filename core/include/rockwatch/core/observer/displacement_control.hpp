@@ -117,10 +117,10 @@ inline bool WallObserver<Stepper>::capacity_learns(Scalar x) const {
 
 // The measurement has disagreed with the model for reinit_after samples while the ground shakes: the real wall
 // moves where the model does not (or the sensor is back after a dropout). Restart the motion at the reading, keeping
-// the model's ẋ, with a wide velocity prior; what was learned (ê, b̂) stays. Why the model's ẋ and not 0 (SPEC §8,
-// "The re-initialisation's velocity"): in a pulse the model drifts in x, yet the wall and the model are driven by the
-// same ground, so the model's ẋ is nearer the wall's than rest is (a multibody collapse rocking at 1.3 m/s was
-// restarted from ẋ = 0); at rest, the quiet path's only case, it is 0 anyway.
+// the model's ẋ, with a wide velocity prior; what was learned (ê, b̂) stays. Why the model's ẋ and not 0 (SPEC §11,
+// "The re-initialisation keeps the model's velocity"): in a pulse the model drifts in x, yet the wall and the model
+// are driven by the same ground, so the model's ẋ is nearer the wall's than rest is (a multibody collapse rocking at
+// 1.3 m/s was restarted from ẋ = 0); at rest, the quiet path's only case, it is 0 anyway.
 template <typename Stepper>
 inline void WallObserver<Stepper>::reinitialise(Stepper& stepper, Scalar z, Input ug, Input vg,
                                                 ObserverStepReport& out) {
