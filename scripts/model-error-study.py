@@ -7,6 +7,8 @@ tests/truth/README.md) and runs, per case, what a user would run:
 
   open_loop   rockwatch simulate --record ground.csv --units mps2 <wall told> --alarms
   fused       ... --wall-sensors sensors.csv [--forecast-members N --forecast-horizon-s H] [--observer-args]
+              (the observer told the transducer's noise truth.json states: --observer-x-noise-m,
+              --observer-a-noise-mps2; not with --observer-default-noise)
   identified  rockwatch identify --wall-sensors snapback.csv --wall-out W.json (a free-rocking test of the same
               truth), then rockwatch simulate --record ground.csv --wall-file W.json --alarms
   identified_fused  the same wall file, with the sensors: ... --wall-file W.json --alarms --wall-sensors sensors.csv
@@ -103,6 +105,30 @@ def wall_args(truth):
     return args
 
 
+SENSOR_KEYS = (("noise_x_m", "--observer-x-noise-m"), ("noise_a_mps2", "--observer-a-noise-mps2"))
+
+
+def sensor_args(truth, case_dir, a):
+    """The transducer's specification as the truth states it (truth.json `sensor`: noise_x_m, noise_a_mps2), told to
+    the observer as a lab tells it its datasheet's values; an option the user gives in --observer-args wins; none with
+    --observer-default-noise (the observer's defaults, 0.5 mm and 0.05 m/s², whatever the sensor)."""
+    if not a.tell_sensor:
+        return []
+    spec = truth.get("sensor")
+    if not isinstance(spec, dict):
+        return []
+    args = []
+    for key, opt in SENSOR_KEYS:
+        v = spec.get(key)
+        if v is None or opt in a.observer_args:
+            continue
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
+            raise TruthError(f"{os.path.join(case_dir, 'truth.json')}: field 'sensor.{key}': expected a positive "
+                             f"number (the transducer's standard deviation), got {v!r}")
+        args += [opt, repr(float(v))]
+    return args
+
+
 def alarm_fields(res):
     al = res.get("alarm") or {}
     return al.get("t_first_imminent_s"), al.get("t_first_collapsed_s")
@@ -134,8 +160,9 @@ def run_case(case_dir, a):
     forecast_args = (["--forecast-members", str(a.forecast_members), "--forecast-horizon-s", repr(a.forecast_horizon_s)]
                      if a.forecast_members > 0 else [])
     sensors = sensors_for(case_dir, a)
+    observer_args = sensor_args(truth, case_dir, a) + a.observer_args
     results["fused"] = run_json(base + ["--alarms", "--wall-sensors", sensors, "--json"]
-                                + a.observer_args + forecast_args)
+                                + observer_args + forecast_args)
     control = None
     if a.control and truth.get("r_equiv") is not None:
         control = results["control"] = run_json(base + ["--r", repr(float(truth["r_equiv"])), "--alarms", "--json"]
@@ -153,7 +180,7 @@ def run_case(case_dir, a):
                 results["identified"] = run_json(on_wall)
                 # What a lab can do best: the wall its free-rocking test found, then the monitor with the sensors
                 # (the observer's nominal wall is the identified one).
-                results["identified_fused"] = run_json(on_wall + ["--wall-sensors", sensors] + a.observer_args)
+                results["identified_fused"] = run_json(on_wall + ["--wall-sensors", sensors] + observer_args)
             except RuntimeError as e:  # identify refuses (exit 2, saying why): counted, not fatal
                 ident = {"refused": str(e).splitlines()[-1][:200]}
     x_inst_true = x_inst_of(truth)
@@ -432,6 +459,9 @@ def main():
                          "forecasts_control.csv, the report's control lines")
     ap.add_argument("--simulate-args", default="", help="more options for every simulate run (e.g. alarm ones)")
     ap.add_argument("--observer-args", default="", help="more options for the fused runs (the observer's)")
+    ap.add_argument("--observer-default-noise", dest="tell_sensor", action="store_false",
+                    help="do not tell the observer the transducer's noise stated in each truth.json's sensor "
+                         "(noise_x_m, noise_a_mps2): the observer's defaults whatever the sensor")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
     ap.add_argument("--sensor-stride", type=int, default=1, metavar="N",
                     help="the fused runs read every N-th reading of sensors.csv: a sensor N times slower (the kept "
@@ -517,6 +547,7 @@ def main():
                 "forecast_horizon_s": a.forecast_horizon_s, "identify": a.identify,
                 "control": a.control,
                 "simulate_args": a.simulate_args, "observer_args": a.observer_args, "sensor_stride": a.sensor_stride,
+                "sensor_noise_told": a.tell_sensor,
                 "min_lead_s": MIN_LEAD_S, "bin_min_count": BIN_MIN_COUNT}
     with open(os.path.join(a.out, "summary.json"), "w") as f:
         json.dump({"settings": settings, "families": summary}, f, indent=1)

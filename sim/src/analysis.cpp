@@ -217,6 +217,8 @@ class ObservedSteps {
     s.sigma_r = observer_.sigma_r();
     s.bias_estimate_m = observer_.bias_m();
     s.sigma_bias_m = observer_.sigma_bias_m();
+    s.x_noise_m = observer_.x_noise_m();
+    s.x_noise_readings = observer_.x_noise_readings();
     s.sigma_x_m = observer_.sigma_x_m();
     s.x_rms_innovation_m = observer_.rms_innovation_x_m();
     s.counters = observer_.counters();

@@ -6,6 +6,7 @@
   /usr/bin/python3 tests/truth/make_truths.py --regenerate DIR      # one kept case from its truth.json, compared
   /usr/bin/python3 tests/truth/make_truths.py --heldout --out DIR   # the validation set: other records and walls
   /usr/bin/python3 tests/truth/make_truths.py --wall b=0.21,h=2.7,rho=1900 --heldout --out DIR  # another told wall
+  /usr/bin/python3 tests/truth/make_truths.py --sensor noise_x_m=0.002,noise_a_mps2=0.2 --out DIR  # another transducer
 
 Per truth: its x_inst from a static push (both sides), a snap-back test (released from 0.5 x_inst, 8 s) and r_equiv
 from it; per record a PGA scan (×1.25 from 0.08 g up to the first collapse, then 4 bisections) for the collapse PGA
@@ -152,6 +153,25 @@ def parse_wall(text):
         raise ValueError("--wall: b=%g is not smaller than each block's height (h1=%g, h2=%g)" % (
             vals["b"], vals["h1"], vals["h2"]))
     return dict(WALL_TOLD, **vals)
+
+
+def parse_sensor(text):
+    """`noise_x_m=0.002,noise_a_mps2=0.2` (any of noise_x_m, noise_a_mps2, offset_m) -> the sensor's specification,
+    the others as SENSOR; a clear error naming the field otherwise."""
+    vals = {}
+    for item in text.split(","):
+        key, sep, val = item.partition("=")
+        key = key.strip()
+        if not sep or key not in SENSOR:
+            raise ValueError("--sensor: '%s': expected KEY=VALUE with KEY one of %s" % (item, ", ".join(SENSOR)))
+        try:
+            vals[key] = float(val)
+        except ValueError:
+            raise ValueError("--sensor: %s='%s' is not a number" % (key, val)) from None
+        if not math.isfinite(vals[key]) or (key != "offset_m" and vals[key] <= 0):
+            raise ValueError("--sensor: %s=%s: expected a %s number" % (
+                key, val, "finite" if key == "offset_m" else "positive"))
+    return dict(SENSOR, **vals)
 
 
 def log(msg):
@@ -412,7 +432,19 @@ def main():
     ap.add_argument("--wall", metavar="b=B,h=H,rho=RHO",
                     help="another told wall (h, or h1 and h2, in m; rho in kg/m^3): the four families around it "
                          "(families_for_wall), on the kept records or with --heldout the held-out ones; needs --out")
+    ap.add_argument("--sensor", metavar="noise_x_m=S,noise_a_mps2=A",
+                    help="another transducer (noise_x_m, noise_a_mps2, offset_m; the rest as SENSOR): its "
+                         "specification is written to each truth.json's sensor, which model-error-study.py tells the "
+                         "observer; needs --out")
     a = ap.parse_args()
+    if a.sensor:
+        global SENSOR
+        if os.path.abspath(a.out) == os.path.abspath(OUT_DIR):
+            ap.error("--sensor needs --out DIR (not the kept truths' folder)")
+        try:
+            SENSOR = parse_sensor(a.sensor)
+        except ValueError as e:
+            ap.error(str(e))
     if (a.heldout or a.wall) and os.path.abspath(a.out) == os.path.abspath(OUT_DIR):
         ap.error("%s needs --out DIR (not the kept truths' folder)" % ("--wall" if a.wall else "--heldout"))
     if a.wall:

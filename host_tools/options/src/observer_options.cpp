@@ -107,6 +107,13 @@ void add_observer_options(CLI::App& app, ObserverOptionTexts& texts, const std::
                      range_text(kMinObserverCapacityCorrelation, kMaxObserverCapacityCorrelation, "") +
                      " (default " + number_text(d.capacity_correlation) + ")")
       ->type_name("R");
+  app.add_option("--observer-noise-learn-readings", texts.noise_learn_readings,
+                 help_prefix + "the displacement transducer's noise measured before the shaking: once N readings of "
+                     "the wall at rest on a quiet ground show a noise clearly above --observer-x-noise-m (by their "
+                     "second differences), the filter uses it (SPEC 11); 0: off, else an integer in [8, " +
+                     number_text(kMaxObserverNoiseLearnReadings) + "] (default " +
+                     std::to_string(d.noise_learn_readings) + ")")
+      ->type_name("N");
 }
 
 bool observer_option_given(const CLI::App& app) {
@@ -152,6 +159,15 @@ core::ObserverOptions parse_observer_options(const CLI::App& app, const Observer
   o.capacity_correlation =
       parse_in_range(app, "--observer-capacity-correlation", texts.capacity_correlation,
                      kMinObserverCapacityCorrelation, kMaxObserverCapacityCorrelation, "", o.capacity_correlation);
+  {
+    const double n = parse_in_range(app, "--observer-noise-learn-readings", texts.noise_learn_readings,
+                                    kMinObserverNoiseLearnReadings, kMaxObserverNoiseLearnReadings, "",
+                                    double(o.noise_learn_readings));
+    if (n != double(static_cast<std::int32_t>(n))) {
+      throw UsageError("--observer-noise-learn-readings must be an integer (got " + number_text(n) + ")");
+    }
+    o.noise_learn_readings = static_cast<std::int32_t>(n);
+  }
   // The core's own check, in case its ranges ever become narrower than the ones above.
   const core::ObserverError err = core::validate_observer_options(o);
   if (err != core::ObserverError::ok) throw UsageError(core::observer_error_message(err));

@@ -166,6 +166,8 @@ nlohmann::ordered_json observer_json(const SimulateRequest& q, const sim::Observ
   j["r_after_impacts_count"] = q.analysis.observer_r_after_impacts;
   j["bias_estimate_m"] = s.bias_estimate_m;
   j["sigma_bias_m"] = s.sigma_bias_m;
+  j["x_noise_m"] = s.x_noise_m;
+  j["x_noise_readings"] = s.x_noise_readings;
   j["x_inst_estimate_m"] = s.x_inst_estimate_m;
   j["sigma_x_inst_m"] = s.sigma_x_inst_m;
   j["x_inst_estimate_after_impacts_m"] = number_or_null(s.x_inst_estimate_after_impacts_m);
@@ -239,6 +241,8 @@ void observer_text(std::string& out, const SimulateRequest& q, const sim::Observ
                                       s.omega_estimate_rps, s.sigma_omega_rps, s.c_estimate_mps2, s.sigma_c_mps2,
                                       s.k_estimate_ps2, s.sigma_k_ps2));
   line(out, "transducer offset", format("%.6f +- %.6f m", s.bias_estimate_m, s.sigma_bias_m));
+  line(out, "transducer noise", format("%.6f m used (%d readings at rest before the shaking)", s.x_noise_m,
+                                       static_cast<int>(s.x_noise_readings)));
   line(out, "x innovation RMS", format("%.6f m", s.x_rms_innovation_m));
   if (s.steps_sensor_lost > 0) {
     line(out, "sensor lost", format("%zu steps ran on the model alone (%lld dropouts)", s.steps_sensor_lost,

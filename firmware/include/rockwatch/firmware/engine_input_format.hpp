@@ -88,6 +88,7 @@ enum class EngineInputKey : std::uint64_t {
   observer_quiet_motion_spread_noises = 52,  // `--observer-quiet-motion-noises`
   alarm_energy_min_x = 53,  // the energy margin's rule from |x| ≥ this × x_inst (`--energy-min-x`, issue 40)
   observer_capacity_correlation = 54,  // `--observer-capacity-correlation` (issue 40)
+  observer_noise_learn_readings = 55,  // `--observer-noise-learn-readings` (issue 40)
 };
 
 // Every configuration field with its key, in key order: the one list both the writer and the reader use.
@@ -149,6 +150,7 @@ void visit_engine_input_fields(Config& c, Visit&& visit) {
   visit(EngineInputKey::observer_quiet_motion_spread_noises, c.observer.quiet_motion_spread_noises);
   visit(EngineInputKey::alarm_energy_min_x, c.alarm.energy_min_x);
   visit(EngineInputKey::observer_capacity_correlation, c.observer.capacity_correlation);
+  visit(EngineInputKey::observer_noise_learn_readings, c.observer.noise_learn_readings);
 }
 
 // A field's value as the file carries it (a double).

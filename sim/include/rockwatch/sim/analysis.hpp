@@ -116,6 +116,8 @@ struct ObserverSummary {
   double sigma_r = 0.0;                 // its standard deviation [-]
   double bias_estimate_m = 0.0;         // zero offset of the displacement transducer [m]
   double sigma_bias_m = 0.0;            // [m]
+  double x_noise_m = 0.0;               // the transducer's σ the filter used at the end: told, or measured at rest [m]
+  std::int32_t x_noise_readings = 0;    // readings at rest before the shaking that measured it [-]
   double sigma_x_m = 0.0;               // σ of x at the end [m]
   double x_rms_innovation_m = 0.0;      // RMS of the accepted displacement innovations [m]
   std::int64_t n_updates = 0;           // accepted displacement updates

@@ -26,7 +26,9 @@ inline void WallObserver<Stepper>::control_x(Stepper& stepper, const WallSensorS
     return;
   }
   const Scalar z = Scalar(s.x_mid_m);
-  if (fuse_x(stepper, z, age_us, ug, vg)) {
+  const bool fused = fuse_x(stepper, z, age_us, ug, vg);
+  learn_x_noise(stepper, z, quiet);
+  if (fused) {
     const Scalar y = last_innovation_x_;
     ++counters_.x_updates;
     ++out.x_updates;
@@ -91,6 +93,40 @@ inline void WallObserver<Stepper>::note_innovation(Cov y, Cov s) {
   }
   nis_avg_ = nis_avg_ + (nis - nis_avg_) * alpha;
   doubt_ = nis_avg_ > doubt_nis_;
+}
+
+// The transducer's noise measured before the shaking (ObserverOptions::noise_learn_readings, SPEC §11 "The
+// transducer's noise"): the readings of a wall the model has at rest on a quiet ground, by their second differences
+// d = z_k − 2 z_{k−1} + z_{k−2}, whose mean square is 6 R for white noise while a slow motion (a crushed hinge's
+// elastic sway at a few hertz, the offset's drift) adds only (ω Δt)² of its amplitude: noise, not motion, is what
+// is measured. Once there are enough, an estimate Σd²/(6n) above x_noise² by more than 4 of its mean's standard
+// deviations (≈ 1.97 x_noise²/√n for the overlapping d of white noise: n·(R̂ − R₀)² > 62·R₀², no root per reading)
+// becomes R. It only ever rises within a run.
+template <typename Stepper>
+inline void WallObserver<Stepper>::learn_x_noise(const Stepper& stepper, Scalar z, bool quiet) {
+  if (!noise_window_ || !quiet || stepper.moving()) return;
+  if (noise_seen_ >= 2) {
+    const Cov d = cov(z - noise_z1_ - noise_z1_ + noise_z2_);
+    noise_sum_ = noise_sum_ + d * d;
+    ++noise_n_;
+  }
+  ++noise_seen_;
+  noise_z2_ = noise_z1_;
+  noise_z1_ = z;
+  if (noise_n_ < noise_learn_min_) return;
+  const Cov n = Cov(noise_n_);
+  const Cov r_hat = noise_sum_ / (Cov(6) * n);
+  const Cov excess = r_hat - r_x0_;
+  if (r_hat > r_x_ && excess > Cov(0) && n * excess * excess > Cov(62) * r_x0_ * r_x0_) set_x_noise_var(r_hat);
+}
+
+// R of the displacement and every threshold counted in transducer σ.
+template <typename Stepper>
+inline void WallObserver<Stepper>::set_x_noise_var(Cov r) {
+  r_x_ = r;
+  inform_peak_x2_ = inform_peak_var_ * r;
+  accel_inform_peak_x2_ = accel_inform_peak_var_ * r;
+  quiet_spread_x_ = from_cov(quiet_spread_noises_ * root_c(r));
 }
 
 // After the step's updates, while in doubt: σ(κc), σ(κk) and σ(√r) at least their floors. The pending prediction

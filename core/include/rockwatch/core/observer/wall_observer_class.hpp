@@ -83,7 +83,11 @@ class WallObserver {
     inform_var_ = Cov(o.inform_sigmas * o.inform_sigmas);
     inform_peak_var_ = Cov(o.inform_peak_noises * o.inform_peak_noises);
     inform_peak_x2_ = inform_peak_var_ * r_x_;
-    accel_inform_peak_x2_ = Cov(o.accel_inform_peak_noises * o.accel_inform_peak_noises) * r_x_;
+    accel_inform_peak_var_ = Cov(o.accel_inform_peak_noises * o.accel_inform_peak_noises);
+    accel_inform_peak_x2_ = accel_inform_peak_var_ * r_x_;
+    r_x0_ = r_x_;
+    noise_learn_min_ = o.noise_learn_readings;
+    quiet_spread_noises_ = Cov(o.quiet_motion_spread_noises);
     x_range_ = o.x_range_m;
     a_range_ = o.a_range_mps2;
     us_to_s_ = Scalar(1e-6);
@@ -157,6 +161,11 @@ class WallObserver {
     nis_avg_ = Cov(1);
     doubt_ = false;
     quiet_lo_ = quiet_hi_ = Scalar(0);
+    noise_window_ = noise_learn_min_ > 0;
+    noise_sum_ = Cov(0);
+    noise_n_ = noise_seen_ = 0;
+    noise_z1_ = noise_z2_ = Scalar(0);
+    if (r_x_ != r_x0_) set_x_noise_var(r_x0_);
   }
 
   // The wall's motion restarted from rest (long gap, publisher restart): what was learned (ê, b̂) stays.
@@ -254,6 +263,10 @@ class WallObserver {
   // Model doubt (ObserverOptions::doubt_nis) and the displacement's running NIS average behind it.
   bool model_doubt() const { return doubt_; }
   double nis_average() const { return pub(nis_avg_); }  // Cov: double, or the M4F's single precision
+  // The displacement transducer's σ the filter uses: x_noise, or the larger one measured before the shaking
+  // (ObserverOptions::noise_learn_readings) [m]; and how many readings at rest measured it.
+  double x_noise_m() const { return pub(root_c(r_x_)); }
+  std::int32_t x_noise_readings() const { return noise_n_; }
   double sigma_x_m() const { return root(p_(X, X)); }
   double sigma_xd_mps() const { return root(p_(V, V)); }
   // The published σ(r) (SPEC §11): the filter's, and once model doubt has been raised in the run doubt_r_sigma on √r
@@ -451,6 +464,7 @@ class WallObserver {
     step_t_us_ = t_us;
     step_us_ = step_us;
     step_quiet_ = abs(Traits::input(ug)) < quiet_ug_;
+    if (!step_quiet_ || stepper.moving()) noise_window_ = false;  // the shaking has begun: the floor is measured
   }
   // The newest queued sample with utime <= the step's end, the older due ones passed over; returns its cost (0 when
   // none is due). The ring is in arrival order: a sample behind one not yet due waits, as before.
@@ -539,6 +553,8 @@ class WallObserver {
   void control_x(Stepper& stepper, const WallSensorSample& s, std::int64_t age_us, Input ug, Input vg, bool quiet,
                  ObserverStepReport& out);
   void note_innovation(Cov y, Cov s);
+  void learn_x_noise(const Stepper& stepper, Scalar z, bool quiet);
+  void set_x_noise_var(Cov r);
   // How many samples a reading at t_us counts in the counts: floor(Δt / count_interval_us_), 1 to 8
   // (ObserverOptions::count_interval_s), Δt the shorter of this reading's interval and the one before it, so that
   // the sensor's rate decides and a single gap (a lost packet, a dropout) does not count as many readings; records
@@ -591,6 +607,15 @@ class WallObserver {
   Scalar inv_h1_{};     // 1/h1 [1/m]
   Cov inform_var_{}, inform_peak_var_{};  // inform_sigmas², inform_peak_noises² [-]
   Cov inform_peak_x2_{};  // inform_peak_noises² × x_noise² [m²]
+  Cov accel_inform_peak_var_{};  // accel_inform_peak_noises² [-]
+  // The transducer's noise measured before the shaking (ObserverOptions::noise_learn_readings): the told x_noise²,
+  // the window (open from the start until the ground leaves quiet or the model moves), Σd² of the readings' second
+  // differences, their count and the readings seen.
+  Cov r_x0_{}, quiet_spread_noises_{};
+  std::int32_t noise_learn_min_ = 0, noise_n_ = 0, noise_seen_ = 0;
+  bool noise_window_ = false;
+  Cov noise_sum_{};
+  Scalar noise_z1_{}, noise_z2_{};  // the window's last two readings [m]
   Cov accel_inform_peak_x2_{};  // accel_inform_peak_noises² × x_noise² [m²]
   Scalar e0_{};
   Cov e_sigma0_{}, b_sigma0_{};

@@ -20,6 +20,7 @@ namespace rockwatch::options {
 struct ObserverOptionTexts {
   std::string x_noise, a_noise, process, gate, capacity_sigmas, accel_inform_peak_noises, doubt_nis, quiet_motion_noises;
   std::string model_form_sigma, doubt_model_form_sigma, capacity_min_x, doubt_capacity_min_x, capacity_correlation;
+  std::string noise_learn_readings;
 };
 
 // The ranges core::validate_observer_options accepts: its table's (core::kObserverParameters), not a copy.
@@ -53,6 +54,10 @@ inline constexpr double kMinObserverCapacityMinX = observer_range("capacity_min_
 static_assert(observer_range("doubt_capacity_min_x_fraction").min == kMinObserverCapacityMinX &&
                   observer_range("doubt_capacity_min_x_fraction").max == kMaxObserverCapacityMinX,
               "--observer-doubt-capacity-min-x shares --observer-capacity-min-x's range");
+// 0 = off (zero_allowed); 1 to 7 pass here and are refused by the core's own check, naming the range.
+inline constexpr double kMinObserverNoiseLearnReadings = 0.0,
+                        kMaxObserverNoiseLearnReadings = observer_range("noise_learn_readings").max;
+static_assert(observer_range("noise_learn_readings").zero_allowed, "--observer-noise-learn-readings 0 turns it off");
 inline constexpr double kMinObserverCapacityCorrelation = observer_range("capacity_correlation").min,
                         kMaxObserverCapacityCorrelation = observer_range("capacity_correlation").max;
 
@@ -66,7 +71,8 @@ inline constexpr const char* kObserverOptionNames[] = {"--observer-x-noise-m", "
                                                        "--observer-doubt-model-form-sigma",
                                                        "--observer-capacity-min-x",
                                                        "--observer-doubt-capacity-min-x",
-                                                       "--observer-capacity-correlation"};
+                                                       "--observer-capacity-correlation",
+                                                       "--observer-noise-learn-readings"};
 
 // Registers the options; each help starts with `help_prefix` (e.g. "With --wall-sensors: ").
 void add_observer_options(CLI::App& app, ObserverOptionTexts& texts, const std::string& help_prefix);
