@@ -115,8 +115,9 @@ TEST(SimulateEngineInput, HoldsTheConfigurationAndEveryInputTheEngineSteppedOn) 
   CHECK_TRUE(f.complete);
   CHECK_TRUE(f.keys_known);
   // Every key of firmware::EngineInputKey (36 before the alarm's horizon and the rest of ObserverOptions, keys 37–52;
-  // 53 the energy rule's displacement, 54 the capacity's prior correlation, issue 40).
-  LONGS_EQUAL(54, f.n_config);
+  // 53 the energy rule's displacement, 54 the capacity's prior correlation, 55 the transducer's noise measured before
+  // the shaking, issue 40).
+  LONGS_EQUAL(55, f.n_config);
   CHECK_TRUE(f.config.work_overflow == core::WorkOverflow::finish);  // the firmware's policy, for the M4 replay
   STRCMP_EQUAL("finish", j["alarm"]["published"]["work_overflow"].get<std::string>().c_str());
   CHECK_FALSE(f.config.observer_enabled);
@@ -263,7 +264,7 @@ TEST(SimulateEngineInput, EveryKeyCarriesItsOwnField) {
       field = 1000.0 + static_cast<double>(key) / 8.0;
     }
   });
-  LONGS_EQUAL(54, n);
+  LONGS_EQUAL(55, n);
   core::WallEngineConfig read;
   int pairs = 0;
   firmware::for_each_engine_input_key(told, [&](firmware::EngineInputKey k, double v) {
