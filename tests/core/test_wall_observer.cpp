@@ -537,7 +537,7 @@ TEST(WallObserver, TheTransducersNoiseIsMeasuredBeforeTheShaking) {
     std::int32_t learn;
     double expected_m;  // 0: the told 0.5 mm exactly
   };
-  for (const Case c : {Case{2e-3, 0.0, 32, 2e-3}, Case{0.5e-3, 0.0, 32, 0.0}, Case{0.5e-3, 3e-3, 32, 0.0},
+  for (const Case c : {Case{2e-3, 0.0, 64, 2e-3}, Case{0.5e-3, 0.0, 64, 0.0}, Case{0.5e-3, 3e-3, 64, 0.0},
                        Case{2e-3, 0.0, 0, 0.0}}) {
     RockingStepper<double> dmodel;
     dmodel.init(nominal);

@@ -99,12 +99,13 @@ inline void WallObserver<Stepper>::note_innovation(Cov y, Cov s) {
 // transducer's noise"): the readings of a wall the model has at rest on a quiet ground, by their second differences
 // d = z_k − 2 z_{k−1} + z_{k−2}, whose mean square is 6 R for white noise while a slow motion (a crushed hinge's
 // elastic sway at a few hertz, the offset's drift) adds only (ω Δt)² of its amplitude: noise, not motion, is what
-// is measured. Once there are enough, an estimate Σd²/(6n) above x_noise² by more than 4 of its mean's standard
-// deviations (≈ 1.97 x_noise²/√n for the overlapping d of white noise: n·(R̂ − R₀)² > 62·R₀², no root per reading)
-// becomes R. It only ever rises within a run.
+// is measured. Once there are enough, an estimate Σd²/(6n) that is at least (1.5 x_noise)² and above x_noise² by more
+// than 4 of its mean's standard deviations (≈ 1.97 x_noise²/√n for the overlapping d of white noise: n·(R̂ − R₀)² >
+// 62·R₀², no root per reading) becomes R: a noise under 1.5 times the told one is harmless (the gate is at 4 σ), and
+// the test is repeated at every reading. It only ever rises within a run.
 template <typename Stepper>
 inline void WallObserver<Stepper>::learn_x_noise(const Stepper& stepper, Scalar z, bool quiet) {
-  if (!noise_window_ || !quiet || stepper.moving()) return;
+  if (!noise_window_ || !quiet || stepper.moving()) return;  // (the window closes in begin_step)
   if (noise_seen_ >= 2) {
     const Cov d = cov(z - noise_z1_ - noise_z1_ + noise_z2_);
     noise_sum_ = noise_sum_ + d * d;
@@ -117,7 +118,7 @@ inline void WallObserver<Stepper>::learn_x_noise(const Stepper& stepper, Scalar 
   const Cov n = Cov(noise_n_);
   const Cov r_hat = noise_sum_ / (Cov(6) * n);
   const Cov excess = r_hat - r_x0_;
-  if (r_hat > r_x_ && excess > Cov(0) && n * excess * excess > Cov(62) * r_x0_ * r_x0_) set_x_noise_var(r_hat);
+  if (r_hat > r_x_ && excess > Cov(1.25) * r_x0_ && n * excess * excess > Cov(62) * r_x0_ * r_x0_) set_x_noise_var(r_hat);
 }
 
 // R of the displacement and every threshold counted in transducer σ.

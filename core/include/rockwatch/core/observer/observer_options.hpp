@@ -85,15 +85,16 @@ struct ObserverOptions {
   // heights, crushed hinges, corner impacts) does not go into the capacity with full confidence. 0 turns it off.
   double doubt_nis = 4.0;
   // The displacement transducer's noise measured before the shaking (issue 40, SPEC §11 "The transducer's noise"):
-  // from the run's start until the ground first leaves quiet (quiet_fraction) or the model first moves, the readings
+  // from the run's start until the ground first reaches half the quiet level (quiet_fraction / 2 of the threshold: a
+  // wall whose threshold is lower than told may rock on a ground the model calls quiet) or the model first moves, the readings
   // of the wall at rest give the noise by their second differences (a slow motion barely enters them); after at
-  // least `noise_learn_readings` of them, an estimate clearly above x_noise² (by more than 4 of the mean's standard
-  // deviations) becomes R, and every threshold counted in transducer σ with it
+  // least `noise_learn_readings` of them, an estimate at least (1.5 x_noise)² and clearly above x_noise² (by more than
+  // 4 of the mean's standard deviations) becomes R, and every threshold counted in transducer σ with it
   // (the informative-motion gates, the quiet-motion spread, the re-initialisation's σ(x)). Never below x_noise.
   // A lab whose transducer is noisier than it said (its cabling, its mounting) is otherwise read as a wall that moves
   // where the model cannot: on the kept truths with a 2 mm / 0.2 m/s² transducer told 0.5 mm / 0.05 m/s², 7 false
   // alarms of 32 survivors. 0 turns it off.
-  std::int32_t noise_learn_readings = 32;
+  std::int32_t noise_learn_readings = 64;
   std::int32_t doubt_window = 64;         // samples of the displacement's NIS average [-]
   double doubt_capacity_sigma = 0.05;     // σ floor of κc, κk while in doubt [-]
   double doubt_r_sigma = 0.02;            // σ floor of √r while in doubt; in the published σ(r) after it [-]

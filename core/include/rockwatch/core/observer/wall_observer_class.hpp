@@ -95,6 +95,7 @@ class WallObserver {
     const double threshold = std::fmin(threshold_mps2(c, Side::negative, setup.g_mps2),
                                        threshold_mps2(c, Side::positive, setup.g_mps2));
     quiet_ug_ = Scalar(o.quiet_fraction * threshold);
+    noise_quiet_ug_ = Scalar(0.5 * o.quiet_fraction * threshold);
     dropout_us_ = std::int64_t(o.dropout_s * 1e6 + 0.5);
     max_age_us_ = std::int64_t(o.max_age_s * 1e6 + 0.5);
     count_interval_us_ = std::int64_t(o.count_interval_s * 1e6 + 0.5);
@@ -464,7 +465,9 @@ class WallObserver {
     step_t_us_ = t_us;
     step_us_ = step_us;
     step_quiet_ = abs(Traits::input(ug)) < quiet_ug_;
-    if (!step_quiet_ || stepper.moving()) noise_window_ = false;  // the shaking has begun: the floor is measured
+    // The shaking has begun (half the quiet level: a wall whose threshold is lower than told may rock on a ground the
+    // model calls quiet, and its motion is not noise): the transducer's noise is measured.
+    if (!(abs(Traits::input(ug)) < noise_quiet_ug_) || stepper.moving()) noise_window_ = false;
   }
   // The newest queued sample with utime <= the step's end, the older due ones passed over; returns its cost (0 when
   // none is due). The ring is in arrival order: a sample behind one not yet due waits, as before.
@@ -604,6 +607,7 @@ class WallObserver {
   Cov f0_[2]{};        // ẍ at the hinge with ü = 0 per side [m/s²]
   Cov r_x_{}, r_a_{}, gate_{}, reinit_v_var_{};
   Scalar g_over_h1_{}, v_min_{}, us_to_s_{}, quiet_ug_{};
+  Scalar noise_quiet_ug_{};  // the transducer's noise is measured while |ü| stays below this: half quiet_ug_ [m/s²]
   Scalar inv_h1_{};     // 1/h1 [1/m]
   Cov inform_var_{}, inform_peak_var_{};  // inform_sigmas², inform_peak_noises² [-]
   Cov inform_peak_x2_{};  // inform_peak_noises² × x_noise² [m²]
