@@ -36,6 +36,7 @@ ENGINE_KEYS = {  # EngineInputKey (rockwatch/firmware/engine_input_format.hpp)
     ("observer", "doubt_capacity_min_x"): 49, ("observer", "model_form_sigma"): 50,
     ("observer", "doubt_model_form_sigma"): 51, ("observer", "quiet_motion_spread_noises"): 52,
     ("alarm", "energy_min_x"): 53, ("observer", "capacity_correlation"): 54,
+    ("observer", "noise_learn_readings"): 55,
 }
 # The settings groups whose every key must reach the image (a key the table above does not map fails the run instead
 # of the image running its default while the host runs what it was told).

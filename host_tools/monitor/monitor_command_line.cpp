@@ -51,7 +51,7 @@ const char* const kFooter =
     "  observer {enabled, x_noise_m, a_noise_mps2, process_accel_mps2, gate_chi2, dropout_s, max_age_s,\n"
     "            capacity_sigmas, accel_inform_peak_noises, doubt_nis, quiet_motion_spread_noises,\n"
     "            model_form_sigma, doubt_model_form_sigma, capacity_min_x, doubt_capacity_min_x,\n"
-    "            capacity_correlation}\n"
+    "            capacity_correlation, noise_learn_readings}\n"
     "    the wall observer (--observer: enabled with the defaults): fuses wall_sensor_t samples (channel\n"
     "    wall_sensor) with the model, publishes wall_estimate_t (channel wall_estimate) and alarms on the fused state\n"
     "  forecast {enabled, members, horizon_s, rate_hz, seed, channel, calibration [c0, c1, c2, c3(, c4)]}\n"

@@ -412,6 +412,7 @@ MonitorParse parse_monitor_arguments(int argc, const char* const* argv) {
   for (int i = 0; i < kObserverFieldCount; ++i) {
     if (file.observer[i]) engine.observer.*kObserverFields[i].member = *file.observer[i];
   }
+  if (file.observer_noise_learn_readings) engine.observer.noise_learn_readings = *file.observer_noise_learn_readings;
   if (observer && core::validate_observer_options(engine.observer) != core::ObserverError::ok) {
     throw UsageError(file_label("observer") + ": " +
                      core::observer_error_message(core::validate_observer_options(engine.observer)));

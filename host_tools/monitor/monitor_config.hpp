@@ -15,7 +15,8 @@
 //   channels {accel, accel_batch, wall_state, alarm, status, wall_sensor, wall_estimate}
 //   observer {enabled, x_noise_m, a_noise_mps2, process_accel_mps2, gate_chi2, dropout_s, max_age_s, capacity_sigmas,
 //             accel_inform_peak_noises, doubt_nis, quiet_motion_spread_noises, model_form_sigma,
-//             doubt_model_form_sigma, capacity_min_x, doubt_capacity_min_x, capacity_correlation}
+//             doubt_model_form_sigma, capacity_min_x, doubt_capacity_min_x, capacity_correlation,
+//             noise_learn_readings}
 //                the wall observer (--observer enables it with these or the defaults); in the digest only when on
 //   clock_tolerance_s (--clock-tolerance; default 10): the firmware's MonitorSettings::clock_tolerance_us, in seconds
 //   realtime_priority (--realtime), cpu (--cpu), busy_poll_us (--busy-poll-us): the live receive thread's timing

@@ -60,6 +60,7 @@ struct FileValues {
   // observer {...}: enabled, then the options in kObserverFields order.
   std::optional<bool> observer_enabled;
   std::optional<double> observer[kObserverFieldCount];
+  std::optional<std::int32_t> observer_noise_learn_readings;  // a whole number: not one of kObserverFields (doubles)
   std::optional<std::vector<SourceNetwork>> accept_from;
   std::optional<json> walls;  // checked by expand_monitor_walls (monitor_walls.cpp)
   // forecast {...} (monitor_forecast.hpp): each value range-checked when read.
@@ -340,7 +341,24 @@ class ConfigReader {
     object(o, "observer");
     std::vector<std::string> keys{"enabled"};
     for (const ObserverField& f : kObserverFields) keys.emplace_back(f.key);
+    keys.emplace_back("noise_learn_readings");
     check_keys(o, "observer.", keys);
+    if (o.contains("noise_learn_readings")) {  // SPEC §11 "The transducer's noise"
+      const json& n = o.at("noise_learn_readings");
+      const char* key = "observer.noise_learn_readings";
+      if (!n.is_number_integer() || (n.is_number_unsigned() ? n.get<std::uint64_t>() > 100000u
+                                                             : (n.get<std::int64_t>() < 0 ||
+                                                                n.get<std::int64_t>() > 100000))) {
+        fail(key, "expected a whole number of readings, 0 (off) or in [8, 100000], got " + json_type(n));
+      }
+      core::ObserverOptions options;
+      options.noise_learn_readings = static_cast<std::int32_t>(n.get<std::int64_t>());
+      const core::ObserverError err = core::validate_observer_options(options);
+      if (err != core::ObserverError::ok) {
+        fail(key, std::string(core::observer_error_message(err)) + " (got " + n.dump() + ")");
+      }
+      v.observer_noise_learn_readings = options.noise_learn_readings;
+    }
     if (o.contains("enabled")) {
       const json& e = o.at("enabled");
       if (!e.is_boolean()) fail("observer.enabled", "expected true or false, got " + json_type(e));

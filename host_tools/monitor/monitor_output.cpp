@@ -94,6 +94,9 @@ json observer_json(const core::ObserverOptions& o, const core::ObserverSample& l
     out["settings"]["doubt_capacity_min_x"] = o.doubt_capacity_min_x_fraction;
   }
   if (o.capacity_correlation != 0.0) out["settings"]["capacity_correlation"] = o.capacity_correlation;  // opt-in
+  if (o.noise_learn_readings != core::ObserverOptions{}.noise_learn_readings) {
+    out["settings"]["noise_learn_readings"] = o.noise_learn_readings;  // SPEC §11 "The transducer's noise"
+  }
   return out;
 }
 

@@ -114,6 +114,9 @@ json normalised_settings(const MonitorConfig& config) {
     if (o.capacity_correlation != core::ObserverOptions{}.capacity_correlation) {
       out["observer"]["capacity_correlation"] = o.capacity_correlation;
     }
+    if (o.noise_learn_readings != core::ObserverOptions{}.noise_learn_readings) {
+      out["observer"]["noise_learn_readings"] = o.noise_learn_readings;
+    }
     out["channels"]["wall_sensor"] = s.channels.wall_sensor;
     out["channels"]["wall_estimate"] = s.channels.wall_estimate;
   }

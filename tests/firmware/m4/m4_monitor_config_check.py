@@ -63,7 +63,7 @@ def main():
                 "gate_chi2": 20.0, "dropout_s": 0.3, "max_age_s": 0.06, "capacity_sigmas": 0.5,
                 "accel_inform_peak_noises": 5.0, "doubt_nis": 8.0, "quiet_motion_spread_noises": 30.0,
                 "model_form_sigma": 0.05, "doubt_model_form_sigma": 0.3, "capacity_min_x": 0.1,
-                "doubt_capacity_min_x": 0.2, "capacity_correlation": 0.5}
+                "doubt_capacity_min_x": 0.2, "capacity_correlation": 0.5, "noise_learn_readings": 100}
     cfg = os.path.join(work, "all_keys.json")
     json.dump({"alarm": alarm, "observer": observer}, open(cfg, "w"))
     printed = subprocess.run([monitor, "--print-config", "--config", cfg, "--arith", "fixed", "--model", "linear"],

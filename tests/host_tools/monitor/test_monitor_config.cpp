@@ -488,6 +488,10 @@ TEST(MonitorObserverSettings, BadValuesNameTheKeyAndTheRange) {
   expect_config_rejected(R"({"observer": {"gate_chi2": 2000}})", {"observer.gate_chi2", "[1, 1000]"});
   expect_config_rejected(R"({"observer": {"capacity_correlation": 1}})",
                          {"observer.capacity_correlation", "capacity_correlation in [0, 0.99]"});
+  expect_config_rejected(R"({"observer": {"noise_learn_readings": 4}})",
+                         {"observer.noise_learn_readings", "noise_learn_readings 0 or in [8, 100000]"});
+  expect_config_rejected(R"({"observer": {"noise_learn_readings": 64.5}})",
+                         {"observer.noise_learn_readings", "expected a whole number of readings"});
   expect_config_rejected(R"({"observer": {"dropout_s": -1}})", {"observer.dropout_s", "(0, 60]"});
   expect_config_rejected(R"({"observer": {"max_age_s": 11}})", {"observer.max_age_s", "[0, 10]"});
   expect_config_rejected(R"({"observer": {"capacity_sigmas": 11}})",
