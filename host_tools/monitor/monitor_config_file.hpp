@@ -5,9 +5,12 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <cmath>
+#include <climits>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -346,13 +349,13 @@ class ConfigReader {
     if (o.contains("noise_learn_readings")) {  // SPEC §11 "The transducer's noise"
       const json& n = o.at("noise_learn_readings");
       const char* key = "observer.noise_learn_readings";
-      if (!n.is_number_integer() || (n.is_number_unsigned() ? n.get<std::uint64_t>() > 100000u
-                                                             : (n.get<std::int64_t>() < 0 ||
-                                                                n.get<std::int64_t>() > 100000))) {
-        fail(key, "expected a whole number of readings, 0 (off) or in [8, 100000], got " + json_type(n));
-      }
+      if (!n.is_number_integer()) fail(key, "expected a whole number of readings, got " + json_type(n));
+      // The range is the core's (its message names it); beyond int32 the value is clamped to one it rejects.
+      const std::int64_t wide = n.is_number_unsigned() && n.get<std::uint64_t>() > std::uint64_t(INT32_MAX)
+                                    ? std::int64_t(INT32_MAX)
+                                    : n.get<std::int64_t>();
       core::ObserverOptions options;
-      options.noise_learn_readings = static_cast<std::int32_t>(n.get<std::int64_t>());
+      options.noise_learn_readings = static_cast<std::int32_t>(std::clamp<std::int64_t>(wide, -1, INT32_MAX));
       const core::ObserverError err = core::validate_observer_options(options);
       if (err != core::ObserverError::ok) {
         fail(key, std::string(core::observer_error_message(err)) + " (got " + n.dump() + ")");

@@ -584,6 +584,39 @@ TEST(WallObserver, TheTransducersNoiseIsMeasuredBeforeTheShaking) {
   }
 }
 
+TEST(WallObserver, TheNoiseWindowClosesOnAWallQuietForLong) {
+  // A monitor started days before the earthquake: the window closes at 1024 times the minimum (8 → 8 192 second
+  // differences), so a transducer that turns noisy later on a quiet ground is not measured (before, the window stayed
+  // open until the shaking, its int32 count ran to overflow after 24 days at 1 kHz and the fixed-point observer's float
+  // Σd² stopped counting after 2^24 readings).
+  const StepperSetup<double> nominal = setup_with_r(0.8);
+  RockingStepper<double> dmodel;
+  dmodel.init(nominal);
+  FixedRockingStepper fmodel;
+  CHECK(fmodel.init(nominal) == FixedSetupError::ok);
+  ObserverOptions o;
+  o.noise_learn_readings = 8;
+  WallObserver<RockingStepper<double>> dobs;
+  WallObserver<FixedRockingStepper> fobs;
+  CHECK(dobs.init(o, nominal, paper_wall()) == ObserverError::ok);
+  CHECK(fobs.init(o, nominal, paper_wall()) == ObserverError::ok);
+  Noise noise(3);
+  std::int64_t t = 0;
+  for (int k = 0; k < 12000; ++k) {
+    // The told 0.5 mm for 9 000 readings, then 3 mm: still a quiet ground, the wall at rest.
+    const double z = 1e-3 + (k < 9000 ? 0.5e-3 : 3e-3) * noise.normal();
+    t += kDtUs;
+    dobs.push(displacement(t, z));
+    fobs.push(displacement(t, z));
+    dobs.after_step(dmodel, dmodel.step(0.0, 0.0), 0.0, 0.0, t, kDtUs);
+    fobs.after_step(fmodel, fmodel.step(AccelQ7_56{}, AccelQ7_56{}), AccelQ7_56{}, AccelQ7_56{}, t, kDtUs);
+  }
+  LONGS_EQUAL(8192, dobs.x_noise_readings());
+  LONGS_EQUAL(8192, fobs.x_noise_readings());
+  DOUBLES_EQUAL(0.5e-3, dobs.x_noise_m(), 1e-9);
+  DOUBLES_EQUAL(0.5e-3, fobs.x_noise_m(), 1e-9);
+}
+
 TEST(WallObserver, ASlowerSensorsReadingsCountTheTimeTheyCover) {
   // The wall above, read at 50 Hz (every fourth 5 ms step): reinit_after (8) rejections mean 80 ms, the count's
   // meaning at 100 Hz (count_interval_s 0.01, a reading 20 ms after the previous one counts 2), so the motion is

@@ -490,6 +490,10 @@ TEST(MonitorObserverSettings, BadValuesNameTheKeyAndTheRange) {
                          {"observer.capacity_correlation", "capacity_correlation in [0, 0.99]"});
   expect_config_rejected(R"({"observer": {"noise_learn_readings": 4}})",
                          {"observer.noise_learn_readings", "noise_learn_readings 0 or in [8, 100000]"});
+  for (const char* beyond : {"-3", "100001", "3000000000", "18446744073709551615", "-9223372036854775808"}) {
+    expect_config_rejected(std::string(R"({"observer": {"noise_learn_readings": )") + beyond + "}}",
+                           {"observer.noise_learn_readings", "noise_learn_readings 0 or in [8, 100000]", beyond});
+  }
   expect_config_rejected(R"({"observer": {"noise_learn_readings": 64.5}})",
                          {"observer.noise_learn_readings", "expected a whole number of readings"});
   expect_config_rejected(R"({"observer": {"dropout_s": -1}})", {"observer.dropout_s", "(0, 60]"});

@@ -27,7 +27,7 @@ inline void WallObserver<Stepper>::control_x(Stepper& stepper, const WallSensorS
   }
   const Scalar z = Scalar(s.x_mid_m);
   const bool fused = fuse_x(stepper, z, age_us, ug, vg);
-  learn_x_noise(stepper, z, quiet);
+  learn_x_noise(stepper, z);
   if (fused) {
     const Scalar y = last_innovation_x_;
     ++counters_.x_updates;
@@ -104,18 +104,22 @@ inline void WallObserver<Stepper>::note_innovation(Cov y, Cov s) {
 // 62·R₀², no root per reading) becomes R: a noise under 1.5 times the told one is harmless (the gate is at 4 σ), and
 // the test is repeated at every reading. It only ever rises within a run.
 template <typename Stepper>
-inline void WallObserver<Stepper>::learn_x_noise(const Stepper& stepper, Scalar z, bool quiet) {
-  if (!noise_window_ || !quiet || stepper.moving()) return;  // (the window closes in begin_step)
+inline void WallObserver<Stepper>::learn_x_noise(const Stepper& stepper, Scalar z) {
+  // The open window implies a quiet ground: begin_step closes it at half the quiet level.
+  if (!noise_window_ || stepper.moving()) return;
   if (noise_seen_ >= 2) {
     const Cov d = cov(z - noise_z1_ - noise_z1_ + noise_z2_);
     noise_sum_ = noise_sum_ + d * d;
-    ++noise_n_;
   }
   ++noise_seen_;
   noise_z2_ = noise_z1_;
   noise_z1_ = z;
-  if (noise_n_ < noise_learn_min_) return;
-  const Cov n = Cov(noise_n_);
+  // A wall that stands quiet for days (a monitor started long before the earthquake): the window closes once it holds
+  // 1024 N readings (at most 2^20), where the estimate's σ is 1/32 of its σ at N; the count stays far from int32's
+  // end and the fixed-point observer's single-precision Σd² from the 2^24 terms where additions stop counting.
+  if (x_noise_readings() >= noise_window_max_) noise_window_ = false;
+  if (x_noise_readings() < noise_learn_min_) return;
+  const Cov n = Cov(x_noise_readings());
   const Cov r_hat = noise_sum_ / (Cov(6) * n);
   const Cov excess = r_hat - r_x0_;
   if (r_hat > r_x_ && excess > Cov(1.25) * r_x0_ && n * excess * excess > Cov(62) * r_x0_ * r_x0_) set_x_noise_var(r_hat);

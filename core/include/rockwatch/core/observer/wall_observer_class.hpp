@@ -87,6 +87,7 @@ class WallObserver {
     accel_inform_peak_x2_ = accel_inform_peak_var_ * r_x_;
     r_x0_ = r_x_;
     noise_learn_min_ = o.noise_learn_readings;
+    noise_window_max_ = noise_learn_min_ < 1024 ? 1024 * noise_learn_min_ : std::int32_t(1) << 20;
     quiet_spread_noises_ = Cov(o.quiet_motion_spread_noises);
     x_range_ = o.x_range_m;
     a_range_ = o.a_range_mps2;
@@ -164,7 +165,7 @@ class WallObserver {
     quiet_lo_ = quiet_hi_ = Scalar(0);
     noise_window_ = noise_learn_min_ > 0;
     noise_sum_ = Cov(0);
-    noise_n_ = noise_seen_ = 0;
+    noise_seen_ = 0;
     noise_z1_ = noise_z2_ = Scalar(0);
     if (r_x_ != r_x0_) set_x_noise_var(r_x0_);
   }
@@ -267,7 +268,7 @@ class WallObserver {
   // The displacement transducer's σ the filter uses: x_noise, or the larger one measured before the shaking
   // (ObserverOptions::noise_learn_readings) [m]; and how many readings at rest measured it.
   double x_noise_m() const { return pub(root_c(r_x_)); }
-  std::int32_t x_noise_readings() const { return noise_n_; }
+  std::int32_t x_noise_readings() const { return noise_seen_ > 2 ? noise_seen_ - 2 : 0; }  // (second differences)
   double sigma_x_m() const { return root(p_(X, X)); }
   double sigma_xd_mps() const { return root(p_(V, V)); }
   // The published σ(r) (SPEC §11): the filter's, and once model doubt has been raised in the run doubt_r_sigma on √r
@@ -556,7 +557,7 @@ class WallObserver {
   void control_x(Stepper& stepper, const WallSensorSample& s, std::int64_t age_us, Input ug, Input vg, bool quiet,
                  ObserverStepReport& out);
   void note_innovation(Cov y, Cov s);
-  void learn_x_noise(const Stepper& stepper, Scalar z, bool quiet);
+  void learn_x_noise(const Stepper& stepper, Scalar z);
   void set_x_noise_var(Cov r);
   // How many samples a reading at t_us counts in the counts: floor(Δt / count_interval_us_), 1 to 8
   // (ObserverOptions::count_interval_s), Δt the shorter of this reading's interval and the one before it, so that
@@ -614,9 +615,9 @@ class WallObserver {
   Cov accel_inform_peak_var_{};  // accel_inform_peak_noises² [-]
   // The transducer's noise measured before the shaking (ObserverOptions::noise_learn_readings): the told x_noise²,
   // the window (open from the start until the ground leaves quiet or the model moves), Σd² of the readings' second
-  // differences, their count and the readings seen.
+  // differences and the readings seen (their count is two fewer).
   Cov r_x0_{}, quiet_spread_noises_{};
-  std::int32_t noise_learn_min_ = 0, noise_n_ = 0, noise_seen_ = 0;
+  std::int32_t noise_learn_min_ = 0, noise_window_max_ = 0, noise_seen_ = 0;
   bool noise_window_ = false;
   Cov noise_sum_{};
   Scalar noise_z1_{}, noise_z2_{};  // the window's last two readings [m]
