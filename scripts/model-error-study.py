@@ -158,6 +158,7 @@ def run_case(case_dir, a):
     rows = []
     results = {"open_loop": run_json(base + ["--alarms", "--json"])}
     forecast_args = (["--forecast-members", str(a.forecast_members), "--forecast-horizon-s", repr(a.forecast_horizon_s)]
+                     + (["--forecast-calibration", a.forecast_calibration] if a.forecast_calibration else [])
                      if a.forecast_members > 0 else [])
     sensors = sensors_for(case_dir, a)
     observer_args = sensor_args(truth, case_dir, a) + a.observer_args
@@ -452,6 +453,9 @@ def main():
     ap.add_argument("--out", required=True)
     ap.add_argument("--forecast-members", type=int, default=200)
     ap.add_argument("--forecast-horizon-s", type=float, default=5.0)
+    ap.add_argument("--forecast-calibration", metavar="C0,...,C4",
+                    help="the calibration of the forecasts' published P (simulate's --forecast-calibration; default the "
+                         "shipped one)")
     ap.add_argument("--no-identify", dest="identify", action="store_false")
     ap.add_argument("--control", "--forecast-control", dest="control", action="store_true",
                     help="also run each case where the wall is the model (open loop, the wall told, --r the truth's "

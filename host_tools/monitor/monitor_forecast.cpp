@@ -134,9 +134,12 @@ MonitorForecaster::MonitorForecaster(const ForecastConfig& config, const firmwar
     calibration_.c = *config.calibration;
     calibration_.horizon_s = config.horizon_s;
     calibration_.source = "configured";
+    calibration_fused_ = calibration_;
     calibration_applied_ = true;
   } else if (const auto shipped = sim::default_forecast_calibration(config.horizon_s)) {
+    // A forecast from the observer's fused state takes the coefficients fitted on such forecasts (SPEC §10).
     calibration_ = *shipped;
+    calibration_fused_ = *sim::default_forecast_calibration(config.horizon_s, true);
     calibration_applied_ = true;
   }
   const core::Coefficients<double> k =
@@ -256,7 +259,8 @@ const rockwatch::wall_forecast_t& MonitorForecaster::run_once() {
       m.omega_g_rps = f.ground.omega_rps;
       m.growth_per_s = f.ground.growth_per_s;
       if (calibration_applied_ && std::isfinite(m.energy_ratio_max_2s)) {
-        m.p_collapse_calibrated = sim::calibrated_probability(calibration_, f.p_collapse, f.members,
+        m.p_collapse_calibrated = sim::calibrated_probability(m.fused ? calibration_fused_ : calibration_,
+                                                              f.p_collapse, f.members,
                                                               m.energy_ratio_max_2s, m.x_over_x_inst);
       }
       ++counters_.ok;

@@ -152,6 +152,7 @@ class MonitorForecaster {
   double dt_s_ = 0.0;
   sim::EnsembleForecaster forecaster_;
   sim::ForecastCalibration calibration_;  // the configured coefficients, or the shipped ones
+  sim::ForecastCalibration calibration_fused_;  // for a forecast from the fused state: the same configured, or its own
   bool calibration_applied_ = false;      // given, or the shipped ones at their own horizon
   sim::TrailingMax energy_;               // E/E_barrier of the states read at the forecast ticks, over 2 s
   double c_nominal_mps2_ = 0.0, k_nominal_ps2_ = 0.0;  // per unit p1, side +1 (wall_estimate_t's c and k)

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "rockwatch/sim/forecast_calibration.hpp"
@@ -97,8 +98,19 @@ TEST(ForecastCalibration, LogitIsClampedAtHalfAMember) {
   // only correct it (the ensemble carries the state: at the same raw P, |x|/x_inst from 0.1 to 0.8 moves P by less
   // than 0.1 either way; fitted on all real records the 5 s c3 is slightly negative, SPEC §10).
   CHECK_FALSE(sim::default_forecast_calibration(4.0).has_value());
+  CHECK_FALSE(sim::default_forecast_calibration(4.0, true).has_value());
   for (const double h : {3.0, 5.0}) {
-    const sim::ForecastCalibration d = *sim::default_forecast_calibration(h);
+    // The fused state's own coefficients at the same horizons, fitted on fused forecasts: not the open loop's.
+    const sim::ForecastCalibration open = *sim::default_forecast_calibration(h);
+    const sim::ForecastCalibration fused = *sim::default_forecast_calibration(h, true);
+    DOUBLES_EQUAL(h, fused.horizon_s, 0.0);
+    CHECK(open.c != fused.c);
+    CHECK(fused.source.find("from the fused state") != std::string::npos);
+    CHECK(open.source.find("fused") == std::string::npos);
+  }
+  for (const auto& [h, from_fused] : {std::pair{3.0, false}, std::pair{5.0, false}, std::pair{3.0, true},
+                                      std::pair{5.0, true}}) {
+    const sim::ForecastCalibration d = *sim::default_forecast_calibration(h, from_fused);
     DOUBLES_EQUAL(h, d.horizon_s, 0.0);
     CHECK(sim::calibrated_probability(d, 0.9, 100, 0.5, 0.3) > sim::calibrated_probability(d, 0.1, 100, 0.5, 0.3));
     const double moved =
@@ -131,8 +143,9 @@ TEST(ForecastCalibration, InteractionOfLogitAndCappedEnergy) {
         sim::calibrated_probability(first, 0.05, 100, 1.8, 0.3));
   // Monotone in the raw P whenever c1 + c4·min(ρ, 2) > 0 (the shipped coefficients at every ρ up to the cap and
   // beyond), and deterministic.
-  for (const double h : {3.0, 5.0}) {
-    const sim::ForecastCalibration d = *sim::default_forecast_calibration(h);
+  for (const auto& [h, from_fused] : {std::pair{3.0, false}, std::pair{5.0, false}, std::pair{3.0, true},
+                                      std::pair{5.0, true}}) {
+    const sim::ForecastCalibration d = *sim::default_forecast_calibration(h, from_fused);
     CHECK(d.c[1] + std::min(0.0, d.c[4]) * sim::kCalibrationInteractionEnergyCap > 0.0);
     for (const double rho : {0.0, 0.5, 1.0, 1.5, 2.0, 4.0}) {
       double last = -1.0;

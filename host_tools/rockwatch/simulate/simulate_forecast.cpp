@@ -30,7 +30,9 @@ ForecastSeries run_forecasts(const SimulateRequest& q, const sim::GroundMotion& 
   const std::vector<sim::HistoryRow>& h = result.history;
   if (h.empty()) return series;
   sim::EnsembleForecaster forecaster(q.wall, q.analysis.model, result.r, q.analysis.kappa, series.settings);
-  const std::optional<sim::ForecastCalibration> shipped = sim::default_forecast_calibration(series.settings.horizon_s);
+  // With the observer the forecasts start from its fused state: their own shipped coefficients (SPEC §10).
+  const std::optional<sim::ForecastCalibration> shipped =
+      sim::default_forecast_calibration(series.settings.horizon_s, !result.observer_history.empty());
   series.calibration_applied = q.forecast_calibration.has_value() || shipped.has_value();
   if (q.forecast_calibration) {
     series.calibration = *q.forecast_calibration;

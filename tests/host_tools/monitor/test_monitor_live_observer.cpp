@@ -20,7 +20,9 @@
 #include "monitor_test_support.hpp"
 #include "rockwatch/alarm_event_t.hpp"
 #include "rockwatch/ground_accel_t.hpp"
+#include "rockwatch/sim/forecast_calibration.hpp"
 #include "rockwatch/wall_estimate_t.hpp"
+#include "rockwatch/wall_forecast_t.hpp"
 #include "rockwatch/wall_sensor_t.hpp"
 #include "rockwatch/wall_state_t.hpp"
 
@@ -243,6 +245,37 @@ TEST(MonitorLiveObserver, OfflineTheLogsWallSensorsAreFusedDeterministically) {
       CHECK_TEXT(bytes == first_out, "two offline runs on the same log differ");
     }
   }
+}
+
+// With the observer the forecasts start from its fused state (wall_forecast_t.fused) and publish the P of the
+// coefficients fitted on fused forecasts (SPEC §10 "From the fused state"), as `simulate --wall-sensors` does. The
+// shipped log (a collapse, no wall sensor: the observer runs on the ground alone and still publishes its state).
+TEST(MonitorLiveObserver, OfflineFusedForecastsTakeTheFusedStatesCalibration) {
+  const TempDir dir;
+  const std::string out = dir.file("out.lcmlog");
+  const rockwatch::test::ProcessResult r = rockwatch::test::run_monitor(
+      {"--observer", "--forecast", "20,5", "--offline-in",
+       rockwatch::test::monitor_data_path(rockwatch::test::kShippedLog), "--offline-out", out});
+  CHECK_EQUAL_TEXT(0, r.exit_status, r.err.c_str());
+  const rockwatch::sim::ForecastCalibration fused = *rockwatch::sim::default_forecast_calibration(5.0, true);
+  const rockwatch::sim::ForecastCalibration open = *rockwatch::sim::default_forecast_calibration(5.0, false);
+  lcm::LogFile log(out, "r");
+  int checked = 0, told_apart = 0;
+  while (const lcm::LogEvent* e = log.readNextEvent()) {
+    if (e->channel != "ROCKWATCH_WALL_FORECAST") continue;
+    rockwatch::wall_forecast_t m;
+    CHECK(m.decode(e->data, 0, e->datalen) == e->datalen);
+    if (m.status != rockwatch::wall_forecast_t::STATUS_OK || !std::isfinite(m.energy_ratio_max_2s)) continue;
+    LONGS_EQUAL(1, m.fused);
+    const double want = rockwatch::sim::calibrated_probability(fused, m.p_collapse, m.members,
+                                                               m.energy_ratio_max_2s, m.x_over_x_inst);
+    DOUBLES_EQUAL(want, m.p_collapse_calibrated, 1e-12);
+    const double other = rockwatch::sim::calibrated_probability(open, m.p_collapse, m.members,
+                                                                m.energy_ratio_max_2s, m.x_over_x_inst);
+    if (std::fabs(want - other) > 1e-3) ++told_apart;
+    ++checked;
+  }
+  CHECK_TEXT(checked >= 5 && told_apart == checked, r.out.c_str());
 }
 
 }  // namespace unity_test_monitor_live_observer

@@ -38,10 +38,12 @@ struct ForecastCalibration {
   std::string source;                             // where they come from (for reports)
 };
 
-// The shipped coefficients (SPEC §10) for a horizon: fitted on every forecast of the fit events of real records
-// (scripts/forecast-real-records.py --sets fit --refit: 13 records of 6 earthquakes, r_ana and r_exp, 0.8-1.6 x each
-// record's collapse PGA; 200 members; issue 40) at H = 3 s and H = 5 s; none for another horizon.
-std::optional<ForecastCalibration> default_forecast_calibration(double horizon_s);
+// The shipped coefficients (SPEC §10) for a horizon: fitted on every forecast of every event of real records
+// (scripts/forecast-real-records.py --refit-all: 24 components of 12 earthquakes, r_ana and r_exp, 0.8-1.6 x each
+// record's collapse PGA; 200 members; issue 40) at H = 3 s and H = 5 s; none for another horizon. from_fused_state:
+// the forecast starts from the observer's fused state (simulate --wall-sensors, the monitor with its observer), and
+// the coefficients are those fitted on such forecasts (the same records with --wall-sensors).
+std::optional<ForecastCalibration> default_forecast_calibration(double horizon_s, bool from_fused_state = false);
 // The horizons default_forecast_calibration has coefficients for, as text ("3 s and 5 s"), for messages.
 const char* shipped_calibration_horizons();
 

@@ -20,6 +20,7 @@
 #include "rockwatch/records/record.hpp"
 #include "rockwatch/sim/analysis.hpp"
 #include "rockwatch/sim/ensemble_forecast.hpp"
+#include "rockwatch/sim/forecast_calibration.hpp"
 
 #include "cli_expect.hpp"  // brings in CppUTest, after every standard header
 
@@ -323,6 +324,40 @@ TEST(SimulateForecast, CalibrationInputsAreTheAnalysedHistorys) {
 
 // The calibrated P beside the raw one (SPEC §10 "Calibrated P"): with given coefficients, the logistic of
 // c0 + c1 logit(clamped P) + c2 energy_ratio_max_2s + c3 x_over_x_inst of each entry; at H = 3 s the shipped ones.
+// Forecasts from the fused state (--wall-sensors) publish the P of the coefficients fitted on fused forecasts (SPEC
+// §10 "From the fused state"), the open loop's the other shipped ones; a given --forecast-calibration serves both.
+TEST(SimulateForecast, FusedForecastsTakeTheFusedStatesCalibration) {
+  TempDir dir;
+  const std::string truth_csv = dir.file("truth.csv");
+  check_ok(run_rockwatch(el_centro("0.3", {"--b", "0.09", "--sensors-out", truth_csv})));
+  const std::vector<std::string> five{"--forecast-members", "20", "--forecast-horizon-s", "5", "--forecast-every-s",
+                                      "0.1", "--json"};
+  int fused_checked = 0;
+  for (const bool with_sensors : {true, false}) {
+    std::vector<std::string> args = five;
+    if (with_sensors) args.insert(args.end(), {"--wall-sensors", truth_csv});
+    const ProcessResult r = run_rockwatch(el_centro("0.3", args));
+    check_ok(r);
+    const nlohmann::json f = nlohmann::json::parse(r.out)["forecast"];
+    const sim::ForecastCalibration want = *sim::default_forecast_calibration(5.0, with_sensors);
+    const sim::ForecastCalibration other = *sim::default_forecast_calibration(5.0, !with_sensors);
+    CHECK_EQUAL(want.source, f["calibration"]["source"].get<std::string>());
+    CHECK_TRUE(f["series"].size() >= 4);
+    for (const nlohmann::json& e : f["series"]) {
+      const double p = e["p_collapse"].get<double>(), rho = e["energy_ratio_max_2s"].get<double>(),
+                   xr = e["x_over_x_inst"].get<double>();
+      const double pc = e["p_collapse_calibrated"].get<double>();
+      DOUBLES_EQUAL(sim::calibrated_probability(want, p, 20, rho, xr), pc, 1e-12);
+      if (with_sensors && std::fabs(sim::calibrated_probability(other, p, 20, rho, xr) - pc) > 1e-3) ++fused_checked;
+    }
+  }
+  CHECK_TRUE(fused_checked >= 3);  // the two sets of coefficients tell apart
+  std::vector<std::string> given = five;
+  given.insert(given.end(), {"--wall-sensors", truth_csv, "--forecast-calibration", "-1,0.5,0.25,2"});
+  const nlohmann::json g = nlohmann::json::parse(run_rockwatch(el_centro("0.3", given)).out)["forecast"];
+  CHECK_EQUAL(std::string("given: -1,0.5,0.25,2"), g["calibration"]["source"].get<std::string>());
+}
+
 TEST(SimulateForecast, CalibratedProbabilityBesideTheRawOne) {
   std::vector<std::string> args = kForecast;
   args.insert(args.end(), {"--json", "--forecast-calibration", "-1,0.5,0.25,2"});
