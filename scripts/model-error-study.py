@@ -31,7 +31,8 @@ and scores them per truth family (SPEC §11 "Model error" defines every figure):
     t_collapse_true_s and t_exceed_true_s are the control run's own.
 
     scripts/model-error-study.py [--truths tests/data/truths] [--families multibody,crushed] [--out DIR]
-                                 [--forecast-members 200] [--forecast-horizon-s 5] [--plots] [--jobs 2]
+                                 [--forecast-members 200] [--forecast-horizon-s 5] [--forecast-calibration C0,...,C4]
+                                 [--plots] [--jobs 2]
                                  [--control] [--sensor-stride N] [--check-fused-alarm] [--check-x-inst-median 0.05]
                                  [--check-lead-median crack_height:0.5,crushed:0.5,multibody:0.5]
 
