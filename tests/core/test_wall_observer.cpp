@@ -523,6 +523,33 @@ TEST(WallObserver, AReinitialisationKeepsTheModelsVelocity) {
   LONGS_EQUAL(1, fobs.counters().reinitialised);
 }
 
+namespace {
+
+// The double and the fixed-point observer of one nominal wall, each with its own model, fed the same displacement
+// reading at the end of each 5 ms step on the same ground.
+struct TwinObservers {
+  RockingStepper<double> dmodel;
+  FixedRockingStepper fmodel;
+  WallObserver<RockingStepper<double>> dobs;
+  WallObserver<FixedRockingStepper> fobs;
+  std::int64_t t_us = 0;  // the end of the last step [µs]
+  TwinObservers(const StepperSetup<double>& nominal, const ObserverOptions& o) {
+    dmodel.init(nominal);
+    CHECK(fmodel.init(nominal) == FixedSetupError::ok);
+    CHECK(dobs.init(o, nominal, paper_wall()) == ObserverError::ok);
+    CHECK(fobs.init(o, nominal, paper_wall()) == ObserverError::ok);
+  }
+  void step(double ug_mps2, double z_m) {
+    t_us += kDtUs;
+    dobs.push(displacement(t_us, z_m));
+    fobs.push(displacement(t_us, z_m));
+    dobs.after_step(dmodel, dmodel.step(ug_mps2, 0.0), ug_mps2, 0.0, t_us, kDtUs);
+    const AccelQ7_56 ug(ug_mps2);
+    fobs.after_step(fmodel, fmodel.step(ug, AccelQ7_56{}), ug, AccelQ7_56{}, t_us, kDtUs);
+  }
+};
+}  // namespace
+
 // SPEC §11 "The transducer's noise": a wall at rest on a quiet ground read by a transducer noisier than told
 // (2 mm against 0.5 mm) is measured before the shaking — by the readings' second differences — and the filter uses
 // it (x_noise_m() within 15 % of 2 mm after 400 readings), in the double and the fixed-point observer alike; the same
@@ -539,31 +566,21 @@ TEST(WallObserver, TheTransducersNoiseIsMeasuredBeforeTheShaking) {
   };
   for (const Case c : {Case{2e-3, 0.0, 64, 2e-3}, Case{0.5e-3, 0.0, 64, 0.0}, Case{0.5e-3, 3e-3, 64, 0.0},
                        Case{2e-3, 0.0, 0, 0.0}}) {
-    RockingStepper<double> dmodel;
-    dmodel.init(nominal);
-    FixedRockingStepper fmodel;
-    CHECK(fmodel.init(nominal) == FixedSetupError::ok);
     ObserverOptions o;
     o.noise_learn_readings = c.learn;
-    WallObserver<RockingStepper<double>> dobs;
-    WallObserver<FixedRockingStepper> fobs;
-    CHECK(dobs.init(o, nominal, paper_wall()) == ObserverError::ok);
-    CHECK(fobs.init(o, nominal, paper_wall()) == ObserverError::ok);
+    TwinObservers twins(nominal, o);
+    const auto& dobs = twins.dobs;
+    const auto& fobs = twins.fobs;
     Noise noise(11);
-    std::int64_t t = 0;
     double d_before = 0.0, f_before = 0.0;
     for (int k = 0; k < 600; ++k) {
       // 400 readings at rest on a quiet ground, then a shaking ground (0.6 threshold: not quiet, the wall at rest)
       // read 5 times noisier still.
       const double ug = k < 400 ? 0.0 : -0.6 * th;
-      const double t_s = double(t) * 1e-6;
+      const double t_s = double(twins.t_us) * 1e-6;
       const double z = 2e-3 + c.sway_m * std::sin(2.0 * 3.141592653589793 * 3.0 * t_s) +
                        (k < 400 ? 1.0 : 5.0) * c.noise_m * noise.normal();
-      t += kDtUs;
-      dobs.push(displacement(t, z));
-      fobs.push(displacement(t, z));
-      dobs.after_step(dmodel, dmodel.step(ug, 0.0), ug, 0.0, t, kDtUs);
-      fobs.after_step(fmodel, fmodel.step(AccelQ7_56(ug), AccelQ7_56{}), AccelQ7_56(ug), AccelQ7_56{}, t, kDtUs);
+      twins.step(ug, z);
       if (k == 399) {
         LONGS_EQUAL(c.learn > 0 ? 398 : 0, dobs.x_noise_readings());
         LONGS_EQUAL(c.learn > 0 ? 398 : 0, fobs.x_noise_readings());
@@ -589,32 +606,18 @@ TEST(WallObserver, TheNoiseWindowClosesOnAWallQuietForLong) {
   // differences), so a transducer that turns noisy later on a quiet ground is not measured (before, the window stayed
   // open until the shaking, its int32 count ran to overflow after 24 days at 1 kHz and the fixed-point observer's float
   // Σd² stopped counting after 2^24 readings).
-  const StepperSetup<double> nominal = setup_with_r(0.8);
-  RockingStepper<double> dmodel;
-  dmodel.init(nominal);
-  FixedRockingStepper fmodel;
-  CHECK(fmodel.init(nominal) == FixedSetupError::ok);
   ObserverOptions o;
   o.noise_learn_readings = 8;
-  WallObserver<RockingStepper<double>> dobs;
-  WallObserver<FixedRockingStepper> fobs;
-  CHECK(dobs.init(o, nominal, paper_wall()) == ObserverError::ok);
-  CHECK(fobs.init(o, nominal, paper_wall()) == ObserverError::ok);
+  TwinObservers twins(setup_with_r(0.8), o);
   Noise noise(3);
-  std::int64_t t = 0;
   for (int k = 0; k < 12000; ++k) {
     // The told 0.5 mm for 9 000 readings, then 3 mm: still a quiet ground, the wall at rest.
-    const double z = 1e-3 + (k < 9000 ? 0.5e-3 : 3e-3) * noise.normal();
-    t += kDtUs;
-    dobs.push(displacement(t, z));
-    fobs.push(displacement(t, z));
-    dobs.after_step(dmodel, dmodel.step(0.0, 0.0), 0.0, 0.0, t, kDtUs);
-    fobs.after_step(fmodel, fmodel.step(AccelQ7_56{}, AccelQ7_56{}), AccelQ7_56{}, AccelQ7_56{}, t, kDtUs);
+    twins.step(0.0, 1e-3 + (k < 9000 ? 0.5e-3 : 3e-3) * noise.normal());
   }
-  LONGS_EQUAL(8192, dobs.x_noise_readings());
-  LONGS_EQUAL(8192, fobs.x_noise_readings());
-  DOUBLES_EQUAL(0.5e-3, dobs.x_noise_m(), 1e-9);
-  DOUBLES_EQUAL(0.5e-3, fobs.x_noise_m(), 1e-9);
+  LONGS_EQUAL(8192, twins.dobs.x_noise_readings());
+  LONGS_EQUAL(8192, twins.fobs.x_noise_readings());
+  DOUBLES_EQUAL(0.5e-3, twins.dobs.x_noise_m(), 1e-9);
+  DOUBLES_EQUAL(0.5e-3, twins.fobs.x_noise_m(), 1e-9);
 }
 
 TEST(WallObserver, ASlowerSensorsReadingsCountTheTimeTheyCover) {
