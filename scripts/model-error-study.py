@@ -224,6 +224,8 @@ def scored_forecasts(truth, res, t_collapse, horizon_s):
     """A run's forecast series, each with its outcome: collapse at t_collapse within (t, t + horizon_s]."""
     return [{"family": truth["family"], "case": truth["case"], "t_s": e["t_s"], "p_collapse": e["p_collapse"],
              "p_collapse_calibrated": e.get("p_collapse_calibrated"),
+             # from the fused state with its σ (1), or without it: no displacement reading within dropout_s (0)
+             "fused": int(e["fused"]) if "fused" in e else "",
              "outcome": int(t_collapse is not None and e["t_s"] < t_collapse <= e["t_s"] + horizon_s)}
             for e in ((res.get("forecast") or {}).get("series")) or []]
 

@@ -224,18 +224,23 @@ const rockwatch::wall_forecast_t& MonitorForecaster::run_once() {
       rockwatch::wall_estimate_t e{};
       const std::size_t size = feed_.read_estimate(buffer_.data());
       if (size > 0 && e.decode(buffer_.data(), 0, static_cast<int>(size)) == static_cast<int>(size)) {
-        // The fused state, its spread and the estimated wall (SPEC §10 "State uncertainty").
+        // The fused state and the estimated wall (SPEC §10 "State uncertainty"); its spread only while a
+        // displacement reading bounds it: with the sensor lost or never there, the filter's σ grows with its process
+        // noise alone and members drawn from it fall at once (SPEC §10 "From the fused state"), so the members start
+        // at the state and the open loop's coefficients apply (fused = 0), as in simulate.
         st.x_m = e.x_m;
         st.xd_mps = e.xd_mps;
         st.moving = st.moving || e.x_m != 0.0 || e.xd_mps != 0.0;
-        st.sigma_x_m = e.sigma_x_m;
-        st.sigma_xd_mps = e.sigma_xd_mps;
+        if (e.sensor_health & rockwatch::wall_estimate_t::SENSOR_X_ACTIVE) {
+          st.sigma_x_m = e.sigma_x_m;
+          st.sigma_xd_mps = e.sigma_xd_mps;
+          m.fused = 1;
+        }
         if (e.r_estimate >= 0.0 && e.r_estimate <= 1.0) st.sqrt_r = std::sqrt(e.r_estimate);
         if (e.c_estimate_mps2 > 0.0 && e.k_estimate_ps2 > 0.0) {
           st.capacity_scale = e.c_estimate_mps2 / c_nominal_mps2_;
           st.stiffness_scale = e.k_estimate_ps2 / k_nominal_ps2_;
         }
-        m.fused = 1;
       }
     }
     // The ring in time order.

@@ -182,6 +182,7 @@ class ObservedSteps {
     const core::ObserverStepReport outcome =
         engine.chain().step_observed(ug, vg, observer_, t_us, step_us_, engine.out(), on_substep);
     flags_ |= outcome.flags;
+    last_flags_ = outcome.flags;
     if (outcome.flags & core::observer_flag::sensor_lost) ++steps_lost_;
   }
 
@@ -192,7 +193,8 @@ class ObservedSteps {
                               observer_.sigma_xd_mps(),
                               observer_.sqrt_r_estimate(),
                               observer_.capacity_scale(),
-                              observer_.stiffness_scale()};
+                              observer_.stiffness_scale(),
+                              (last_flags_ & core::observer_flag::x_active) != 0};
   }
 
   // After the step's events (counted impacts before and after it): keeps r̂ as it stood before the step in which
@@ -284,7 +286,8 @@ class ObservedSteps {
   std::int64_t step_us_;
   Observer observer_{};
   std::size_t next_ = 0;
-  std::uint32_t flags_ = 0;
+  std::uint32_t flags_ = 0;       // every step's flags, or-ed
+  std::uint32_t last_flags_ = 0;  // the last step's
   std::size_t steps_lost_ = 0;
   Estimates before_step_{};                        // as they stood before the current step
   std::optional<Estimates> after_impacts_, after_rocking_;  // before counted / rocking impact r_after_impacts + 1

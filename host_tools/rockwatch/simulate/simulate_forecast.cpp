@@ -30,14 +30,18 @@ ForecastSeries run_forecasts(const SimulateRequest& q, const sim::GroundMotion& 
   const std::vector<sim::HistoryRow>& h = result.history;
   if (h.empty()) return series;
   sim::EnsembleForecaster forecaster(q.wall, q.analysis.model, result.r, q.analysis.kappa, series.settings);
-  // With the observer the forecasts start from its fused state: their own shipped coefficients (SPEC §10).
+  // A forecast from the observer's fused state (its σ) takes that state's own shipped coefficients, any other the
+  // open loop's (SPEC §10 "From the fused state"); a given calibration serves both.
   const std::optional<sim::ForecastCalibration> shipped =
-      sim::default_forecast_calibration(series.settings.horizon_s, !result.observer_history.empty());
+      sim::default_forecast_calibration(series.settings.horizon_s, false);
+  const std::optional<sim::ForecastCalibration> shipped_fused =
+      sim::default_forecast_calibration(series.settings.horizon_s, true);
   series.calibration_applied = q.forecast_calibration.has_value() || shipped.has_value();
   if (q.forecast_calibration) {
-    series.calibration = *q.forecast_calibration;
-  } else if (shipped) {
+    series.calibration = series.calibration_fused = *q.forecast_calibration;
+  } else if (shipped && shipped_fused) {
     series.calibration = *shipped;
+    series.calibration_fused = *shipped_fused;
   }
   // E/E_barrier of every history row (the study's feature, forecast_evaluation.cpp).
   std::vector<double> energy(h.size());
@@ -72,19 +76,24 @@ ForecastSeries run_forecasts(const SimulateRequest& q, const sim::GroundMotion& 
     st.ug_now_mps2 = s.ug_mps2;
     // The fused state's spread and the estimated wall, as rockwatch-monitor --forecast passes them (ρ = 0: the
     // monitor's wall_estimate_t carries σ_x and σ_ẋ only; the two tools start from the same description of the wall).
-    // Before the observer's first sample (the row of t = 0) the open loop's.
+    // Before the observer's first sample (the row of t = 0) the open loop's. The spread only while a displacement
+    // reading bounds it (ObserverHistoryRow::x_active): with the sensor lost or never there, the filter's σ grows
+    // with its process noise alone, and members drawn from it fall at once (SPEC §10 "From the fused state").
     while (orow + 1 < oh.size() && oh[orow + 1].t_s <= s.t_s + 1e-9) ++orow;
     std::optional<sim::ObserverHistoryRow> estimate;
+    ForecastEntry e;
     if (!oh.empty() && oh[orow].t_s <= s.t_s + 1e-9) {
       estimate = oh[orow];
-      st.sigma_x_m = estimate->sigma_x_m;
-      st.sigma_xd_mps = estimate->sigma_xd_mps;
+      e.fused = estimate->x_active;
+      if (e.fused) {
+        st.sigma_x_m = estimate->sigma_x_m;
+        st.sigma_xd_mps = estimate->sigma_xd_mps;
+      }
       st.sqrt_r = estimate->sqrt_r;
       st.capacity_scale = estimate->capacity_scale;
       st.stiffness_scale = estimate->stiffness_scale;
     }
     const std::size_t n = std::min(ug.size(), static_cast<std::size_t>(std::floor(s.t_s / dt + 1e-9)) + 1);
-    ForecastEntry e;
     e.t_s = t;
     e.observer = estimate;
     e.result = forecaster.forecast(st, ug.data(), std::max<std::size_t>(n, 2), dt);
@@ -95,7 +104,8 @@ ForecastSeries run_forecasts(const SimulateRequest& q, const sim::GroundMotion& 
     e.energy_ratio_max = e_max;
     e.x_over_x_inst = forecaster.x_over_x_inst(s.x_m, s.side);
     if (series.calibration_applied) {
-      e.p_calibrated = sim::calibrated_probability(series.calibration, e.result.p_collapse, e.result.members,
+      e.p_calibrated = sim::calibrated_probability(e.fused ? series.calibration_fused : series.calibration,
+                                                   e.result.p_collapse, e.result.members,
                                                    e.energy_ratio_max, e.x_over_x_inst);
     }
     if (result.alarm.evaluated) e.alarm = alarm_level_at(result.alarm, t);
@@ -113,15 +123,23 @@ nlohmann::ordered_json forecast_json(const ForecastSeries& s, bool with_alarm) {
   j["seed"] = s.settings.seed;
   j["at_rest_skipped"] = s.at_rest;
   if (s.calibration_applied) {
-    j["calibration"] = {{"coefficients",
-                         {{"const", s.calibration.c[0]},
-                          {"logit_p", s.calibration.c[1]},
-                          {"energy_ratio_max_2s", s.calibration.c[2]},
-                          {"x_over_x_inst", s.calibration.c[3]},
-                          {"logit_p_x_energy_ratio_max_2s_capped", s.calibration.c[4]}}},
-                        {"horizon_s", s.calibration.horizon_s},
-                        {"source", s.calibration.source},
+    const auto coefficients = [](const sim::ForecastCalibration& c) {
+      return nlohmann::ordered_json{{"const", c.c[0]},
+                                    {"logit_p", c.c[1]},
+                                    {"energy_ratio_max_2s", c.c[2]},
+                                    {"x_over_x_inst", c.c[3]},
+                                    {"logit_p_x_energy_ratio_max_2s_capped", c.c[4]}};
+    };
+    // With the observer: the fused forecasts' set, and the other one for the entries whose "fused" is false.
+    const sim::ForecastCalibration& main = s.fused ? s.calibration_fused : s.calibration;
+    j["calibration"] = {{"coefficients", coefficients(main)},
+                        {"horizon_s", main.horizon_s},
+                        {"source", main.source},
                         {"applied", true}};
+    if (s.fused) {
+      j["calibration"]["not_fused"] = {{"coefficients", coefficients(s.calibration)},
+                                       {"source", s.calibration.source}};
+    }
   } else {
     j["calibration"] = {{"coefficients", nullptr},
                         {"horizon_s", nullptr},
@@ -141,6 +159,7 @@ nlohmann::ordered_json forecast_json(const ForecastSeries& s, bool with_alarm) {
     x["energy_ratio_max_2s"] = e.energy_ratio_max;
     x["x_over_x_inst"] = e.x_over_x_inst;
     if (s.fused) {  // with --wall-sensors: what the members started from (null: before the observer's first sample)
+      x["fused"] = e.fused;  // from the fused state with its σ (else σ = 0: no displacement reading within dropout_s)
       const sim::ObserverHistoryRow v = e.observer.value_or(sim::ObserverHistoryRow{});
       const auto put = [&](const char* key, double value) {
         x[key] = e.observer ? nlohmann::ordered_json(value) : nlohmann::ordered_json();
@@ -173,6 +192,15 @@ std::string forecast_text(const ForecastSeries& s) {
   out += buf;
   if (s.fused) {
     out += "  from the fused state, with the observer's sigma_x, sigma_xd, r and capacity (SPEC section 10)\n";
+    std::size_t not_fused = 0;
+    for (const ForecastEntry& e : s.entries) not_fused += e.fused ? 0 : 1;
+    if (not_fused > 0) {
+      std::snprintf(buf, sizeof buf,
+                    "  %zu of them with no displacement reading within the dropout time: from the state without "
+                    "its sigma, the open loop's calibration\n",
+                    not_fused);
+      out += buf;
+    }
   }
   if (s.entries.empty()) {
     out += "  the wall was at rest at every forecast time: no forecast\n";

@@ -27,6 +27,10 @@ struct ForecastEntry {
   // With --wall-sensors: the observer's estimates the members started from (its σ_x, σ_ẋ, √r̂, κc, κk at the end of
   // the sample the state belongs to; SPEC §10 "State uncertainty"). None: the open loop's spread and the nominal wall.
   std::optional<sim::ObserverHistoryRow> observer;
+  // Started from the fused state with its σ_x, σ_ẋ (a displacement reading fused within the dropout time): the
+  // fused state's coefficients. Otherwise the members start at the state itself (σ = 0, the wall as estimated) and
+  // the open loop's coefficients apply (SPEC §10 "From the fused state").
+  bool fused = false;
 };
 
 struct ForecastSeries {
@@ -34,7 +38,8 @@ struct ForecastSeries {
   double every_s = 0.1;
   std::vector<ForecastEntry> entries;
   std::size_t at_rest = 0;  // forecast times skipped because the wall was at rest
-  sim::ForecastCalibration calibration;
+  sim::ForecastCalibration calibration;        // the open loop's (an entry not fused), or the given one
+  sim::ForecastCalibration calibration_fused;  // a fused entry's: the fused state's own, or the given one
   bool calibration_applied = false;  // given, or the default at its own horizon
   bool fused = false;                // the analysis ran the wall observer (its estimates in the entries)
 };

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -247,35 +248,120 @@ TEST(MonitorLiveObserver, OfflineTheLogsWallSensorsAreFusedDeterministically) {
   }
 }
 
-// With the observer the forecasts start from its fused state (wall_forecast_t.fused) and publish the P of the
-// coefficients fitted on fused forecasts (SPEC §10 "From the fused state"), as `simulate --wall-sensors` does. The
-// shipped log (a collapse, no wall sensor: the observer runs on the ground alone and still publishes its state).
-TEST(MonitorLiveObserver, OfflineFusedForecastsTakeTheFusedStatesCalibration) {
-  const TempDir dir;
-  const std::string out = dir.file("out.lcmlog");
-  const rockwatch::test::ProcessResult r = rockwatch::test::run_monitor(
-      {"--observer", "--forecast", "20,5", "--offline-in",
-       rockwatch::test::monitor_data_path(rockwatch::test::kShippedLog), "--offline-out", out});
-  CHECK_EQUAL_TEXT(0, r.exit_status, r.err.c_str());
-  const rockwatch::sim::ForecastCalibration fused = *rockwatch::sim::default_forecast_calibration(5.0, true);
-  const rockwatch::sim::ForecastCalibration open = *rockwatch::sim::default_forecast_calibration(5.0, false);
-  lcm::LogFile log(out, "r");
-  int checked = 0, told_apart = 0;
+namespace {
+
+std::vector<rockwatch::wall_forecast_t> read_forecasts(const std::string& path) {
+  lcm::LogFile log(path, "r");
+  CHECK(log.good());
+  std::vector<rockwatch::wall_forecast_t> out;
   while (const lcm::LogEvent* e = log.readNextEvent()) {
     if (e->channel != "ROCKWATCH_WALL_FORECAST") continue;
     rockwatch::wall_forecast_t m;
     CHECK(m.decode(e->data, 0, e->datalen) == e->datalen);
-    if (m.status != rockwatch::wall_forecast_t::STATUS_OK || !std::isfinite(m.energy_ratio_max_2s)) continue;
-    LONGS_EQUAL(1, m.fused);
-    const double want = rockwatch::sim::calibrated_probability(fused, m.p_collapse, m.members,
-                                                               m.energy_ratio_max_2s, m.x_over_x_inst);
-    DOUBLES_EQUAL(want, m.p_collapse_calibrated, 1e-12);
-    const double other = rockwatch::sim::calibrated_probability(open, m.p_collapse, m.members,
-                                                                m.energy_ratio_max_2s, m.x_over_x_inst);
-    if (std::fabs(want - other) > 1e-3) ++told_apart;
-    ++checked;
+    out.push_back(m);
   }
-  CHECK_TEXT(checked >= 5 && told_apart == checked, r.out.c_str());
+  return out;
+}
+
+// The shipped log (a collapse: ground samples only) with a displacement reading before each ground sample: the
+// monitor's own open-loop x of that sample (its wall_state_t without the observer, states_log) plus a ±0.2 mm
+// deterministic dither, the reading a transducer on a wall that is the model would give.
+void write_log_with_sensor(const std::string& shipped, const std::string& states_log, const std::string& out) {
+  std::map<std::int64_t, double> x_of_utime;
+  {
+    lcm::LogFile states(states_log, "r");
+    CHECK(states.good());
+    while (const lcm::LogEvent* e = states.readNextEvent()) {
+      if (e->channel != "ROCKWATCH_WALL_STATE") continue;
+      rockwatch::wall_state_t m;
+      CHECK(m.decode(e->data, 0, e->datalen) == e->datalen);
+      x_of_utime[m.utime] = m.x_m;
+    }
+  }
+  lcm::LogFile in(shipped, "r");
+  lcm::LogFile log(out, "w");
+  CHECK(in.good() && log.good());
+  std::int64_t eventnum = 0, seq = 0;
+  std::uint32_t dither = 12345u;
+  while (const lcm::LogEvent* e = in.readNextEvent()) {
+    if (e->channel == "ROCKWATCH_ACCEL") {
+      rockwatch::ground_accel_t g;
+      CHECK(g.decode(e->data, 0, e->datalen) == e->datalen);
+      const auto x = x_of_utime.find(g.utime);
+      if (x != x_of_utime.end()) {
+        dither = dither * 1664525u + 1013904223u;
+        rockwatch::wall_sensor_t s{};
+        s.utime = g.utime;
+        s.seq = seq++;
+        s.schema_version = rockwatch::wall_sensor_t::SCHEMA_VERSION;
+        s.x_mid_m = x->second + 0.2e-3 * (double(dither >> 8) / double(1u << 24) * 2.0 - 1.0);
+        s.valid = rockwatch::wall_sensor_t::VALID_X;
+        std::vector<std::uint8_t> bytes(static_cast<std::size_t>(s.getEncodedSize()));
+        s.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+        lcm::LogEvent se;
+        se.eventnum = eventnum++;
+        se.timestamp = e->timestamp - 500;
+        se.channel = "ROCKWATCH_WALL_SENSOR";
+        se.datalen = static_cast<std::int32_t>(bytes.size());
+        se.data = bytes.data();
+        CHECK(log.writeEvent(&se) == 0);
+      }
+    }
+    lcm::LogEvent copy = *e;
+    copy.eventnum = eventnum++;
+    CHECK(log.writeEvent(&copy) == 0);
+  }
+}
+
+}  // namespace
+
+// With the observer and a displacement transducer the forecasts start from the fused state and its σ
+// (wall_forecast_t.fused) and publish the P of the coefficients fitted on fused forecasts (SPEC §10 "From the fused
+// state"), as `simulate --wall-sensors` does. Without a transducer reading within the dropout time (the shipped log
+// has no wall sensor) the observer's σ grows with its process noise alone: those forecasts start at the state without
+// it (fused 0) and take the open loop's coefficients. Before, they were drawn from that σ (σ_ẋ ~0.7 m/s) and said
+// P ≈ 1 where the wall had seconds left (on the real records, Brier skill −3.0 against the open loop's 0.40).
+TEST(MonitorLiveObserver, OfflineForecastsTakeTheFusedCalibrationOnlyWithADisplacementReading) {
+  const TempDir dir;
+  const std::string shipped = rockwatch::test::monitor_data_path(rockwatch::test::kShippedLog);
+  const rockwatch::sim::ForecastCalibration fused = *rockwatch::sim::default_forecast_calibration(5.0, true);
+  const rockwatch::sim::ForecastCalibration open = *rockwatch::sim::default_forecast_calibration(5.0, false);
+  // The open loop's states, for the transducer's readings.
+  const rockwatch::test::ProcessResult open_loop =
+      rockwatch::test::run_monitor({"--offline-in", shipped, "--offline-out", dir.file("open.lcmlog")});
+  CHECK_EQUAL_TEXT(0, open_loop.exit_status, open_loop.err.c_str());
+  write_log_with_sensor(shipped, dir.file("open.lcmlog"), dir.file("with_sensor.lcmlog"));
+  for (const bool with_sensor : {true, false}) {
+    const std::string out = dir.file(with_sensor ? "fused.lcmlog" : "no_sensor.lcmlog");
+    const rockwatch::test::ProcessResult r = rockwatch::test::run_monitor(
+        {"--observer", "--forecast", "20,5", "--offline-in", with_sensor ? dir.file("with_sensor.lcmlog") : shipped,
+         "--offline-out", out});
+    CHECK_EQUAL_TEXT(0, r.exit_status, r.err.c_str());
+    const std::vector<rockwatch::wall_estimate_t> estimates = read_estimates(out);
+    CHECK(!estimates.empty());
+    if (with_sensor) {
+      const rockwatch::wall_estimate_t& last = estimates.back();
+      const std::string counts = "sensor samples " + std::to_string(last.sensor_samples) + ", x updates " +
+                                 std::to_string(last.x_updates) + ", rejected " + std::to_string(last.rejected) +
+                                 ", estimates " + std::to_string(estimates.size());
+      CHECK_TEXT(last.x_updates > 400 && last.rejected == 0, counts.c_str());
+    }
+    int checked = 0, told_apart = 0;
+    for (const rockwatch::wall_forecast_t& m : read_forecasts(out)) {
+      if (m.status != rockwatch::wall_forecast_t::STATUS_OK || !std::isfinite(m.energy_ratio_max_2s)) continue;
+      LONGS_EQUAL(with_sensor ? 1 : 0, m.fused);
+      const rockwatch::sim::ForecastCalibration& want = with_sensor ? fused : open;
+      const rockwatch::sim::ForecastCalibration& other = with_sensor ? open : fused;
+      DOUBLES_EQUAL(rockwatch::sim::calibrated_probability(want, m.p_collapse, m.members, m.energy_ratio_max_2s,
+                                                           m.x_over_x_inst),
+                    m.p_collapse_calibrated, 1e-12);
+      const double p_other = rockwatch::sim::calibrated_probability(other, m.p_collapse, m.members,
+                                                                    m.energy_ratio_max_2s, m.x_over_x_inst);
+      if (std::fabs(p_other - m.p_collapse_calibrated) > 1e-3) ++told_apart;
+      ++checked;
+    }
+    CHECK_TEXT(checked >= 5 && told_apart == checked, r.out.c_str());
+  }
 }
 
 }  // namespace unity_test_monitor_live_observer

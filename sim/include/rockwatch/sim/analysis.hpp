@@ -166,6 +166,10 @@ struct ObserverHistoryRow {
   double sigma_x_m, sigma_xd_mps;       // the fused state's standard deviations [m], [m/s]
   double sqrt_r;                        // √r̂ [-]
   double capacity_scale, stiffness_scale;  // κc, κk: c and k of the wall over the nominal's [-]
+  // A displacement reading was fused within the dropout time (core::observer_flag::x_active of the sample's last
+  // step): σ_x and σ_ẋ describe a measured state. Without one the filter's process noise widens them without a
+  // measurement to bound them, so the forecast does not take them (SPEC §10 "From the fused state").
+  bool x_active = false;
 };
 
 struct ImpactEvent {

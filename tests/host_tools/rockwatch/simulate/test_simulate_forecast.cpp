@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -356,6 +357,47 @@ TEST(SimulateForecast, FusedForecastsTakeTheFusedStatesCalibration) {
   given.insert(given.end(), {"--wall-sensors", truth_csv, "--forecast-calibration", "-1,0.5,0.25,2"});
   const nlohmann::json g = nlohmann::json::parse(run_rockwatch(el_centro("0.3", given)).out)["forecast"];
   CHECK_EQUAL(std::string("given: -1,0.5,0.25,2"), g["calibration"]["source"].get<std::string>());
+}
+
+// Without a displacement reading within the observer's dropout time (a transducer whose one reading is at t = 0)
+// the filter's σ grows with its process noise alone; a forecast drawn from it said P ≈ 1 where the wall had seconds
+// left (on the real records, Brier skill −3.0 against the open loop's 0.40). Such forecasts start at the state
+// without σ and take the open loop's coefficients ("fused": false, SPEC §10 "From the fused state"): here, where the
+// observer's model is the run's own wall, the very forecasts of the open loop.
+TEST(SimulateForecast, WithoutADisplacementReadingTheForecastsDropTheFiltersSpread) {
+  TempDir dir;
+  const std::string truth_csv = dir.file("truth.csv"), first_csv = dir.file("first.csv");
+  check_ok(run_rockwatch(el_centro("0.3", {"--b", "0.09", "--sensors-out", truth_csv})));
+  std::ifstream truth(truth_csv);
+  std::string header, first;
+  CHECK_TRUE(std::getline(truth, header) && std::getline(truth, first));
+  rockwatch::test::write_text(first_csv, header + "\n" + first + "\n");
+  const std::vector<std::string> five{"--b", "0.09", "--forecast-members", "20", "--forecast-horizon-s", "5",
+                                      "--json"};
+  std::vector<std::string> args = five;
+  args.insert(args.end(), {"--wall-sensors", first_csv});
+  const ProcessResult alone = run_rockwatch(el_centro("0.3", args));
+  const ProcessResult open = run_rockwatch(el_centro("0.3", five));
+  check_ok(alone);
+  check_ok(open);
+  const nlohmann::json f = nlohmann::json::parse(alone.out)["forecast"];
+  const nlohmann::json o = nlohmann::json::parse(open.out)["forecast"];
+  const sim::ForecastCalibration want = *sim::default_forecast_calibration(5.0, false);
+  CHECK_EQUAL(want.source, f["calibration"]["not_fused"]["source"].get<std::string>());
+  CHECK_EQUAL(sim::default_forecast_calibration(5.0, true)->source, f["calibration"]["source"].get<std::string>());
+  CHECK_TRUE(f["series"].size() >= 4);
+  LONGS_EQUAL(o["series"].size(), f["series"].size());
+  for (std::size_t i = 0; i < f["series"].size(); ++i) {
+    const nlohmann::json& e = f["series"][i];
+    CHECK_FALSE(e["fused"].get<bool>());
+    CHECK_TRUE(e["sigma_xd_mps"].get<double>() > 0.0);  // the filter's σ, published, not drawn from
+    DOUBLES_EQUAL(o["series"][i]["t_s"].get<double>(), e["t_s"].get<double>(), 1e-12);
+    DOUBLES_EQUAL(o["series"][i]["p_collapse"].get<double>(), e["p_collapse"].get<double>(), 1e-12);
+    DOUBLES_EQUAL(sim::calibrated_probability(want, e["p_collapse"].get<double>(), 20,
+                                              e["energy_ratio_max_2s"].get<double>(),
+                                              e["x_over_x_inst"].get<double>()),
+                  e["p_collapse_calibrated"].get<double>(), 1e-12);
+  }
 }
 
 TEST(SimulateForecast, CalibratedProbabilityBesideTheRawOne) {
