@@ -36,7 +36,7 @@ ForecastSeries run_forecasts(const SimulateRequest& q, const sim::GroundMotion& 
       sim::default_forecast_calibration(series.settings.horizon_s, false);
   const std::optional<sim::ForecastCalibration> shipped_fused =
       sim::default_forecast_calibration(series.settings.horizon_s, true);
-  series.calibration_applied = q.forecast_calibration.has_value() || shipped.has_value();
+  series.calibration_applied = q.forecast_calibration.has_value() || (shipped && shipped_fused);
   if (q.forecast_calibration) {
     series.calibration = series.calibration_fused = *q.forecast_calibration;
   } else if (shipped && shipped_fused) {
@@ -196,8 +196,8 @@ std::string forecast_text(const ForecastSeries& s) {
     for (const ForecastEntry& e : s.entries) not_fused += e.fused ? 0 : 1;
     if (not_fused > 0) {
       std::snprintf(buf, sizeof buf,
-                    "  %zu of them with no displacement reading within the dropout time: from the state without "
-                    "its sigma, the open loop's calibration\n",
+                    "  %zu forecasts had no displacement reading within the dropout time: started from the state "
+                    "without its sigma, with the open loop's calibration\n",
                     not_fused);
       out += buf;
     }

@@ -398,6 +398,12 @@ TEST(SimulateForecast, WithoutADisplacementReadingTheForecastsDropTheFiltersSpre
                                               e["x_over_x_inst"].get<double>()),
                   e["p_collapse_calibrated"].get<double>(), 1e-12);
   }
+  // The report says so.
+  const ProcessResult text = run_rockwatch(el_centro(
+      "0.3", {"--b", "0.09", "--forecast-members", "20", "--forecast-horizon-s", "5", "--wall-sensors", first_csv}));
+  check_ok(text);
+  const std::string said = std::to_string(f["series"].size()) + " forecasts had no displacement reading";
+  CHECK_TEXT(text.out.find(said) != std::string::npos, text.out.c_str());
 }
 
 TEST(SimulateForecast, CalibratedProbabilityBesideTheRawOne) {
