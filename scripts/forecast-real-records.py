@@ -19,7 +19,8 @@ The calibration shipped for real records is fitted on `fit` only; `validation` i
 
     scripts/forecast-real-records.py [--rockwatch build/release/host_tools/rockwatch] [--out DIR] [--jobs 2]
         [--horizon 5] [--members 200] [--sets fit,validation] [--records NAME,...] [--r exp,ana] [--factors 0.8:1.6:0.1]
-        [--calibration c0,c1,c2,c3,c4] [--simulate-arg ARG ...] [--refit] [--refit-all] [--wall-sensors] [--fresh]
+        [--calibration c0,c1,c2,c3,c4] [--simulate-arg ARG ...] [--refit] [--refit-all] [--wall-sensors
+        [--transducer whole|none|dies|accel-only]] [--fresh]
         [--study [--forecast-setting NAME=VALUE ...]] [--check-under-statement 0.1]
 
 --study runs the same forecasts through `rockwatch study --records --forecast` (one study per record and r), which
@@ -137,6 +138,35 @@ def run_study(a, rec, r, g0, horizon):
         return rows
 
 
+def transducer_as(kind, path):
+    """The sensor file the fused run reads, for --transducer KIND (docs/BENCHMARKS.md "The fused state's spread needs
+    a displacement reading"): whole, none (its reading at t = 0 only), dies (cut 1 s after |x| first reaches 2 mm) or
+    accel-only (the displacement column emptied; the accelerometer written by --sensors-out)."""
+    if kind == "whole":
+        return path
+    with open(path) as f:
+        lines = f.readlines()
+    out, t_cut = [lines[0]], None
+    for line in lines[1:]:
+        cells = line.strip().split(",")
+        if kind == "none":
+            out.append(line)
+            break
+        if kind == "accel-only":
+            out.append("%s,,%s\n" % (cells[0], cells[2]))
+            continue
+        t, x = float(cells[0]), float(cells[1])
+        if t_cut is None and abs(x) >= 2e-3:
+            t_cut = t + 1.0
+        if t_cut is not None and t > t_cut:
+            break
+        out.append(line)
+    changed = path[:-len(".csv")] + "_" + kind + ".csv"
+    with open(changed, "w") as f:
+        f.writelines(out)
+    return changed
+
+
 def run_level(a, rec, r, pga, horizon):
     base = [a.rockwatch, "simulate"] + record_args(rec) + ["--r", r, "--scale-pga", "%.4f" % pga]
     fc = ["--alarms", "--forecast-members", str(a.members), "--forecast-horizon-s", "%g" % horizon, "--json"]
@@ -146,7 +176,9 @@ def run_level(a, rec, r, pga, horizon):
     if a.wall_sensors:
         sensors = os.path.join(a.out, "sensors", "%s_%s_%.4f.csv" % (rec[0], r, pga))
         os.makedirs(os.path.dirname(sensors), exist_ok=True)
-        truth = run_json(base + ["--sensors-out", sensors, "--json"])
+        accel = ["--sensor-accel-noise-mps2", "0.05"] if a.transducer == "accel-only" else []
+        truth = run_json(base + ["--sensors-out", sensors, "--json"] + accel)
+        sensors = transducer_as(a.transducer, sensors)
         j = run_json(base + ["--wall-sensors", sensors] + fc)
         tc = truth.get("t_collapse_s")
     else:
@@ -270,6 +302,10 @@ def main():
                     help="fit the calibration on every event (what ships since issue 40's second fit) and score it "
                          "leaving one event out over all of them")
     ap.add_argument("--wall-sensors", action="store_true")
+    ap.add_argument("--transducer", choices=("whole", "none", "dies", "accel-only"), default="whole",
+                    help="with --wall-sensors: what the fused run reads: the whole record's transducer, none (its "
+                         "reading at t = 0 only), one that dies 1 s after |x| first reaches 2 mm, or an "
+                         "accelerometer alone")
     ap.add_argument("--no-plot", action="store_true")
     ap.add_argument("--fresh", action="store_true", help="search the collapse PGAs again (ignore DIR/boundary.json)")
     ap.add_argument("--check-under-statement", type=float, metavar="D",
