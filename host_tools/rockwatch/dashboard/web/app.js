@@ -234,7 +234,8 @@
     const calibrated = f && f.p_collapse_calibrated != null ? fmt(f.p_collapse_calibrated, 3) + ' calibrated, ' : '';
     view.pCollapse.textContent = !f ? 'off' : f.status === 'ok' ?
       calibrated + 'ensemble ' + fmt(f.p_collapse, 3) + ' ± ' + fmt(f.p_collapse_se, 3) + ' within ' +
-        fmt(f.horizon_s, 1, 's') + ' (' + f.members + ' members, ' + fmt(f.compute_us / 1000, 1, 'ms') + ')' :
+        fmt(f.horizon_s, 1, 's') + ' (' + f.members + ' members from the ' +
+        (f.fused ? 'fused state and its σ' : 'model\'s state') + ', ' + fmt(f.compute_us / 1000, 1, 'ms') + ')' :
       f.status === 'at_rest' ? 'wall at rest' : f.status === 'collapsed' ? '1 (collapsed)' : 'waiting for input';
     if (f) view.pBox.hidden = false;
     renderSensors(view);

@@ -126,12 +126,17 @@ try {
   browser = await chromium.launch({ executablePath: chromiumPath, headless: true,
     args: ['--no-sandbox', '--disable-gpu', '--disable-dev-shm-usage'] });
   const context = await browser.newContext({ viewport: { width: 1400, height: 1000 } });
-  // Every text the level banner of wall "wall" shows, in order, as the DOM changes (not the page's own bookkeeping).
+  // Every text the level banner of wall "wall" shows, in order, as the DOM changes (not the page's own bookkeeping);
+  // likewise the forecast's line.
   await context.addInitScript(() => {
     window.__levels = [];
+    window.__forecastTexts = [];
     const seen = () => {
       const el = document.querySelector('[data-testid="level"][data-wall="wall"]');
       if (el && el.textContent !== window.__levels[window.__levels.length - 1]) window.__levels.push(el.textContent);
+      const f = document.querySelector('[data-testid="p-collapse"][data-wall="wall"]');
+      const texts = window.__forecastTexts;
+      if (f && f.textContent !== texts[texts.length - 1]) texts.push(f.textContent);
     };
     new MutationObserver(seen).observe(document, { subtree: true, childList: true, characterData: true });
   });
@@ -187,6 +192,11 @@ try {
   });
   check(forecastPoints > 5 && calibratedPoints > 5 && calibratedPoints <= forecastPoints,
     `the P(collapse) chart has the ensemble's and the calibrated P (${forecastPoints} points, ${calibratedPoints} calibrated)`);
+  // Without --observer the members start from the model's state (wall_forecast_t.fused 0), and the line says so.
+  const forecastTexts = await page.evaluate(() => window.__forecastTexts);
+  const ensembleTexts = forecastTexts.filter((t) => t.includes('members'));
+  check(ensembleTexts.length > 0 && ensembleTexts.every((t) => t.includes('members from the model\'s state')),
+    `the forecast's line says where its members started (${ensembleTexts.length} texts, e.g. "${ensembleTexts[0]}")`);
   const transitionRows = await page.$$('[data-testid="transitions"][data-wall="wall"] tr[data-level]');
   check(transitionRows.length >= 4, `the transitions list has rows (${transitionRows.length})`);
 
