@@ -166,54 +166,73 @@ TEST(MonitorLiveObserver, FusesTheWallSensorsAndPublishesTheEstimate) {
 
 namespace {
 
-// An LCM log of n ground samples at 200 Hz with a wall-sensor sample of the same time before each (the transducer
-// reading 2 mm), on the default channels.
-void write_input_log(const std::string& path, int n) {
-  lcm::LogFile log(path, "w");
-  CHECK(log.good());
-  const std::int64_t t0 = 1700000000000000;
-  std::int64_t eventnum = 0;
-  auto write = [&](const std::string& channel, std::vector<std::uint8_t>& bytes, std::int64_t timestamp) {
+// An LCM log being written, its events numbered in order.
+struct InputLogWriter {
+  explicit InputLogWriter(const std::string& path) : log(path, "w") { CHECK(log.good()); }
+  void write_raw(const std::string& channel, void* data, std::int32_t size, std::int64_t timestamp) {
     lcm::LogEvent e;
     e.eventnum = eventnum++;
     e.timestamp = timestamp;
     e.channel = channel;
-    e.datalen = static_cast<std::int32_t>(bytes.size());
-    e.data = bytes.data();
+    e.datalen = size;
+    e.data = data;
     CHECK(log.writeEvent(&e) == 0);
-  };
+  }
+  template <typename Message>
+  void write(const std::string& channel, const Message& m, std::int64_t timestamp) {
+    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(m.getEncodedSize()));
+    m.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+    write_raw(channel, bytes.data(), static_cast<std::int32_t>(bytes.size()), timestamp);
+  }
+  lcm::LogFile log;
+  std::int64_t eventnum = 0;
+};
+
+// A displacement reading of the transducer at utime.
+rockwatch::wall_sensor_t x_reading(std::int64_t utime, std::int64_t seq, double x_m) {
+  rockwatch::wall_sensor_t s{};
+  s.utime = utime;
+  s.seq = seq;
+  s.schema_version = rockwatch::wall_sensor_t::SCHEMA_VERSION;
+  s.x_mid_m = x_m;
+  s.valid = rockwatch::wall_sensor_t::VALID_X;
+  return s;
+}
+
+// An LCM log of n ground samples at 200 Hz with a wall-sensor sample of the same time before each (the transducer
+// reading 2 mm), on the default channels.
+void write_input_log(const std::string& path, int n) {
+  InputLogWriter log(path);
+  const std::int64_t t0 = 1700000000000000;
   for (int i = 0; i < n; ++i) {
-    rockwatch::wall_sensor_t s{};
-    s.utime = t0 + i * 5000;
-    s.seq = i;
-    s.schema_version = rockwatch::wall_sensor_t::SCHEMA_VERSION;
-    s.x_mid_m = 2e-3;
-    s.valid = rockwatch::wall_sensor_t::VALID_X;
-    std::vector<std::uint8_t> sb(static_cast<std::size_t>(s.getEncodedSize()));
-    s.encode(sb.data(), 0, static_cast<int>(sb.size()));
-    write("ROCKWATCH_WALL_SENSOR", sb, s.utime + 500);
+    const rockwatch::wall_sensor_t s = x_reading(t0 + i * 5000, i, 2e-3);
+    log.write("ROCKWATCH_WALL_SENSOR", s, s.utime + 500);
     rockwatch::ground_accel_t g{};
     g.utime = t0 + i * 5000;
     g.seq = i;
     g.schema_version = 1;
     g.ug_mps2 = 0.2 * std::sin(0.05 * i);
-    std::vector<std::uint8_t> gb(static_cast<std::size_t>(g.getEncodedSize()));
-    g.encode(gb.data(), 0, static_cast<int>(gb.size()));
-    write("ROCKWATCH_ACCEL", gb, g.utime + 1000);
+    log.write("ROCKWATCH_ACCEL", g, g.utime + 1000);
   }
 }
 
-std::vector<rockwatch::wall_estimate_t> read_estimates(const std::string& path) {
+// The messages of one channel of an output log, in order.
+template <typename Message>
+std::vector<Message> read_messages(const std::string& path, const std::string& channel) {
   lcm::LogFile log(path, "r");
   CHECK(log.good());
-  std::vector<rockwatch::wall_estimate_t> out;
+  std::vector<Message> out;
   while (const lcm::LogEvent* e = log.readNextEvent()) {
-    if (e->channel != "ROCKWATCH_WALL_ESTIMATE") continue;
-    rockwatch::wall_estimate_t m;
+    if (e->channel != channel) continue;
+    Message m;
     CHECK(m.decode(e->data, 0, e->datalen) == e->datalen);
     out.push_back(m);
   }
   return out;
+}
+
+std::vector<rockwatch::wall_estimate_t> read_estimates(const std::string& path) {
+  return read_messages<rockwatch::wall_estimate_t>(path, "ROCKWATCH_WALL_ESTIMATE");
 }
 
 }  // namespace
@@ -250,38 +269,18 @@ TEST(MonitorLiveObserver, OfflineTheLogsWallSensorsAreFusedDeterministically) {
 
 namespace {
 
-std::vector<rockwatch::wall_forecast_t> read_forecasts(const std::string& path) {
-  lcm::LogFile log(path, "r");
-  CHECK(log.good());
-  std::vector<rockwatch::wall_forecast_t> out;
-  while (const lcm::LogEvent* e = log.readNextEvent()) {
-    if (e->channel != "ROCKWATCH_WALL_FORECAST") continue;
-    rockwatch::wall_forecast_t m;
-    CHECK(m.decode(e->data, 0, e->datalen) == e->datalen);
-    out.push_back(m);
-  }
-  return out;
-}
-
 // The shipped log (a collapse: ground samples only) with a displacement reading before each ground sample: the
 // monitor's own open-loop x of that sample (its wall_state_t without the observer, states_log) plus a ±0.2 mm
 // deterministic dither, the reading a transducer on a wall that is the model would give.
 void write_log_with_sensor(const std::string& shipped, const std::string& states_log, const std::string& out) {
   std::map<std::int64_t, double> x_of_utime;
-  {
-    lcm::LogFile states(states_log, "r");
-    CHECK(states.good());
-    while (const lcm::LogEvent* e = states.readNextEvent()) {
-      if (e->channel != "ROCKWATCH_WALL_STATE") continue;
-      rockwatch::wall_state_t m;
-      CHECK(m.decode(e->data, 0, e->datalen) == e->datalen);
-      x_of_utime[m.utime] = m.x_m;
-    }
+  for (const rockwatch::test::OutputLog::State& s : rockwatch::test::read_output_log(states_log).states) {
+    x_of_utime[s.message.utime] = s.message.x_m;
   }
   lcm::LogFile in(shipped, "r");
-  lcm::LogFile log(out, "w");
-  CHECK(in.good() && log.good());
-  std::int64_t eventnum = 0, seq = 0;
+  CHECK(in.good());
+  InputLogWriter log(out);
+  std::int64_t seq = 0;
   std::uint32_t dither = 12345u;
   while (const lcm::LogEvent* e = in.readNextEvent()) {
     if (e->channel == "ROCKWATCH_ACCEL") {
@@ -290,26 +289,11 @@ void write_log_with_sensor(const std::string& shipped, const std::string& states
       const auto x = x_of_utime.find(g.utime);
       if (x != x_of_utime.end()) {
         dither = dither * 1664525u + 1013904223u;
-        rockwatch::wall_sensor_t s{};
-        s.utime = g.utime;
-        s.seq = seq++;
-        s.schema_version = rockwatch::wall_sensor_t::SCHEMA_VERSION;
-        s.x_mid_m = x->second + 0.2e-3 * (double(dither >> 8) / double(1u << 24) * 2.0 - 1.0);
-        s.valid = rockwatch::wall_sensor_t::VALID_X;
-        std::vector<std::uint8_t> bytes(static_cast<std::size_t>(s.getEncodedSize()));
-        s.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
-        lcm::LogEvent se;
-        se.eventnum = eventnum++;
-        se.timestamp = e->timestamp - 500;
-        se.channel = "ROCKWATCH_WALL_SENSOR";
-        se.datalen = static_cast<std::int32_t>(bytes.size());
-        se.data = bytes.data();
-        CHECK(log.writeEvent(&se) == 0);
+        const double dither_m = 0.2e-3 * (double(dither >> 8) / double(1u << 24) * 2.0 - 1.0);
+        log.write("ROCKWATCH_WALL_SENSOR", x_reading(g.utime, seq++, x->second + dither_m), e->timestamp - 500);
       }
     }
-    lcm::LogEvent copy = *e;
-    copy.eventnum = eventnum++;
-    CHECK(log.writeEvent(&copy) == 0);
+    log.write_raw(e->channel, e->data, e->datalen, e->timestamp);
   }
 }
 
@@ -347,7 +331,7 @@ TEST(MonitorLiveObserver, OfflineForecastsTakeTheFusedCalibrationOnlyWithADispla
       CHECK_TEXT(last.x_updates > 400 && last.rejected == 0, counts.c_str());
     }
     int checked = 0, told_apart = 0;
-    for (const rockwatch::wall_forecast_t& m : read_forecasts(out)) {
+    for (const rockwatch::wall_forecast_t& m : read_messages<rockwatch::wall_forecast_t>(out, "ROCKWATCH_WALL_FORECAST")) {
       if (m.status != rockwatch::wall_forecast_t::STATUS_OK || !std::isfinite(m.energy_ratio_max_2s)) continue;
       LONGS_EQUAL(with_sensor ? 1 : 0, m.fused);
       const rockwatch::sim::ForecastCalibration& want = with_sensor ? fused : open;
