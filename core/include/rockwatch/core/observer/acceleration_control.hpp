@@ -26,8 +26,12 @@ inline void WallObserver<Stepper>::control_a(Stepper& stepper, const WallSensorS
     out.flags |= observer_flag::rejected;
     const bool x_agrees = consecutive_rejections_ == 0;  // the last displacement update passed
     // The displacement agrees and the motion is large enough to inform the capacity, yet the accelerometer keeps
-    // disagreeing: the capacity is further from the estimate than its covariance says.
-    if (reopen_after_ > 0 && x_agrees && learn && (consecutive_a_rejections_ += a_count_) >= reopen_after_) {
+    // disagreeing: the capacity is further from the estimate than its covariance says. Only with a displacement read
+    // within the dropout time: with an accelerometer alone the model's x is not pinned, and the usual disagreement is
+    // the model's phase (the side: a − ü changes sign with it, by about 2·c_s), not its capacity; re-opened on that,
+    // the capacity learned a third of its value on a survivor (issue 40, SPEC §11 "An accelerometer alone").
+    if (reopen_after_ > 0 && x_agrees && learn && (x_read_recently() || same_side_a_) &&
+        (consecutive_a_rejections_ += a_count_) >= reopen_after_) {
       reopen_capacity(cov(last_innovation_a_) / f0_[side_index(stepper.side())]);  // ∂a/∂κc = f_s
     }
     // The reading is what a wall at rest gives (a = ü, block 1 vertical): the model rocks where the real wall
@@ -73,6 +77,11 @@ inline void WallObserver<Stepper>::put_to_rest(Stepper& stepper, Input ug, Input
   zero_motion_covariance();
   rest_votes_ = 0;
   ++counters_.rest_from_accel;
+}
+
+template <typename Stepper>
+inline bool WallObserver<Stepper>::x_read_recently() const {
+  return have_x_accepted_ && time_difference_us(step_t_us_, last_x_accepted_us_) <= dropout_us_;
 }
 
 template <typename Stepper>

@@ -38,8 +38,8 @@ inline bool WallObserver<Stepper>::fuse_a(Stepper& stepper, const WallSensorSamp
   // accelerometer alone). With a displacement σ(x) stays near the transducer's and the gate rejects such a reading
   // itself (then the same vote).
   const Cov y_rest = cov(Scalar(s.a_mid_mps2) - ug_s), rocking = cov(predicted - ug_s), rest_gate = gate_ * r_a_;
-  const bool x_active = have_x_accepted_ && time_difference_us(step_t_us_, last_x_accepted_us_) <= dropout_us_;
-  if (!x_active && y_rest * y_rest <= rest_gate && rocking * rocking > Cov(4) * rest_gate) {
+  same_side_a_ = y_rest * rocking > Cov(0);
+  if (!x_read_recently() && y_rest * y_rest <= rest_gate && rocking * rocking > Cov(4) * rest_gate) {
     rejected_a_ = true;
     return false;
   }

@@ -54,7 +54,6 @@ inline void WallObserver<Stepper>::predict(const Stepper& stepper, const Report&
       const Cov a_after = kc * f0_[i], a_before = kc * f0_[1 - i];
       Cov jx[kStates] = {}, jv[kStates] = {};
       jx[X] = e;
-      jv[X] = (a_after - e * a_before) / cov(v_floored);
       jv[V] = e;
       // The impact informs e only when it is certain: |ẋ⁻| well above its own uncertainty (inform_sigmas σ).
       // Below, whether the real wall hit the hinge at all is a coin toss decided by the sensor noise (a wall
@@ -66,6 +65,7 @@ inline void WallObserver<Stepper>::predict(const Stepper& stepper, const Report&
                            peak * peak >= inform_peak_x2_;
       peak_x_ = Scalar(0);
       if (certain) jv[E] = vc;
+      if (certain || x_read_recently()) jv[X] = (a_after - e * a_before) / cov(v_floored);
       compose(jx, jv);
       if (!certain) {
         const Cov jump = (Cov(1) - e) * vc;

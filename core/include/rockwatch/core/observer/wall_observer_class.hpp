@@ -597,6 +597,8 @@ class WallObserver {
   }
   void put_to_rest(Stepper& stepper, Input ug, Input vg);
   bool a_used_recent(std::int64_t t_us) const;
+  // A displacement reading accepted within the dropout time before the step in progress (x pinned by a transducer).
+  bool x_read_recently() const;
 
   // Constants (init).
   Cov k0_[2]{};        // the nominal k_s = p4/p1 at ü = 0, G = g per side [1/s²]
@@ -680,6 +682,7 @@ class WallObserver {
   // The last reading tried per sensor (ObserverSensorStatus): its innovation's variance and whether it was gated out.
   Cov var_x_{}, var_a_{};  // [m², m²/s⁴]
   bool rejected_x_ = false, rejected_a_ = false;
+  bool same_side_a_ = false;  // the last acceleration's a − ü has the sign the model's predicts (the same side)
 };
 
 }  // namespace rockwatch::core
