@@ -696,6 +696,48 @@ TEST(WallObserver, TheMidHeightAccelerometerAloneFollowsTheRealWall) {
   DOUBLES_EQUAL(0.85, observer.r_estimate(), 0.02);
 }
 
+// An accelerometer alone on a real wall that stays at rest (10 % thicker than told: its threshold is higher) while the
+// ground passes the model's threshold, so the model starts to rock at sub-millimetre amplitude and chatters at its
+// hinge. Every reading is a wall at rest's (a = ü + noise). SPEC §11 "An accelerometer alone": such a reading is a vote
+// for rest, not a correction, and an impact too uncertain to inform r adds its velocity jump as noise, not the
+// saltation's timing term. Before (issue 40), σ(ẋ) grew to tens of m/s in the chatter, a reading then passed the gate
+// and its correction threw the model to x_inst: IMMINENT on a wall that never moved.
+TEST(WallObserver, AnAccelerometerAloneReadingAWallAtRestDoesNotThrowTheModel) {
+  const StepperSetup<double> nominal = setup_with_r(0.8);
+  const double th = threshold_mps2(nominal.model, Side::positive, 9.81);
+  for (int seed = 1; seed <= 8; ++seed) {
+    RockingStepper<double> model;
+    model.init(nominal);
+    WallObserver<RockingStepper<double>> observer;
+    CHECK(observer.init(ObserverOptions{}, nominal, paper_wall()) == ObserverError::ok);
+    Noise noise{std::uint64_t(seed)};
+    std::int64_t t = 0;
+    double max_x = 0.0, max_sigma_xd = 0.0;
+    for (int k = 0; k < 600; ++k) {
+      // 0.5 s quiet, then a 2 Hz ground whose peaks pass the model's threshold by 2-8 %.
+      const double ug = k < 100 ? 0.0 : (1.02 + 0.01 * seed) * th * std::sin(12.566370614359172 * (k - 100) * kDt);
+      t += kDtUs;
+      WallSensorSample s;
+      s.utime_us = t;
+      s.a_mid_mps2 = ug + 0.05 * noise.normal();
+      s.a_valid = true;
+      observer.push(s);
+      const StepReport<double> r = model.step(ug, 0.0);
+      observer.after_step(model, r, ug, 0.0, t, kDtUs);
+      max_x = std::fmax(max_x, std::fabs(model.state().x_m));
+      max_sigma_xd = std::fmax(max_sigma_xd, observer.sigma_xd_mps());
+      if (model.collapsed()) break;
+    }
+    // The model's own rocking on this ground stays under 3 mm (8 seeds); a tenth of x_inst is far from it.
+    const std::string which = "seed " + std::to_string(seed) + ": |x| reached " + std::to_string(max_x) +
+                              " m, σ(ẋ) " + std::to_string(max_sigma_xd) + " m/s";
+    CHECK_TEXT(!model.collapsed() && max_x < 0.01, which.c_str());
+    CHECK_TEXT(max_sigma_xd < 0.5, which.c_str());
+    CHECK(observer.counters().rest_from_accel > 0);
+    LONGS_EQUAL(0, observer.counters().x_updates);
+  }
+}
+
 namespace {
 
 // A true wall of thickness b_scale × 0.10 m (x_inst and c scale with b, SPEC §9) released from x0 = 0.6 x_inst, its

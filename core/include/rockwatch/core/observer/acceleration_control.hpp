@@ -81,7 +81,7 @@ inline void WallObserver<Stepper>::put_to_rest(Stepper& stepper, Input ug, Input
 
 template <typename Stepper>
 inline bool WallObserver<Stepper>::x_read_recently() const {
-  return have_x_accepted_ && time_difference_us(step_t_us_, last_x_accepted_us_) <= dropout_us_;
+  return have_x_used_ && time_difference_us(step_t_us_, last_x_used_us_) <= dropout_us_;
 }
 
 template <typename Stepper>

@@ -29,7 +29,7 @@ inline bool WallObserver<Stepper>::fuse_a(Stepper& stepper, const WallSensorSamp
   last_innovation_a_ = y;
   const Cov s_a = hx * ph[X] + hc * ph[C] + hk * ph[K] + r_a_;
   var_a_ = s_a;
-  // With no displacement reading accepted within the dropout time (an accelerometer alone, or a transducer lost): a
+  // With no displacement reading within the dropout time (an accelerometer alone, or a transducer lost): a
   // reading that a wall at rest gives (a = ü within the gate) while the rocking model predicts one clearly apart from
   // rest (beyond twice the gate's radius: |ẍ − G·x/h1| is about c_s near the vertical) is not fused: it is the
   // control's vote for rest (SPEC §11 "An accelerometer alone"). Why before the gate: without a displacement the

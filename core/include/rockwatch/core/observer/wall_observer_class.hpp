@@ -597,7 +597,9 @@ class WallObserver {
   }
   void put_to_rest(Stepper& stepper, Input ug, Input vg);
   bool a_used_recent(std::int64_t t_us) const;
-  // A displacement reading accepted within the dropout time before the step in progress (x pinned by a transducer).
+  // A displacement reading used (accepted or gated out) within the dropout time before the step in progress: a
+  // transducer is there (an accelerometer alone, or a transducer lost, when not). Rejected readings count: a
+  // transducer that disagrees has its own rules (re-initialisation, model doubt).
   bool x_read_recently() const;
 
   // Constants (init).
