@@ -33,7 +33,8 @@ and scores them per truth family (SPEC §11 "Model error" defines every figure):
     scripts/model-error-study.py [--truths tests/data/truths] [--families multibody,crushed] [--out DIR]
                                  [--forecast-members 200] [--forecast-horizon-s 5] [--forecast-calibration C0,...,C4]
                                  [--plots] [--jobs 2]
-                                 [--control] [--sensor-stride N] [--check-fused-alarm] [--check-x-inst-median 0.05]
+                                 [--control] [--sensor-stride N] [--sensors both|displacement|accelerometer]
+                                 [--check-fused-alarm] [--check-fused-not-worse] [--check-x-inst-median 0.05]
                                  [--check-lead-median crack_height:0.5,crushed:0.5,multibody:0.5]
 
 Writes DIR/runs.csv (one row per case x mode), DIR/forecasts.csv (one row per forecast), DIR/summary.json (per family
@@ -135,20 +136,35 @@ def alarm_fields(res):
     return al.get("t_first_imminent_s"), al.get("t_first_collapsed_s")
 
 
+SENSOR_SETS = {"both": ("x_mid_m", "a_mid_mps2"), "displacement": ("x_mid_m",), "accelerometer": ("a_mid_mps2",)}
+
+
 def sensors_for(case_dir, a):
-    """The case's sensors.csv, or with --sensor-stride N every N-th reading of it (a sensor N times slower), written
-    under DIR/sensors_strideN/FAMILY/CASE.csv (the header and the first reading kept)."""
+    """The case's sensors.csv, or with --sensor-stride N every N-th reading of it (a sensor N times slower), and with
+    --sensors displacement|accelerometer only that column (the other sensor absent: a wall with a transducer alone or
+    an accelerometer alone), written under DIR/sensors_strideN[_SET]/FAMILY/CASE.csv (the header and the first
+    reading kept). A column the set needs and the file lacks is an error naming the file."""
     path = os.path.join(case_dir, "sensors.csv")
-    if a.sensor_stride <= 1:
+    if a.sensor_stride <= 1 and a.sensors == "both":
         return path
     fam, case = os.path.split(os.path.normpath(case_dir))[0], os.path.basename(os.path.normpath(case_dir))
-    out_dir = os.path.join(a.out, f"sensors_stride{a.sensor_stride}", os.path.basename(fam))
+    tag = f"sensors_stride{a.sensor_stride}" + ("" if a.sensors == "both" else "_" + a.sensors)
+    out_dir = os.path.join(a.out, tag, os.path.basename(fam))
     os.makedirs(out_dir, exist_ok=True)
     out = os.path.join(out_dir, case + ".csv")
     with open(path) as f:
         lines = f.read().splitlines()
+    lines = [lines[0]] + lines[1::a.sensor_stride]
+    if a.sensors != "both":
+        header = lines[0].split(",")
+        keep = [0]
+        for col in SENSOR_SETS[a.sensors]:
+            if col not in header:
+                raise TruthError(f"{path}: line 1: no column '{col}' (--sensors {a.sensors} needs it)")
+            keep.append(header.index(col))
+        lines = [",".join(f[i] if i < len(f) else "" for i in keep) for f in (line.split(",") for line in lines)]
     with open(out, "w") as f:
-        f.write("\n".join([lines[0]] + lines[1::a.sensor_stride]) + "\n")
+        f.write("\n".join(lines) + "\n")
     return out
 
 
@@ -473,9 +489,17 @@ def main():
     ap.add_argument("--sensor-stride", type=int, default=1, metavar="N",
                     help="the fused runs read every N-th reading of sensors.csv: a sensor N times slower (the kept "
                          "truths' 100 Hz: 2 is 50 Hz); written under DIR/sensors_strideN/")
+    ap.add_argument("--sensors", choices=sorted(SENSOR_SETS), default="both",
+                    help="which of sensors.csv's sensors the fused runs read: both (default), displacement (the "
+                         "transducer alone) or accelerometer (the mid-height accelerometer alone); written under "
+                         "DIR/sensors_strideN_SET/")
     ap.add_argument("--plots", action="store_true")
     ap.add_argument("--check-fused-alarm", action="store_true",
                     help="exit 1 naming the case when the fused alarm is not right on a robust case (the ctest)")
+    ap.add_argument("--check-fused-not-worse", action="store_true",
+                    help="exit 1 when the fused alarm, pooled over the families, is right on fewer robust cases or "
+                         "warns of more robust survivors than the open loop (the monitor without the sensors); each "
+                         "family printed (the ctest of an accelerometer alone)")
     ap.add_argument("--check-x-inst-median", type=float, default=None, metavar="F",
                     help="exit 1 naming the family when the fused x_inst's median relative error at the end of the "
                          "run exceeds F (issue 40's goal: 0.05; the ctest)")
@@ -554,6 +578,7 @@ def main():
                 "forecast_horizon_s": a.forecast_horizon_s, "identify": a.identify,
                 "control": a.control,
                 "simulate_args": a.simulate_args, "observer_args": a.observer_args, "sensor_stride": a.sensor_stride,
+                "sensors": a.sensors,
                 "sensor_noise_told": a.tell_sensor,
                 "min_lead_s": MIN_LEAD_S, "bin_min_count": BIN_MIN_COUNT}
     with open(os.path.join(a.out, "summary.json"), "w") as f:
@@ -618,6 +643,26 @@ def main():
                           f"(at most {limit:g} wanted)", file=sys.stderr)
                     bad_estimates.append(r["case"])
         print(f"model-error-study: {n_z} fused {name} estimates judged against {limit:g} of their sigma")
+    if a.check_fused_not_worse:
+        # Per family for the record (a family of 16 cases can go either way by one survivor); the check is pooled.
+        pooled = {m: {"right": 0, "robust": 0, "false_alarms": 0} for m in ("fused", "open_loop")}
+        for fam in families + ["all"]:
+            fused, open_loop = ((summary.get(fam) or {}).get(m) for m in ("fused", "open_loop"))
+            if fam != "all":
+                if not fused or not open_loop:
+                    continue
+                for m, v in (("fused", fused), ("open_loop", open_loop)):
+                    for k in pooled[m]:
+                        pooled[m][k] += v[k]
+            else:
+                fused, open_loop = pooled["fused"], pooled["open_loop"]
+            ok = fused["right"] >= open_loop["right"] and fused["false_alarms"] <= open_loop["false_alarms"]
+            print(f"model-error-study: {fam}: fused right {fused['right']}/{fused['robust']}, false alarms "
+                  f"{fused['false_alarms']}; open loop {open_loop['right']}/{open_loop['robust']}, "
+                  f"{open_loop['false_alarms']}{'' if ok else ': worse than the open loop'}"
+                  f"{': FAIL' if fam == 'all' and not ok else ''}", file=sys.stdout if ok else sys.stderr)
+            if fam == "all" and not ok:
+                sys.exit(1)
     if a.check_fused_alarm:
         wrong = [r for r in rows if r["mode"] == "fused" and r["robust"] and not r["alarm_right"]]
         for r in wrong:
