@@ -736,6 +736,32 @@ TEST(WallObserver, AnAccelerometerAloneReadingAWallAtRestDoesNotThrowTheModel) {
     CHECK(observer.counters().rest_from_accel > 0);
     LONGS_EQUAL(0, observer.counters().x_updates);
   }
+  // The same in the firmware's arithmetic (the fixed-point stepper and observer share the rules' code).
+  for (int seed = 1; seed <= 8; ++seed) {
+    FixedRockingStepper model;
+    CHECK(model.init(nominal) == FixedSetupError::ok);
+    WallObserver<FixedRockingStepper> observer;
+    CHECK(observer.init(ObserverOptions{}, nominal, paper_wall()) == ObserverError::ok);
+    Noise noise{std::uint64_t(seed)};
+    std::int64_t t = 0;
+    double max_x = 0.0;
+    for (int k = 0; k < 600; ++k) {
+      const double ug = k < 100 ? 0.0 : (1.02 + 0.01 * seed) * th * std::sin(12.566370614359172 * (k - 100) * kDt);
+      t += kDtUs;
+      WallSensorSample s;
+      s.utime_us = t;
+      s.a_mid_mps2 = ug + 0.05 * noise.normal();
+      s.a_valid = true;
+      observer.push(s);
+      const FixedStepReport r = model.step(AccelQ7_56(ug), AccelQ7_56{});
+      observer.after_step(model, r, AccelQ7_56(ug), AccelQ7_56{}, t, kDtUs);
+      max_x = std::fmax(max_x, std::fabs(model.x_m().to_double()));
+      if (model.collapsed()) break;
+    }
+    const std::string which = "fixed point, seed " + std::to_string(seed) + ": |x| reached " + std::to_string(max_x);
+    CHECK_TEXT(!model.collapsed() && max_x < 0.01, which.c_str());
+    CHECK(observer.sigma_xd_mps() < 0.5);
+  }
 }
 
 namespace {
