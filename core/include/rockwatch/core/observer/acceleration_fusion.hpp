@@ -37,11 +37,14 @@ inline bool WallObserver<Stepper>::fuse_a(Stepper& stepper, const WallSensorSamp
   // linearisation cannot see, threw a wall at rest to its capacity within 0.05 s (issue 40, the truths with an
   // accelerometer alone). With a displacement σ(x) stays near the transducer's and the gate rejects such a reading
   // itself (then the same vote).
-  const Cov y_rest = cov(Scalar(s.a_mid_mps2) - ug_s), rocking = cov(predicted - ug_s), rest_gate = gate_ * r_a_;
-  same_side_a_ = y_rest * rocking > Cov(0);
-  if (!x_read_recently() && y_rest * y_rest <= rest_gate && rocking * rocking > Cov(4) * rest_gate) {
-    rejected_a_ = true;
-    return false;
+  // Only then are the two conversions paid (the firmware's budget: the M4's median per call at 1 kHz).
+  if (!x_read_recently()) {
+    const Cov y_rest = cov(Scalar(s.a_mid_mps2) - ug_s), rocking = cov(predicted - ug_s), rest_gate = gate_ * r_a_;
+    same_side_a_ = y_rest * rocking > Cov(0);
+    if (y_rest * y_rest <= rest_gate && rocking * rocking > Cov(4) * rest_gate) {
+      rejected_a_ = true;
+      return false;
+    }
   }
   rejected_a_ = !scalar_update(ph, s_a, cov(y), dz, learn_a, capacity_learns(x));
   if (rejected_a_) return false;

@@ -159,6 +159,7 @@ class WallObserver {
     last_innovation_a_ = Scalar(0);
     var_x_ = var_a_ = Cov(0);
     rejected_x_ = rejected_a_ = false;
+    same_side_a_ = false;
     innovation_x_sq_sum_ = Scalar(0);
     nis_avg_ = Cov(1);
     doubt_ = false;
@@ -684,7 +685,9 @@ class WallObserver {
   // The last reading tried per sensor (ObserverSensorStatus): its innovation's variance and whether it was gated out.
   Cov var_x_{}, var_a_{};  // [m², m²/s⁴]
   bool rejected_x_ = false, rejected_a_ = false;
-  bool same_side_a_ = false;  // the last acceleration's a − ü has the sign the model's predicts (the same side)
+  // The last acceleration's a − ü has the sign the model's predicts (the same side); kept only while no displacement
+  // is read (x_read_recently() false), the only time it is asked.
+  bool same_side_a_ = false;
 };
 
 }  // namespace rockwatch::core
