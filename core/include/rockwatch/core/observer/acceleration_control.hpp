@@ -26,10 +26,12 @@ inline void WallObserver<Stepper>::control_a(Stepper& stepper, const WallSensorS
     out.flags |= observer_flag::rejected;
     const bool x_agrees = consecutive_rejections_ == 0;  // the last displacement update passed
     // The displacement agrees and the motion is large enough to inform the capacity, yet the accelerometer keeps
-    // disagreeing: the capacity is further from the estimate than its covariance says. Only with a displacement read
-    // within the dropout time: with an accelerometer alone the model's x is not pinned, and the usual disagreement is
-    // the model's phase (the side: a − ü changes sign with it, by about 2·c_s), not its capacity; re-opened on that,
-    // the capacity learned a third of its value on a survivor (issue 40, SPEC §11 "An accelerometer alone").
+    // disagreeing: the capacity is further from the estimate than its covariance says. With no displacement read
+    // within the dropout time, only on a reading whose a − ü has the model's sign (same_side_a_): with an
+    // accelerometer alone the model's x is not pinned, and a disagreement of the other sign is the model's phase (the
+    // side: a − ü changes sign with it, by about 2·c_s), not its capacity; re-opened on those, a survivor's κk fell
+    // to its clamp (issue 40, SPEC §11 "An accelerometer alone"). A reading of a wall at rest is not a capacity's
+    // disagreement at all (fuse_a clears same_side_a_ for it).
     if (reopen_after_ > 0 && x_agrees && learn && (x_read_recently() || same_side_a_) &&
         (consecutive_a_rejections_ += a_count_) >= reopen_after_) {
       reopen_capacity(cov(last_innovation_a_) / f0_[side_index(stepper.side())]);  // ∂a/∂κc = f_s

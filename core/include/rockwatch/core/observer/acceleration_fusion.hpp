@@ -36,12 +36,13 @@ inline bool WallObserver<Stepper>::fuse_a(Stepper& stepper, const WallSensorSamp
   // variance of x grows until S passes such a reading, and its correction, taken across the side's sign change the
   // linearisation cannot see, threw a wall at rest to its capacity within 0.05 s (issue 40, the truths with an
   // accelerometer alone). With a displacement σ(x) stays near the transducer's and the gate rejects such a reading
-  // itself (then the same vote).
-  // Only then are the two conversions paid (the firmware's budget: the M4's median per call at 1 kHz).
+  // itself (then the same vote). Only then are the two conversions paid (the firmware's budget: the M4's median per
+  // call at 1 kHz).
   if (!x_read_recently()) {
     const Cov y_rest = cov(Scalar(s.a_mid_mps2) - ug_s), rocking = cov(predicted - ug_s), rest_gate = gate_ * r_a_;
     same_side_a_ = y_rest * rocking > Cov(0);
     if (y_rest * y_rest <= rest_gate && rocking * rocking > Cov(4) * rest_gate) {
+      same_side_a_ = false;  // its sign is the noise's: no vote for re-opening the capacity
       rejected_a_ = true;
       return false;
     }
