@@ -33,7 +33,8 @@ and scores them per truth family (SPEC §11 "Model error" defines every figure):
     scripts/model-error-study.py [--truths tests/data/truths] [--families multibody,crushed] [--out DIR]
                                  [--forecast-members 200] [--forecast-horizon-s 5] [--forecast-calibration C0,...,C4]
                                  [--plots] [--jobs 2]
-                                 [--control] [--sensor-stride N] [--sensors both|displacement|accelerometer]
+                                 [--control] [--sensor-stride N]
+                                 [--sensors both|displacement|accelerometer|transducer-dies]
                                  [--check-fused-alarm] [--check-fused-not-worse] [--check-x-inst-median 0.05]
                                  [--check-lead-median crack_height:0.5,crushed:0.5,multibody:0.5]
 
@@ -136,7 +137,10 @@ def alarm_fields(res):
     return al.get("t_first_imminent_s"), al.get("t_first_collapsed_s")
 
 
-SENSOR_SETS = {"both": ("x_mid_m", "a_mid_mps2"), "displacement": ("x_mid_m",), "accelerometer": ("a_mid_mps2",)}
+SENSOR_SETS = {"both": ("x_mid_m", "a_mid_mps2"), "displacement": ("x_mid_m",), "accelerometer": ("a_mid_mps2",),
+               "transducer-dies": ("x_mid_m", "a_mid_mps2")}
+TRANSDUCER_DIES_MOVE_M = 2e-3   # --sensors transducer-dies: the reading's move from its first value that starts the clock
+TRANSDUCER_DIES_AFTER_S = 1.0   # and how long after it the transducer's readings end
 
 
 def sensors_for(case_dir, a):
@@ -155,7 +159,23 @@ def sensors_for(case_dir, a):
     with open(path) as f:
         lines = f.read().splitlines()
     lines = [lines[0]] + lines[1::a.sensor_stride]
-    if a.sensors != "both":
+    if a.sensors == "transducer-dies":  # the displacement emptied from the cut on, the accelerometer goes on
+        header = lines[0].split(",")
+        if "x_mid_m" not in header:
+            raise TruthError(f"{path}: line 1: no column 'x_mid_m' (--sensors {a.sensors} needs it)")
+        ix, first, t_cut, cut = header.index("x_mid_m"), None, None, [lines[0]]
+        for line in lines[1:]:
+            f = line.split(",")
+            if ix < len(f) and f[ix]:
+                x = float(f[ix])
+                first = x if first is None else first
+                if t_cut is None and abs(x - first) >= TRANSDUCER_DIES_MOVE_M:
+                    t_cut = float(f[0]) + TRANSDUCER_DIES_AFTER_S
+            if t_cut is not None and float(f[0]) > t_cut and ix < len(f):
+                f[ix] = ""
+            cut.append(",".join(f))
+        lines = cut
+    elif a.sensors != "both":
         header = lines[0].split(",")
         keep = [0]
         for col in SENSOR_SETS[a.sensors]:
@@ -491,8 +511,9 @@ def main():
                          "truths' 100 Hz: 2 is 50 Hz); written under DIR/sensors_strideN/")
     ap.add_argument("--sensors", choices=sorted(SENSOR_SETS), default="both",
                     help="which of sensors.csv's sensors the fused runs read: both (default), displacement (the "
-                         "transducer alone) or accelerometer (the mid-height accelerometer alone); written under "
-                         "DIR/sensors_strideN_SET/")
+                         "transducer alone), accelerometer (the mid-height accelerometer alone) or transducer-dies "
+                         "(both until the transducer's readings end, 1 s after they first move 2 mm from their first "
+                         "value; the accelerometer goes on); written under DIR/sensors_strideN_SET/")
     ap.add_argument("--plots", action="store_true")
     ap.add_argument("--check-fused-alarm", action="store_true",
                     help="exit 1 naming the case when the fused alarm is not right on a robust case (the ctest)")
