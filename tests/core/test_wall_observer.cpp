@@ -696,6 +696,40 @@ TEST(WallObserver, TheMidHeightAccelerometerAloneFollowsTheRealWall) {
   DOUBLES_EQUAL(0.85, observer.r_estimate(), 0.02);
 }
 
+namespace {
+
+// One run of the test below: 0.5 s quiet, then a 2 Hz ground whose peaks pass the model's threshold `th` by 2-9 %
+// (with the seed), read by an accelerometer alone on a wall at rest (a = ü + 0.05 m/s² noise). `step(ug, t_us)` steps
+// the model and its observer; `x_of()` is the model's x [m]. Returns the largest |x| and σ(ẋ), and whether it fell.
+struct AtRestRun {
+  double max_x = 0.0, max_sigma_xd = 0.0;
+  bool collapsed = false;
+};
+template <typename Stepper, typename Step, typename XOf>
+AtRestRun run_at_rest_under_accelerometer(const Stepper& model, WallObserver<Stepper>& observer, double th, int seed,
+                                          Step step, XOf x_of) {
+  Noise noise{std::uint64_t(seed)};
+  std::int64_t t = 0;
+  AtRestRun run;
+  for (int k = 0; k < 600; ++k) {
+    const double ug = k < 100 ? 0.0 : (1.02 + 0.01 * seed) * th * std::sin(12.566370614359172 * (k - 100) * kDt);
+    t += kDtUs;
+    WallSensorSample s;
+    s.utime_us = t;
+    s.a_mid_mps2 = ug + 0.05 * noise.normal();
+    s.a_valid = true;
+    observer.push(s);
+    step(ug, t);
+    run.max_x = std::fmax(run.max_x, std::fabs(x_of()));
+    run.max_sigma_xd = std::fmax(run.max_sigma_xd, observer.sigma_xd_mps());
+    if (model.collapsed()) break;
+  }
+  run.collapsed = model.collapsed();
+  return run;
+}
+
+}  // namespace
+
 // An accelerometer alone on a real wall that stays at rest (10 % thicker than told: its threshold is higher) while the
 // ground passes the model's threshold, so the model starts to rock at sub-millimetre amplitude and chatters at its
 // hinge. Every reading is a wall at rest's (a = ü + noise). SPEC §11 "An accelerometer alone": such a reading is a vote
@@ -710,29 +744,15 @@ TEST(WallObserver, AnAccelerometerAloneReadingAWallAtRestDoesNotThrowTheModel) {
     model.init(nominal);
     WallObserver<RockingStepper<double>> observer;
     CHECK(observer.init(ObserverOptions{}, nominal, paper_wall()) == ObserverError::ok);
-    Noise noise{std::uint64_t(seed)};
-    std::int64_t t = 0;
-    double max_x = 0.0, max_sigma_xd = 0.0;
-    for (int k = 0; k < 600; ++k) {
-      // 0.5 s quiet, then a 2 Hz ground whose peaks pass the model's threshold by 2-8 %.
-      const double ug = k < 100 ? 0.0 : (1.02 + 0.01 * seed) * th * std::sin(12.566370614359172 * (k - 100) * kDt);
-      t += kDtUs;
-      WallSensorSample s;
-      s.utime_us = t;
-      s.a_mid_mps2 = ug + 0.05 * noise.normal();
-      s.a_valid = true;
-      observer.push(s);
-      const StepReport<double> r = model.step(ug, 0.0);
-      observer.after_step(model, r, ug, 0.0, t, kDtUs);
-      max_x = std::fmax(max_x, std::fabs(model.state().x_m));
-      max_sigma_xd = std::fmax(max_sigma_xd, observer.sigma_xd_mps());
-      if (model.collapsed()) break;
-    }
+    const AtRestRun run = run_at_rest_under_accelerometer(
+        model, observer, th, seed,
+        [&](double ug, std::int64_t t) { observer.after_step(model, model.step(ug, 0.0), ug, 0.0, t, kDtUs); },
+        [&] { return model.state().x_m; });
     // The model's own rocking on this ground stays under 3 mm (8 seeds); a tenth of x_inst is far from it.
-    const std::string which = "seed " + std::to_string(seed) + ": |x| reached " + std::to_string(max_x) +
-                              " m, σ(ẋ) " + std::to_string(max_sigma_xd) + " m/s";
-    CHECK_TEXT(!model.collapsed() && max_x < 0.01, which.c_str());
-    CHECK_TEXT(max_sigma_xd < 0.5, which.c_str());
+    const std::string which = "seed " + std::to_string(seed) + ": |x| reached " + std::to_string(run.max_x) +
+                              " m, σ(ẋ) " + std::to_string(run.max_sigma_xd) + " m/s";
+    CHECK_TEXT(!run.collapsed && run.max_x < 0.01, which.c_str());
+    CHECK_TEXT(run.max_sigma_xd < 0.5, which.c_str());
     CHECK(observer.counters().rest_from_accel > 0);
     LONGS_EQUAL(0, observer.counters().x_updates);
   }
@@ -742,24 +762,15 @@ TEST(WallObserver, AnAccelerometerAloneReadingAWallAtRestDoesNotThrowTheModel) {
     CHECK(model.init(nominal) == FixedSetupError::ok);
     WallObserver<FixedRockingStepper> observer;
     CHECK(observer.init(ObserverOptions{}, nominal, paper_wall()) == ObserverError::ok);
-    Noise noise{std::uint64_t(seed)};
-    std::int64_t t = 0;
-    double max_x = 0.0;
-    for (int k = 0; k < 600; ++k) {
-      const double ug = k < 100 ? 0.0 : (1.02 + 0.01 * seed) * th * std::sin(12.566370614359172 * (k - 100) * kDt);
-      t += kDtUs;
-      WallSensorSample s;
-      s.utime_us = t;
-      s.a_mid_mps2 = ug + 0.05 * noise.normal();
-      s.a_valid = true;
-      observer.push(s);
-      const FixedStepReport r = model.step(AccelQ7_56(ug), AccelQ7_56{});
-      observer.after_step(model, r, AccelQ7_56(ug), AccelQ7_56{}, t, kDtUs);
-      max_x = std::fmax(max_x, std::fabs(model.x_m().to_double()));
-      if (model.collapsed()) break;
-    }
-    const std::string which = "fixed point, seed " + std::to_string(seed) + ": |x| reached " + std::to_string(max_x);
-    CHECK_TEXT(!model.collapsed() && max_x < 0.01, which.c_str());
+    const AtRestRun run = run_at_rest_under_accelerometer(
+        model, observer, th, seed,
+        [&](double ug, std::int64_t t) {
+          const FixedStepReport r = model.step(AccelQ7_56(ug), AccelQ7_56{});
+          observer.after_step(model, r, AccelQ7_56(ug), AccelQ7_56{}, t, kDtUs);
+        },
+        [&] { return model.x_m().to_double(); });
+    const std::string which = "fixed point, seed " + std::to_string(seed) + ": |x| reached " + std::to_string(run.max_x);
+    CHECK_TEXT(!run.collapsed && run.max_x < 0.01, which.c_str());
     CHECK(observer.sigma_xd_mps() < 0.5);
   }
 }

@@ -26,13 +26,14 @@ inline void WallObserver<Stepper>::control_a(Stepper& stepper, const WallSensorS
     out.flags |= observer_flag::rejected;
     const bool x_agrees = consecutive_rejections_ == 0;  // the last displacement update passed
     // The displacement agrees and the motion is large enough to inform the capacity, yet the accelerometer keeps
-    // disagreeing: the capacity is further from the estimate than its covariance says. With no displacement read
-    // within the dropout time, only on a reading whose a − ü has the model's sign (same_side_a_): with an
+    // disagreeing: the capacity is further from the estimate than its covariance says. With the displacement sensor
+    // lost (no reading, accepted or gated out, for dropout_s: x_health), only on a reading whose a − ü has the model's
+    // sign (same_side_a_): with an
     // accelerometer alone the model's x is not pinned, and a disagreement of the other sign is the model's phase (the
     // side: a − ü changes sign with it, by about 2·c_s), not its capacity; re-opened on those, a survivor's κk fell
     // to its clamp (issue 40, SPEC §11 "An accelerometer alone"). A reading of a wall at rest is not a capacity's
     // disagreement at all (fuse_a clears same_side_a_ for it).
-    if (reopen_after_ > 0 && x_agrees && learn && (x_read_recently() || same_side_a_) &&
+    if (reopen_after_ > 0 && x_agrees && learn && (!lost_ || same_side_a_) &&
         (consecutive_a_rejections_ += a_count_) >= reopen_after_) {
       reopen_capacity(cov(last_innovation_a_) / f0_[side_index(stepper.side())]);  // ∂a/∂κc = f_s
     }
@@ -79,11 +80,6 @@ inline void WallObserver<Stepper>::put_to_rest(Stepper& stepper, Input ug, Input
   zero_motion_covariance();
   rest_votes_ = 0;
   ++counters_.rest_from_accel;
-}
-
-template <typename Stepper>
-inline bool WallObserver<Stepper>::x_read_recently() const {
-  return have_x_used_ && time_difference_us(step_t_us_, last_x_used_us_) <= dropout_us_;
 }
 
 template <typename Stepper>

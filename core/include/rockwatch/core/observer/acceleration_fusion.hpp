@@ -29,16 +29,16 @@ inline bool WallObserver<Stepper>::fuse_a(Stepper& stepper, const WallSensorSamp
   last_innovation_a_ = y;
   const Cov s_a = hx * ph[X] + hc * ph[C] + hk * ph[K] + r_a_;
   var_a_ = s_a;
-  // With no displacement reading within the dropout time (an accelerometer alone, or a transducer lost): a
-  // reading that a wall at rest gives (a = ü within the gate) while the rocking model predicts one clearly apart from
-  // rest (beyond twice the gate's radius: |ẍ − G·x/h1| is about c_s near the vertical) is not fused: it is the
-  // control's vote for rest (SPEC §11 "An accelerometer alone"). Why before the gate: without a displacement the
+  // With the displacement sensor lost (no reading, accepted or gated out, for dropout_s: x_health; an accelerometer
+  // alone, or a transducer gone): a reading that a wall at rest gives (a = ü within the gate) while the rocking model
+  // predicts one clearly apart from rest (beyond twice the gate's radius: |ẍ − G·x/h1| is about c_s near the
+  // vertical) is not fused: it is the control's vote for rest (SPEC §11 "An accelerometer alone"). Why before the gate: without a displacement the
   // variance of x grows until S passes such a reading, and its correction, taken across the side's sign change the
   // linearisation cannot see, threw a wall at rest to its capacity within 0.05 s (issue 40, the truths with an
   // accelerometer alone). With a displacement σ(x) stays near the transducer's and the gate rejects such a reading
   // itself (then the same vote). Only then are the two conversions paid (the firmware's budget: the M4's median per
   // call at 1 kHz).
-  if (!x_read_recently()) {
+  if (lost_) {
     const Cov y_rest = cov(Scalar(s.a_mid_mps2) - ug_s), rocking = cov(predicted - ug_s), rest_gate = gate_ * r_a_;
     same_side_a_ = y_rest * rocking > Cov(0);
     if (y_rest * y_rest <= rest_gate && rocking * rocking > Cov(4) * rest_gate) {

@@ -65,13 +65,13 @@ inline void WallObserver<Stepper>::predict(const Stepper& stepper, const Report&
                            peak * peak >= inform_peak_x2_;
       peak_x_ = Scalar(0);
       if (certain) jv[E] = vc;
-      // The saltation's timing term (a⁺ − e·a⁻)/ẋ⁻: with no displacement reading within the dropout time (an
-      // accelerometer alone, a transducer lost) only for a certain impact. A model chattering at its hinge (a wall
+      // The saltation's timing term (a⁺ − e·a⁻)/ẋ⁻: with the displacement sensor lost (x_health: an accelerometer
+      // alone, a transducer gone) only for a certain impact. A model chattering at its hinge (a wall
       // just past its threshold: an impact every step, |ẋ⁻| at the floor v_min) multiplied P by the term every step,
       // σ(ẋ) 60 m/s within 0.2 s, and nothing pinned x to bring it back (SPEC §11 "An accelerometer alone"). The
       // velocity jump of such an impact is noise (below) as it is for e. With a transducer its readings pin x and the
       // term is kept as it was.
-      if (certain || x_read_recently()) jv[X] = (a_after - e * a_before) / cov(v_floored);
+      if (certain || !lost_) jv[X] = (a_after - e * a_before) / cov(v_floored);
       compose(jx, jv);
       if (!certain) {
         const Cov jump = (Cov(1) - e) * vc;

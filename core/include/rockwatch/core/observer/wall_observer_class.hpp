@@ -598,10 +598,6 @@ class WallObserver {
   }
   void put_to_rest(Stepper& stepper, Input ug, Input vg);
   bool a_used_recent(std::int64_t t_us) const;
-  // A displacement reading used (accepted or gated out) within the dropout time before the step in progress: a
-  // transducer is there (an accelerometer alone, or a transducer lost, when not). Rejected readings count: a
-  // transducer that disagrees has its own rules (re-initialisation, model doubt).
-  bool x_read_recently() const;
 
   // Constants (init).
   Cov k0_[2]{};        // the nominal k_s = p4/p1 at ü = 0, G = g per side [1/s²]
@@ -686,7 +682,7 @@ class WallObserver {
   Cov var_x_{}, var_a_{};  // [m², m²/s⁴]
   bool rejected_x_ = false, rejected_a_ = false;
   // The last acceleration's a − ü has the sign the model's predicts (the same side); kept only while no displacement
-  // is read (x_read_recently() false), the only time it is asked.
+  // is read (lost_), the only time it is asked.
   bool same_side_a_ = false;
 };
 
