@@ -188,13 +188,19 @@ class ObservedSteps {
 
   // The estimates at the end of the sample (AnalysisResult::observer_history).
   ObserverHistoryRow history_row(double t_s) const {
-    return ObserverHistoryRow{t_s,
-                              observer_.sigma_x_m(),
-                              observer_.sigma_xd_mps(),
-                              observer_.sqrt_r_estimate(),
-                              observer_.capacity_scale(),
-                              observer_.stiffness_scale(),
-                              (last_flags_ & core::observer_flag::x_active) != 0};
+    ObserverHistoryRow row{t_s,
+                           observer_.sigma_x_m(),
+                           observer_.sigma_xd_mps(),
+                           observer_.sqrt_r_estimate(),
+                           observer_.capacity_scale(),
+                           observer_.stiffness_scale(),
+                           (last_flags_ & core::observer_flag::x_active) != 0};
+    row.r = observer_.r_estimate();
+    row.sigma_r = observer_.sigma_r();
+    row.x_inst_m = observer_.x_inst_estimate_m();
+    row.sigma_x_inst_m = observer_.sigma_x_inst_m();
+    row.flags = last_flags_;
+    return row;
   }
 
   // After the step's events (counted impacts before and after it): keeps r̂ as it stood before the step in which
@@ -317,7 +323,11 @@ void analysis_sample(Engine& engine, typename Engine::Input ug, typename Engine:
   };
   if (observed) {
     observed->step(engine, ug, vg, t0_s, dt_s, on_substep);
-    if (o.keep_history) result.observer_history.push_back(observed->history_row(t_s));
+    if (o.keep_history) {
+      result.observer_history.push_back(observed->history_row(t_s));
+      result.observer_history.back().x_m = engine.x_m();
+      result.observer_history.back().xd_mps = engine.xd_mps();
+    }
   } else {
     engine.chain().step_motion(ug, vg, out, on_substep);
     if (o.evaluate_alarm || Engine::kVerdictNeedsIndicators) engine.chain().evaluate(out);

@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 #include <system_error>
+#include <utility>
 #include <vector>
 
 #include "common/process/command_runner.hpp"
@@ -45,25 +46,28 @@ void check_out_path(const char* option, const std::optional<std::string>& out, c
 }
 
 void check_out_paths(const SimulateRequest& q) {
-  check_out_path("--out", q.out_csv_path, q);
-  check_out_path("--sensors-out", q.sensors_out_path, q);
-  check_out_path("--engine-input-out", q.engine_input_out_path, q);
+  const std::pair<const char*, const std::optional<std::string>*> outputs[] = {
+      {"--out", &q.out_csv_path},
+      {"--sensors-out", &q.sensors_out_path},
+      {"--observer-out", &q.observer_out_path},
+      {"--engine-input-out", &q.engine_input_out_path}};
   std::error_code ec;
-  if (q.engine_input_out_path) {
-    for (const std::optional<std::string>* other : {&q.out_csv_path, &q.sensors_out_path}) {
-      if (*other && (**other == *q.engine_input_out_path ||
-                     std::filesystem::equivalent(**other, *q.engine_input_out_path, ec))) {
-        throw UsageError("--engine-input-out names the same file as " +
-                         std::string(other == &q.out_csv_path ? "--out" : "--sensors-out") + ": choose two");
+  const auto same = [&ec](const std::string& a, const std::string& b) {
+    return a == b || std::filesystem::equivalent(a, b, ec);
+  };
+  for (std::size_t i = 0; i < std::size(outputs); ++i) {
+    const auto& [name, path] = outputs[i];
+    check_out_path(name, *path, q);
+    if (!*path) continue;
+    for (std::size_t j = 0; j < i; ++j) {
+      const auto& [other_name, other_path] = outputs[j];
+      if (*other_path && same(**path, **other_path)) {
+        throw UsageError(std::string(other_name) + " and " + name + " name the same file: choose two");
       }
     }
-  }
-  if (q.out_csv_path && q.sensors_out_path && (*q.out_csv_path == *q.sensors_out_path ||
-                                               std::filesystem::equivalent(*q.out_csv_path, *q.sensors_out_path, ec))) {
-    throw UsageError("--out and --sensors-out name the same file: choose two");
-  }
-  if (q.out_csv_path && q.wall_sensors_path && std::filesystem::equivalent(*q.out_csv_path, *q.wall_sensors_path, ec)) {
-    throw UsageError("--out " + *q.out_csv_path + " is the --wall-sensors input: choose another file name");
+    if (q.wall_sensors_path && same(**path, *q.wall_sensors_path)) {
+      throw UsageError(std::string(name) + " " + **path + " is the --wall-sensors input: choose another file name");
+    }
   }
 }
 
@@ -97,6 +101,7 @@ int run(const SimulateRequest& q) {
   }
   PendingOutputFile csv(q.out_csv_path);  // opened now, so a wrong directory is reported before a long run
   PendingOutputFile sensors_csv(q.sensors_out_path, "--sensors-out");
+  PendingOutputFile observer_csv(q.observer_out_path, "--observer-out");
   PendingOutputFile engine_input(q.engine_input_out_path, "--engine-input-out");
   std::vector<std::array<double, 2>> engine_inputs;
   if (q.engine_input_out_path) options.engine_inputs_out = &engine_inputs;
@@ -106,6 +111,8 @@ int run(const SimulateRequest& q) {
     write_engine_input(out, engine_config_of(q, result), engine_inputs, wall_sensors);
   });
   csv.write("the time history", [&result](std::ostream& out) { write_history_csv(out, result.history); });
+  observer_csv.write("the observer's estimates",
+                     [&result](std::ostream& out) { write_observer_history_csv(out, result.observer_history); });
   if (q.sensors_out_path) {
     const std::vector<core::WallSensorSample> samples =
         sim::synthesize_wall_sensors(q.wall, result, input.motion.dt_s, q.sensor_model);

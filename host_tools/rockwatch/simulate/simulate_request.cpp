@@ -37,7 +37,7 @@ struct RawOptions {
   std::string scale_pga;
   ObserverOptionTexts observer;
   std::string r = "exp", model = "linear", kappa, max_step, t_end, out, engine_input_out, x0;
-  std::string wall_sensors, sensors_out;
+  std::string wall_sensors, sensors_out, observer_out;
   SensorModelOptionTexts sensor_model;
   std::string forecast_members, forecast_horizon, forecast_every, forecast_seed, forecast_calibration;
   bool json = false;
@@ -118,6 +118,11 @@ void add_options(CLI::App& app, RawOptions& raw) {
                  "Fuse the wall's sensor samples (CSV: t_s,x_mid_m[,a_mid_mps2]) with the model: the wall observer")
       ->type_name("FILE.csv");
   add_observer_options(app, raw.observer, "With --wall-sensors: ");
+  app.add_option("--observer-out", raw.observer_out,
+                 "With --wall-sensors: write the observer's estimates at the end of every input sample as CSV (the "
+                 "fused x, its sigma, r, the capacity kappa_c, kappa_k, x_inst with their sigma, the observer's flag "
+                 "bits and names; SPEC section 11)")
+      ->type_name("FILE.csv");
   app.add_option("--sensors-out", raw.sensors_out,
                  "Write sensor samples of the simulated wall (CSV for --wall-sensors): the truth for testing")
       ->type_name("FILE.csv");
@@ -154,6 +159,14 @@ void parse_sensor_options(const CLI::App& app, const RawOptions& raw, SimulateRe
     check_input_file("--wall-sensors", raw.wall_sensors, "a wall-sensor CSV file");
     q.wall_sensors_path = raw.wall_sensors;
     q.analysis.observer = parse_observer_options(app, raw.observer);
+    if (given(app, "--observer-out")) {
+      if (raw.observer_out.empty()) throw UsageError("--observer-out needs a file name");
+      check_output_file("--observer-out", raw.observer_out);
+      q.observer_out_path = raw.observer_out;
+      q.analysis.keep_history = true;  // the estimates are kept with the history
+    }
+  } else if (given(app, "--observer-out")) {
+    throw UsageError("--observer-out writes the wall observer's estimates: give --wall-sensors too");
   } else if (observer_option_given(app)) {
     for (const char* name : kObserverOptionNames) {
       if (given(app, name)) throw UsageError(std::string(name) + " sets the wall observer: give --wall-sensors too");

@@ -34,6 +34,8 @@ struct SimulateRequest {
   // --wall-sensors FILE: the wall observer fuses these samples (read when the command runs); its settings are
   // analysis.observer (--observer-*).
   std::optional<std::string> wall_sensors_path;
+  // --observer-out FILE: the observer's estimates at the end of every input sample (AnalysisResult::observer_history).
+  std::optional<std::string> observer_out_path;
   // --sensors-out FILE: samples of the simulated wall's sensors with this model (--sensor-*).
   std::optional<std::string> sensors_out_path;
   sim::SensorModel sensor_model;

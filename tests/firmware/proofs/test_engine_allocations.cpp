@@ -144,7 +144,9 @@ int main() {
               static_cast<long long>(oc_counts.rest_from_accel));
   std::printf("allocation calls during push_sensor()/step_at()/start()/restart(): %llu\n",
               static_cast<unsigned long long>(observer_calls));
-  if (!(o.impacts >= 100 && o.corrected >= 10000 && o.lost > 0 && o.faults > 0 && oc_counts.x_updates > 0 &&
+  // corrected: 10 518 of 100 000 samples before the capacity bound's projection (SPEC §11 "The capacity's bounds"),
+  // 7 560 since (the looped stream's model rocks less: 117 impacts where it had 202); both far from 0.
+  if (!(o.impacts >= 100 && o.corrected >= 5000 && o.lost > 0 && o.faults > 0 && oc_counts.x_updates > 0 &&
         oc_counts.a_updates > 0 && oc_counts.dropouts > 0)) {
     std::fprintf(stderr, "FAIL: the observer run did not exercise impacts, updates, faults and a dropout\n");
     return 1;

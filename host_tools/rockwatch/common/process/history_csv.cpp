@@ -1,5 +1,7 @@
 #include "common/process/history_csv.hpp"
 
+#include "rockwatch/options/observer_options.hpp"
+
 #include <charconv>
 #include <ostream>
 #include <string>
@@ -28,6 +30,25 @@ void write_history_csv(std::ostream& out, const std::vector<sim::HistoryRow>& hi
       append_number(row, value);
     }
     row += h.side > 0 ? "1\n" : "-1\n";
+    out << row;
+  }
+}
+
+void write_observer_history_csv(std::ostream& out, const std::vector<sim::ObserverHistoryRow>& history) {
+  out << kObserverHistoryCsvHeader << '\n';
+  std::string row;
+  for (const sim::ObserverHistoryRow& h : history) {
+    row.clear();
+    for (const double value : {h.t_s, h.x_m, h.xd_mps, h.sigma_x_m, h.sigma_xd_mps, h.r, h.sigma_r, h.capacity_scale,
+                               h.stiffness_scale, h.x_inst_m, h.sigma_x_inst_m}) {
+      append_number(row, value);
+    }
+    row += h.x_active ? "1," : "0,";
+    row += std::to_string(h.flags);
+    row += ',';
+    const std::vector<std::string> names = options::observer_flag_list(h.flags);
+    for (std::size_t i = 0; i < names.size(); ++i) row += (i ? "|" : "") + names[i];
+    row += '\n';
     out << row;
   }
 }

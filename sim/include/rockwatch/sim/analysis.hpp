@@ -170,6 +170,12 @@ struct ObserverHistoryRow {
   // step): σ_x and σ_ẋ describe a measured state. Without one the filter's process noise widens them without a
   // measurement to bound them, so the forecast does not take them (SPEC §10 "From the fused state").
   bool x_active = false;
+  // For simulate --observer-out (the estimates a lab plots beside its wall): the fused state, r̂, x̂_inst with their
+  // σ, and the observer_flag bits of the sample's steps.
+  double x_m = 0.0, xd_mps = 0.0;       // the fused state [m], [m/s]
+  double r = 0.0, sigma_r = 0.0;        // r̂ and its σ [-]
+  double x_inst_m = 0.0, sigma_x_inst_m = 0.0;  // x̂_inst and its σ [m]
+  std::uint32_t flags = 0;              // core::observer_flag bits of the sample's steps
 };
 
 struct ImpactEvent {

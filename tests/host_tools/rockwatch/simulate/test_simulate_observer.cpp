@@ -127,6 +127,62 @@ TEST(SimulateObserver, LearnsTheTrueWallFromItsSensorFileAsTheEngineDoes) {
   CHECK(o["sigma_r_after_impacts"].get<double>() > 2.0 * o["sigma_r"].get<double>());
 }
 
+TEST(SimulateObserver, ObserverOutWritesTheEstimatesOfEverySampleAsTheSummaryEndsThem) {
+  TempDir dir;
+  const std::string truth_csv = dir.file("truth.csv"), est = dir.file("estimates.csv"), hist = dir.file("h.csv");
+  check_ok(run_rockwatch(simulate_set10({"--r", "ana", "--sensors-out", truth_csv, "--sensor-bias-m", "0.002"})));
+  const ProcessResult fused = run_rockwatch(
+      simulate_set10({"--wall-sensors", truth_csv, "--json", "--observer-out", est, "--out", hist}));
+  check_ok(fused);
+  const nlohmann::json o = nlohmann::json::parse(fused.out)["observer"];
+  std::ifstream in(est);
+  std::string line;
+  std::getline(in, line);
+  STRCMP_EQUAL("t_s,x_m,xd_mps,sigma_x_m,sigma_xd_mps,r,sigma_r,capacity_scale,stiffness_scale,x_inst_m,"
+               "sigma_x_inst_m,x_active,flags,flag_names",
+               line.c_str());
+  std::vector<std::vector<std::string>> rows;
+  while (std::getline(in, line)) {
+    std::vector<std::string> f;
+    std::size_t a = 0;
+    for (std::size_t b; (b = line.find(',', a)) != std::string::npos; a = b + 1) f.push_back(line.substr(a, b - a));
+    f.push_back(line.substr(a));
+    LONGS_EQUAL(14, f.size());
+    rows.push_back(f);
+  }
+  // One row per record sample (set 10 X at 200 Hz), in time order; the last row is what the summary reports.
+  CHECK(rows.size() > 1000);
+  const std::vector<std::string>& last = rows.back();
+  DOUBLES_EQUAL(o["r_estimate"].get<double>(), std::stod(last[5]), 0.0);
+  DOUBLES_EQUAL(o["sigma_r"].get<double>(), std::stod(last[6]), 0.0);
+  DOUBLES_EQUAL(o["capacity_scale"].get<double>(), std::stod(last[7]), 0.0);
+  DOUBLES_EQUAL(o["stiffness_scale"].get<double>(), std::stod(last[8]), 0.0);
+  DOUBLES_EQUAL(o["x_inst_estimate_m"].get<double>(), std::stod(last[9]), 0.0);
+  DOUBLES_EQUAL(o["sigma_x_inst_m"].get<double>(), std::stod(last[10]), 0.0);
+  // Every flag the summary saw is in some row's names, and no row names one the summary did not see.
+  std::size_t x_active = 0;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    if (i > 0) CHECK(std::stod(rows[i][0]) > std::stod(rows[i - 1][0]));
+    x_active += rows[i][11] == "1" ? 1 : 0;
+    CHECK(rows[i][11] == "1" ? (std::stoul(rows[i][12]) & 1U) != 0 : true);
+  }
+  CHECK(x_active > rows.size() / 2);
+  for (const auto& flag : o["flags_seen"]) {
+    const std::string name = flag.get<std::string>();
+    CHECK_TEXT(std::any_of(rows.begin(), rows.end(),
+                           [&](const std::vector<std::string>& r) { return ("|" + r[13] + "|").find("|" + name + "|") != std::string::npos; }),
+               name.c_str());
+  }
+  // The fused x of a row is the history's at that time.
+  const std::string h = read_text(hist);
+  CHECK(h.find("\n" + rows[500][0] + ",") != std::string::npos);
+  // Refused without the sensors, and on the input's own name.
+  expect_command_rejected("simulate", set10({"--observer-out", dir.file("o.csv")}),
+                          {"--observer-out", "--wall-sensors"});
+  expect_command_rejected("simulate", set10({"--wall-sensors", truth_csv, "--observer-out", truth_csv}),
+                          {"--observer-out", "--wall-sensors input"});
+}
+
 TEST(SimulateObserver, NoiseFreeSensorsOfTheNominalWallKeepTheOpenLoopResult) {
   TempDir dir;
   const std::string csv = dir.file("same.csv");

@@ -52,21 +52,23 @@ inline void WallObserver<Stepper>::control_x(Stepper& stepper, const WallSensorS
     // The ground is quiet: a rigid wall does not start rocking by itself, so a reading that disagrees is a sensor
     // fault, not a re-initialisation — unless it keeps disagreeing and moves (a fault reads a constant or jumps
     // once): then the wall moves where the model says it cannot (a lower threshold, crushed hinges, an elastic
-    // phase), the most informative reading there is (issue 40). The run's readings' spread decides.
+    // phase), the most informative reading there is (issue 40). The run's readings' spread decides. The same when
+    // the model rocks and the wall rocks otherwise (the free rocking after the record: a model that chatters at its
+    // hinge while the transducer reads 5 cm cycles once rejected every reading as a jump until the record ended).
+    if (first_rejection) {
+      quiet_lo_ = quiet_hi_ = z;
+    } else {
+      if (z < quiet_lo_) quiet_lo_ = z;
+      if (z > quiet_hi_) quiet_hi_ = z;
+    }
+    if (quiet_spread_x_ > Scalar(0) && consecutive_rejections_ >= reinit_after_ &&
+        quiet_hi_ - quiet_lo_ >= quiet_spread_x_) {
+      ++counters_.quiet_motion;
+      if (doubt_nis_ > Cov(0)) doubt_ = true;
+      reinitialise(stepper, z, ug, vg, out);
+      return;
+    }
     if (!stepper.moving()) {
-      if (first_rejection) {
-        quiet_lo_ = quiet_hi_ = z;
-      } else {
-        if (z < quiet_lo_) quiet_lo_ = z;
-        if (z > quiet_hi_) quiet_hi_ = z;
-      }
-      if (quiet_spread_x_ > Scalar(0) && consecutive_rejections_ >= reinit_after_ &&
-          quiet_hi_ - quiet_lo_ >= quiet_spread_x_) {
-        ++counters_.quiet_motion;
-        if (doubt_nis_ > Cov(0)) doubt_ = true;
-        reinitialise(stepper, z, ug, vg, out);
-        return;
-      }
       ++counters_.motion_while_quiet;
       out.flags |= observer_flag::motion_while_quiet;
     } else {

@@ -78,12 +78,12 @@ inline void WallObserver<Stepper>::apply(Stepper& stepper, const Vec& dz, Input 
   kk_ = kk_ + dz(K);
   clamped = clamp_to(kc_, Scalar(0.25), Scalar(4)) || clamped;
   clamped = clamp_to(kk_, Scalar(0.25), Scalar(4)) || clamped;
-  // x_inst = κc/κk·x_inst,nominal within [0.3, 2]× nominal: κc moves (the capacity is what the data pins least).
+  // x_inst = κc/κk·x_inst,nominal within [0.3, 2]× nominal (SPEC §11 "The capacity's bounds").
   if (kc_ < Scalar(0.3) * kk_) {
-    kc_ = Scalar(0.3) * kk_;
+    project_capacity_ratio(Scalar(0.3));
     clamped = true;
   } else if (kc_ > Scalar(2) * kk_) {
-    kc_ = Scalar(2) * kk_;
+    project_capacity_ratio(Scalar(2));
     clamped = true;
   }
   refresh_parameters();
@@ -125,6 +125,28 @@ inline void WallObserver<Stepper>::apply(Stepper& stepper, const Vec& dz, Input 
     }
     Traits::set_motion(stepper, x, xd_after, ug, vg);
   }
+}
+
+// κc, κk moved onto κc = q·κk along their covariance: the least move in P⁻¹'s metric (the constrained Kalman
+// estimate), so the one the readings pin least moves most. Motion at a fraction of x_inst pins the threshold (κc) and
+// hardly the decline (κk): moving κc alone, as the bound once did, turned "the restoring force declines less than
+// modelled" into "the wall is half as strong" (a thick multibody wall: κk at its floor, κc pulled to 0.5 by the
+// 2× bound, the model falling away from a transducer that read it well). When the projection leaves κk's range, or
+// the covariance has no spread along the bound, κc moves (κc = q·κk), as before. P is kept.
+template <typename Stepper>
+inline void WallObserver<Stepper>::project_capacity_ratio(Scalar q) {
+  const Cov qc = cov(q);
+  const Cov pc = p_(C, C) - qc * p_(C, K), pk = p_(C, K) - qc * p_(K, K);
+  const Cov s = pc - qc * pk;  // dᵀ P d, d = (1, −q)
+  if (s > Cov(1e-12)) {
+    const Cov v = cov(kc_ - q * kk_);
+    const Scalar kc = kc_ - from_cov(v * pc / s), kk = kk_ - from_cov(v * pk / s);
+    if (kk >= Scalar(0.25) && kk <= Scalar(4) && kc >= Scalar(0.25) && kc <= Scalar(4)) {
+      kc_ = kc;
+      kk_ = kk;
+    }
+  }
+  if (kc_ < q * kk_ || kc_ > q * kk_) kc_ = q * kk_;
 }
 
 template <typename Stepper>

@@ -552,6 +552,7 @@ class WallObserver {
   void symmetrise();
   void apply(Stepper& stepper, const Vec& dz, Input ug, Input vg);
   static bool clamp_to(Scalar& v, Scalar lo, Scalar hi);
+  void project_capacity_ratio(Scalar q);
   // The displacement transducer: fusion (observer/displacement_fusion.hpp) and control
   // (observer/displacement_control.hpp).
   bool fuse_x(Stepper& stepper, Scalar z, std::int64_t age_us, Input ug, Input vg);
