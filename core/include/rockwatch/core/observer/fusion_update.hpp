@@ -132,13 +132,15 @@ inline void WallObserver<Stepper>::apply(Stepper& stepper, const Vec& dz, Input 
 // hardly the decline (κk): moving κc alone, as the bound once did, turned "the restoring force declines less than
 // modelled" into "the wall is half as strong" (a thick multibody wall: κk at its floor, κc pulled to 0.5 by the
 // 2× bound, the model falling away from a transducer that read it well). When the projection leaves κk's range, or
-// the covariance has no spread along the bound, κc moves (κc = q·κk), as before. P is kept.
+// the covariance has no spread along the bound, κc moves (κc = q·κk), as before. P is kept. Not while the
+// transducer is lost (an accelerometer alone, SPEC §11): there x is the model's, and which of κc, κk the readings pin
+// is not known; measured, the projection there traded two held-out collapses for one kept one.
 template <typename Stepper>
 inline void WallObserver<Stepper>::project_capacity_ratio(Scalar q) {
   const Cov qc = cov(q);
   const Cov pc = p_(C, C) - qc * p_(C, K), pk = p_(C, K) - qc * p_(K, K);
   const Cov s = pc - qc * pk;  // dᵀ P d, d = (1, −q)
-  if (s > Cov(1e-12)) {
+  if (!lost_ && s > Cov(1e-12)) {
     const Cov v = cov(kc_ - q * kk_);
     const Scalar kc = kc_ - from_cov(v * pc / s), kk = kk_ - from_cov(v * pk / s);
     if (kk >= Scalar(0.25) && kk <= Scalar(4) && kc >= Scalar(0.25) && kc <= Scalar(4)) {
