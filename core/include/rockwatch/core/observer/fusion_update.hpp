@@ -142,13 +142,11 @@ inline void WallObserver<Stepper>::project_capacity_ratio(Scalar q) {
   const Cov s = pc - qc * pk;  // dᵀ P d, d = (1, −q)
   if (!lost_ && s > Cov(1e-12)) {
     const Cov v = cov(kc_ - q * kk_);
-    const Scalar kc = kc_ - from_cov(v * pc / s), kk = kk_ - from_cov(v * pk / s);
-    if (kk >= Scalar(0.25) && kk <= Scalar(4) && kc >= Scalar(0.25) && kc <= Scalar(4)) {
-      kc_ = kc;
-      kk_ = kk;
-    }
+    // κk's move; κc's, v·pc/s, puts it on the bound: κc = q·κk, set exactly below.
+    const Scalar kk = kk_ - from_cov(v * pk / s), kc = q * kk;
+    if (kk >= Scalar(0.25) && kk <= Scalar(4) && kc >= Scalar(0.25) && kc <= Scalar(4)) kk_ = kk;
   }
-  if (kc_ < q * kk_ || kc_ > q * kk_) kc_ = q * kk_;
+  kc_ = q * kk_;
 }
 
 template <typename Stepper>
