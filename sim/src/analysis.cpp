@@ -186,8 +186,8 @@ class ObservedSteps {
     if (outcome.flags & core::observer_flag::sensor_lost) ++steps_lost_;
   }
 
-  // The estimates at the end of the sample (AnalysisResult::observer_history).
-  ObserverHistoryRow history_row(double t_s) const {
+  // The estimates at the end of the sample (AnalysisResult::observer_history), with the fused state x, ẋ then.
+  ObserverHistoryRow history_row(double t_s, double x_m, double xd_mps) const {
     ObserverHistoryRow row{t_s,
                            observer_.sigma_x_m(),
                            observer_.sigma_xd_mps(),
@@ -195,6 +195,8 @@ class ObservedSteps {
                            observer_.capacity_scale(),
                            observer_.stiffness_scale(),
                            (last_flags_ & core::observer_flag::x_active) != 0};
+    row.x_m = x_m;
+    row.xd_mps = xd_mps;
     row.r = observer_.r_estimate();
     row.sigma_r = observer_.sigma_r();
     row.x_inst_m = observer_.x_inst_estimate_m();
@@ -323,11 +325,7 @@ void analysis_sample(Engine& engine, typename Engine::Input ug, typename Engine:
   };
   if (observed) {
     observed->step(engine, ug, vg, t0_s, dt_s, on_substep);
-    if (o.keep_history) {
-      result.observer_history.push_back(observed->history_row(t_s));
-      result.observer_history.back().x_m = engine.x_m();
-      result.observer_history.back().xd_mps = engine.xd_mps();
-    }
+    if (o.keep_history) result.observer_history.push_back(observed->history_row(t_s, engine.x_m(), engine.xd_mps()));
   } else {
     engine.chain().step_motion(ug, vg, out, on_substep);
     if (o.evaluate_alarm || Engine::kVerdictNeedsIndicators) engine.chain().evaluate(out);
